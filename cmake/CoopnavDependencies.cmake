@@ -1,0 +1,24 @@
+# Debian 12 packages (scripts/install-deps.sh installs them). Debian's LCM 1.3.1 ships no CMake
+# config, only a pkg-config file whose glib requirement needs libglib2.0-dev.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
+find_program(LCM_GEN lcm-gen REQUIRED)
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(octomap REQUIRED)
+find_package(dynamicEDT3D QUIET)
+find_package(spdlog REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(Ceres REQUIRED)
+find_package(Threads REQUIRED)
+
+add_library(coopnav_octomap INTERFACE)
+target_include_directories(coopnav_octomap SYSTEM INTERFACE ${OCTOMAP_INCLUDE_DIRS})
+target_link_libraries(coopnav_octomap INTERFACE ${OCTOMAP_LIBRARIES})
+
+if(COOPNAV_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(COOPNAV_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()

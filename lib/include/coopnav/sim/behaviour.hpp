@@ -1,0 +1,268 @@
+#pragma once
+/// @file Simulated human behaviours: the interface the world simulator calls every physics step,
+/// the context it passes, and the parameters of each model. Pure: no I/O, no clock.
+///
+/// Every behaviour walks its reference path (start -> via points -> goal; the human's "initial
+/// shortest path" of paper §II-C) and expresses avoidance as a signed lateral offset from that
+/// path (> 0 = to the path's left), so that the deviation CA the assessors measure is exactly what
+/// the model commands.
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coopnav/distance/distance_map.hpp"
+#include "coopnav/geometry/types.hpp"
+
+namespace coopnav::sim {
+
+/// An utterance addressed to one human asking it to move to a side (as the human sees it).
+struct Cue {
+  std::int32_t human_id{0};
+  Side side{Side::kUndefined};  ///< side the human is asked to move to, from its own view
+  double t_s{0.0};              ///< sim time at which the human has heard the request
+};
+
+/// Everything a behaviour may look at. Pointers are non-owning and valid for the call only.
+struct BehaviourContext {
+  double t_s{0.0};    ///< current sim time [s]
+  double dt_s{0.05};  ///< physics step [s]
+  const AgentState* self{nullptr};
+  Pose2 goal;
+  const Path2* reference_path{nullptr};  ///< start -> via -> goal, >= 2 points
+  double preferred_speed_m_s{1.0};
+  double goal_tolerance_m{0.2};
+  const AgentState* robot{nullptr};  ///< nullptr when the world has no robot
+  const Band* robot_band{nullptr};   ///< last band the robot published, nullptr if none
+  double robot_band_stamp_s{0.0};    ///< sim time of the band's t_s = 0
+  const std::vector<AgentState>* other_humans{nullptr};  ///< never contains self
+  const DistanceMap* map{nullptr};                       ///< nullptr = no walls
+  const std::vector<Cue>* cues{nullptr};  ///< cues addressed to this human, heard by t_s, in order
+};
+
+/// What a behaviour is doing, for logs and tests.
+struct BehaviourStatus {
+  std::string mode{"follow"};   ///< e.g. follow, avoid, yield, return
+  double target_offset_m{0.0};  ///< commanded lateral offset from the reference path, left > 0
+};
+
+/// A human's decision model. Stateful (e.g. it remembers the side it chose), deterministic.
+class HumanBehaviour {
+ public:
+  virtual ~HumanBehaviour() = default;
+  /// Desired world-frame velocity for this physics step; the simulator then applies the human's
+  /// acceleration limit (omega is ignored: a human's heading follows its velocity).
+  virtual Velocity2 desiredVelocity(const BehaviourContext& ctx) = 0;
+  virtual BehaviourStatus status() const = 0;
+  virtual const char* name() const = 0;
+};
+
+// ---- Parameters. In-class initialisers are the only defaults; visit() lists every key once as
+// v.number(key, field, min, max), v.choice(key, field, {allowed...}) so that loaders validate
+// without lib/ knowing any file format.
+
+/// "Minimally contributing" (paper §III; TEB-like): keeps to its path and treats the robot as an
+/// obstacle only within a short horizon, sidestepping just enough to keep its clearance.
+struct MinimalParams {
+  double horizon_s{1.5};           ///< reacts when time to closest approach < this
+  double trigger_gap_m{0.6};       ///< ... or when the surface gap to the robot is below this
+  double clearance_margin_m{0.1};  ///< wanted surface gap beyond the two radii
+  double max_deviation_m{0.3};     ///< cap of the sidestep: it never does more than this
+  double lookahead_m{0.6};         ///< path-following carrot distance (short = brisk sidestep)
+  double wall_margin_m{0.1};       ///< kept between its body and a wall when stepping aside
+  template <class V>
+  void visit(V& v) {
+    v.number("horizon_s", horizon_s, 0.0, 10.0);
+    v.number("trigger_gap_m", trigger_gap_m, 0.0, 5.0);
+    v.number("clearance_margin_m", clearance_margin_m, 0.0, 2.0);
+    v.number("max_deviation_m", max_deviation_m, 0.0, 3.0);
+    v.number("lookahead_m", lookahead_m, 0.1, 5.0);
+    v.number("wall_margin_m", wall_margin_m, 0.0, 2.0);
+  }
+};
+
+/// Never avoids anyone: walks its path at its preferred speed.
+struct ObliviousParams {
+  double lookahead_m{1.0};
+  template <class V>
+  void visit(V& v) {
+    v.number("lookahead_m", lookahead_m, 0.1, 5.0);
+  }
+};
+
+/// Social force model: driving term of Helbing & Molnár 1995 (Phys. Rev. E 51:4282,
+/// doi 10.1103/PhysRevE.51.4282), agent interaction of Moussaïd et al. 2009 (Proc. R. Soc. B
+/// 276:2755, doi 10.1098/rspb.2009.0405), wall repulsion exp(-d/sigma). Defaults: the values in
+/// the notes (lightsfm / libpedsim calibration).
+struct SocialForceParams {
+  double relaxation_time_s{0.5};  ///< tau of the driving term
+  double goal_weight{2.0};
+  double social_weight{2.1};  ///< weight of the interaction with other humans
+  double robot_weight{2.1};   ///< weight of the interaction with the robot
+  double lambda{2.0};         ///< Moussaïd: velocity-difference weight in the interaction vector
+  double gamma{0.35};         ///< Moussaïd: B = gamma * |I|
+  double n{2.0};              ///< Moussaïd: angular interaction range (deceleration term)
+  double n_prime{3.0};        ///< Moussaïd: angular interaction range (turning term)
+  double obstacle_weight{10.0};
+  double obstacle_sigma_m{0.2};
+  double neighbour_range_m{10.0};  ///< agents farther than this exert no force
+  double max_speed_factor{1.3};    ///< speed cap = factor * preferred speed (Helbing & Molnár)
+  double body_reference_m{0.6};    ///< Moussaïd's distances are centre distances of two ~0.3 m
+                                   ///< pedestrians; bigger bodies shift d by their extra size
+  double lookahead_m{1.0};
+  template <class V>
+  void visit(V& v) {
+    v.number("relaxation_time_s", relaxation_time_s, 0.05, 5.0);
+    v.number("goal_weight", goal_weight, 0.0, 100.0);
+    v.number("social_weight", social_weight, 0.0, 100.0);
+    v.number("robot_weight", robot_weight, 0.0, 100.0);
+    v.number("lambda", lambda, 0.0, 10.0);
+    v.number("gamma", gamma, 0.01, 10.0);
+    v.number("n", n, 0.0, 10.0);
+    v.number("n_prime", n_prime, 0.0, 10.0);
+    v.number("obstacle_weight", obstacle_weight, 0.0, 1000.0);
+    v.number("obstacle_sigma_m", obstacle_sigma_m, 0.01, 5.0);
+    v.number("neighbour_range_m", neighbour_range_m, 0.0, 100.0);
+    v.number("max_speed_factor", max_speed_factor, 1.0, 3.0);
+    v.number("body_reference_m", body_reference_m, 0.0, 2.0);
+    v.number("lookahead_m", lookahead_m, 0.1, 5.0);
+  }
+};
+
+/// Lateral yield shared by the yielding behaviours: shift by offset_m to the side away from the
+/// robot (or the asked side), limited so that wall_margin_m stays between body and wall; hold it
+/// until the robot is behind, then return to the path.
+struct YieldParams {
+  double offset_m{0.9};          ///< wanted lateral shift [m] (clarifications: ~0.9 m open)
+  double wall_margin_m{0.3};     ///< pedestrians keep ~0.3 m from walls (HCM shy distance)
+  double lookahead_m{1.0};       ///< carrot distance while shifting: time constant ~ L / v
+  double engage_lateral_m{2.0};  ///< yields only if the robot's predicted lateral offset from
+                                 ///< the path at the crossing is below this
+  double release_behind_m{0.3};  ///< returns once the robot is this far behind (along the path)
+  template <class V>
+  void visit(V& v) {
+    v.number("offset_m", offset_m, 0.0, 3.0);
+    v.number("wall_margin_m", wall_margin_m, 0.0, 2.0);
+    v.number("lookahead_m", lookahead_m, 0.1, 5.0);
+    v.number("engage_lateral_m", engage_lateral_m, 0.0, 10.0);
+    v.number("release_behind_m", release_behind_m, 0.0, 10.0);
+  }
+};
+
+/// "Facilitating" (paper §III): yields early, as a second CoHAN instance planning for the human
+/// would. planner: analytic = the early-yield model below; band = a HumanPlannerAdapter (the
+/// dual-band planner with the robot as the anticipated other agent) supplied by the caller.
+struct FacilitatingParams {
+  std::string planner{"analytic"};
+  double trigger_ttc_s{5.0};       ///< starts yielding when time to closest approach < this
+  double trigger_distance_m{7.0};  ///< ... or the robot is approaching and closer than this
+  YieldParams yield;
+  template <class V>
+  void visit(V& v) {
+    v.choice("planner", planner, {"analytic", "band"});
+    v.number("trigger_ttc_s", trigger_ttc_s, 0.0, 30.0);
+    v.number("trigger_distance_m", trigger_distance_m, 0.0, 50.0);
+    v.nested("yield", yield);
+  }
+};
+
+/// Minimal until the time to closest approach falls below trigger_ttc_s (~3 s), then yields.
+struct LateFacilitatingParams {
+  double trigger_ttc_s{3.0};
+  MinimalParams minimal;
+  YieldParams yield{0.6};
+  template <class V>
+  void visit(V& v) {
+    v.number("trigger_ttc_s", trigger_ttc_s, 0.0, 30.0);
+    v.nested("minimal", minimal);
+    v.nested("yield", yield);
+  }
+};
+
+/// Minimal until a cue addressed to it asks it to move, then yields to the asked side.
+struct ResponsiveParams {
+  double reaction_time_s{0.8};     ///< from hearing the request to starting to move
+  double repeat_increment_m{0.2};  ///< each further request to the same side adds this
+  MinimalParams minimal;
+  YieldParams yield{0.75};
+  template <class V>
+  void visit(V& v) {
+    v.number("reaction_time_s", reaction_time_s, 0.0, 10.0);
+    v.number("repeat_increment_m", repeat_increment_m, 0.0, 2.0);
+    v.nested("minimal", minimal);
+    v.nested("yield", yield);
+  }
+};
+
+enum class BehaviourType : std::uint8_t {
+  kMinimal,
+  kOblivious,
+  kSocialForce,
+  kLateFacilitating,
+  kResponsive,
+  kFacilitating,
+};
+
+/// Scenario spelling of a type: minimal, oblivious, social_force, late_facilitating,
+/// responsive, facilitating.
+const char* toString(BehaviourType t);
+/// Parses the scenario spelling; false when unknown.
+bool parseBehaviourType(const std::string& s, BehaviourType& out);
+/// All scenario spellings, for error messages.
+std::vector<std::string> behaviourTypeNames();
+
+/// A behaviour and its parameters; only the member matching type is used.
+struct BehaviourConfig {
+  BehaviourType type{BehaviourType::kMinimal};
+  MinimalParams minimal;
+  ObliviousParams oblivious;
+  SocialForceParams social_force;
+  LateFacilitatingParams late_facilitating;
+  ResponsiveParams responsive;
+  FacilitatingParams facilitating;
+};
+
+/// Plans a human's motion with an external planner (the planner-backed facilitating mode).
+/// Returns nullopt when it has no plan this step; the behaviour then uses its analytic model.
+class HumanPlannerAdapter {
+ public:
+  virtual ~HumanPlannerAdapter() = default;
+  virtual std::optional<Velocity2> plan(const BehaviourContext& ctx) = 0;
+};
+
+/// Builds the adapter for one facilitating human (called once per human with planner: band).
+using PlannerAdapterFactory =
+    std::function<std::unique_ptr<HumanPlannerAdapter>(const FacilitatingParams&)>;
+
+/// Creates a behaviour. Throws std::invalid_argument for planner: band without an adapter
+/// factory.
+std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
+                                              const PlannerAdapterFactory& planner_factory = {});
+
+// ---- Helpers shared by behaviours and the tests (pure geometry on the reference path).
+
+/// Point and unit tangent at arc length s_m along a path (clamped to its ends).
+struct PathPoint {
+  Eigen::Vector2d point{0.0, 0.0};
+  Eigen::Vector2d tangent{1.0, 0.0};
+};
+PathPoint pointAtArc(const Path2& path, double s_m);
+double pathLength(const Path2& path);
+
+/// Constant-velocity prediction of the robot relative to a human walking its reference path.
+struct Encounter {
+  double distance_m{std::numeric_limits<double>::infinity()};   ///< centre distance now
+  double gap_m{std::numeric_limits<double>::infinity()};        ///< surface gap now
+  double t_closest_s{std::numeric_limits<double>::infinity()};  ///< time to closest approach
+  bool closing{false};                                          ///< the distance is decreasing
+  double along_m{0.0};          ///< robot position along the human's path direction (> 0 ahead)
+  double robot_lateral_m{0.0};  ///< robot's predicted offset from the path at closest approach
+  double crossing_arc_m{0.0};   ///< human's predicted arc length at closest approach
+};
+/// nullopt when the context has no robot or no path.
+std::optional<Encounter> estimateEncounter(const BehaviourContext& ctx);
+
+}  // namespace coopnav::sim

@@ -1,0 +1,185 @@
+#pragma once
+/// @file The world simulator's physics: a robot disc driven by body-frame velocity commands and
+/// human discs driven by their behaviours, integrated at a fixed physics step with acceleration
+/// limits; collisions (disc-disc, disc-wall), goals, time limit. Pure and deterministic: the same
+/// WorldSpec and command sequence give bit-identical states.
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "coopnav/distance/distance_map.hpp"
+#include "coopnav/geometry/types.hpp"
+#include "coopnav/sim/behaviour.hpp"
+#include "coopnav/sim/random.hpp"
+
+namespace coopnav::sim {
+
+enum class Kinematics : std::uint8_t { kDifferential = 0, kHolonomic = 1 };
+
+/// Body-frame velocity and acceleration limits of the robot. Commands are clamped to them.
+struct RobotLimits {
+  double max_forward_m_s{0.8};
+  double max_backward_m_s{0.2};
+  double max_lateral_m_s{0.5};  ///< holonomic only; a differential drive has none
+  double max_omega_rad_s{1.2};
+  double max_acc_forward_m_s2{0.8};
+  double max_acc_lateral_m_s2{0.8};
+  double max_acc_omega_rad_s2{2.0};
+  template <class V>
+  void visit(V& v) {
+    v.number("max_forward_m_s", max_forward_m_s, 0.0, 5.0);
+    v.number("max_backward_m_s", max_backward_m_s, 0.0, 5.0);
+    v.number("max_lateral_m_s", max_lateral_m_s, 0.0, 5.0);
+    v.number("max_omega_rad_s", max_omega_rad_s, 0.0, 10.0);
+    v.number("max_acc_forward_m_s2", max_acc_forward_m_s2, 0.01, 20.0);
+    v.number("max_acc_lateral_m_s2", max_acc_lateral_m_s2, 0.01, 20.0);
+    v.number("max_acc_omega_rad_s2", max_acc_omega_rad_s2, 0.01, 50.0);
+  }
+};
+
+struct RobotSpec {
+  Pose2 start;
+  Pose2 goal;
+  double radius_m{0.47};  ///< CoHAN's PR2 footprint radius (cohan2_params_pr2.yaml)
+  Kinematics kinematics{Kinematics::kDifferential};
+  RobotLimits limits;
+  double goal_tolerance_m{0.3};
+};
+
+struct HumanSpec {
+  std::int32_t id{1};  ///< >= 1 (0 is the robot)
+  Pose2 start;
+  Pose2 goal;
+  Path2 via;                       ///< optional waypoints between start and goal
+  double speed_m_s{1.0};           ///< preferred speed (mean when speed_stddev_m_s > 0)
+  double speed_stddev_m_s{0.0};    ///< preferred speed drawn once from N(speed, stddev)
+  double velocity_noise_m_s{0.0};  ///< per-step N(0, sigma) added to the desired velocity
+  double radius_m{0.3};
+  double max_acc_m_s2{1.5};  ///< walking acceleration limit
+  double goal_tolerance_m{0.2};
+  BehaviourConfig behaviour;
+};
+
+struct SimSettings {
+  double physics_dt_s{0.05};  ///< fixed physics step (>= 20 Hz)
+  int substeps_per_step{2};   ///< physics steps per step() call (publish period)
+  double time_limit_s{60.0};
+  bool end_on_goals{true};            ///< end when the robot and every human reached its goal
+  bool end_on_robot_collision{true};  ///< end when the robot touches a human or a wall
+};
+
+struct WorldSpec {
+  std::uint64_t seed{0};
+  SimSettings settings;
+  RobotSpec robot;
+  std::vector<HumanSpec> humans;
+};
+
+enum class SimStatus : std::uint8_t {
+  kRunning = 0,
+  kGoalsReached = 1,
+  kCollision = 2,
+  kTimeLimit = 3
+};
+const char* toString(SimStatus s);
+
+/// Agent id used for walls in collision events.
+constexpr std::int32_t kWallId = -1;
+/// Agent id of the robot.
+constexpr std::int32_t kRobotId = 0;
+
+struct SimEvent {
+  enum class Kind : std::uint8_t { kCollision = 0, kGoalReached = 1, kEnded = 2 };
+  Kind kind{Kind::kEnded};
+  double t_s{0.0};
+  std::int32_t agent_id{kRobotId};
+  std::int32_t other_id{kWallId};         ///< collision partner (kWallId for a wall)
+  double clearance_m{0.0};                ///< surface gap at the event (< 0: overlap)
+  SimStatus status{SimStatus::kRunning};  ///< kEnded: the final status
+};
+
+/// The result of one step(): states at the new time and what happened during it.
+struct StepResult {
+  double t_s{0.0};
+  std::vector<AgentState> agents;  ///< robot first (id 0, world-frame velocity), then humans
+  std::vector<SimEvent> events;
+  SimStatus status{SimStatus::kRunning};
+};
+
+/// Totals of a run so far.
+struct SimSummary {
+  SimStatus status{SimStatus::kRunning};
+  double t_s{0.0};
+  double min_robot_human_clearance_m{std::numeric_limits<double>::infinity()};  ///< surface gap
+  double robot_goal_time_s{-1.0};         ///< -1 while not reached
+  std::vector<double> human_goal_time_s;  ///< per human, in spec order; -1 while not reached
+  int collisions{0};
+};
+
+class Simulation {
+ public:
+  /// `map` may be nullptr (no walls); it must outlive the simulation. Throws
+  /// std::invalid_argument for an inconsistent spec (non-positive step, duplicate ids, ...).
+  Simulation(const WorldSpec& spec, const DistanceMap* map,
+             const PlannerAdapterFactory& planner_factory = {});
+
+  /// Advances one publish period (settings.substeps_per_step physics steps) with the robot's
+  /// body-frame command (vx forward, vy left, omega ccw; clamped to the limits and reached under
+  /// the acceleration limits). After the run has ended, returns the final state unchanged.
+  StepResult step(const Velocity2& robot_cmd_body);
+
+  /// Delivers an utterance to a human (heard at cue.t_s; may be in the past or future).
+  void addCue(const Cue& cue);
+  /// The robot's latest band, its t_s = 0 at stamp_s (sim time). Behaviours may read it.
+  void setRobotBand(const Band& band, double stamp_s);
+
+  double time_s() const { return t_s_; }
+  SimStatus status() const { return status_; }
+  const SimSummary& summary() const { return summary_; }
+  /// Current states: robot first, then humans in spec order.
+  std::vector<AgentState> agents() const;
+  /// Current status of each human's behaviour, in spec order.
+  std::vector<BehaviourStatus> behaviourStatus() const;
+  /// Reference path of each human (start -> via -> goal), in spec order.
+  const Path2& referencePath(std::size_t human_index) const { return humans_[human_index].path; }
+  /// Robot velocity in its body frame.
+  const Velocity2& robotBodyVelocity() const { return robot_body_vel_; }
+  const WorldSpec& spec() const { return spec_; }
+
+ private:
+  struct Human {
+    HumanSpec spec;
+    AgentState state;
+    Path2 path;
+    double preferred_speed_m_s{1.0};
+    std::unique_ptr<HumanBehaviour> behaviour;
+    std::vector<Cue> cues;
+    Rng rng;
+    bool at_goal{false};
+  };
+
+  void physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& events);
+  void integrateRobot(const Velocity2& cmd_body, double dt_s);
+  void checkCollisions(std::vector<SimEvent>& events);
+  void end(SimStatus s, std::vector<SimEvent>& events);
+
+  WorldSpec spec_;
+  const DistanceMap* map_;
+  double t_s_{0.0};
+  std::int64_t physics_steps_{0};
+  SimStatus status_{SimStatus::kRunning};
+  AgentState robot_;
+  Velocity2 robot_body_vel_;
+  bool robot_at_goal_{false};
+  std::vector<Human> humans_;
+  Band robot_band_;
+  double robot_band_stamp_s_{0.0};
+  bool has_band_{false};
+  std::vector<std::vector<bool>> in_contact_;  ///< [agent][agent or wall]: edge-triggered events
+  SimSummary summary_;
+};
+
+}  // namespace coopnav::sim

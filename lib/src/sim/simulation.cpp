@@ -1,0 +1,292 @@
+#include "coopnav/sim/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "coopnav/geometry/geometry.hpp"
+
+namespace coopnav::sim {
+
+namespace {
+
+/// Below this speed a human keeps its heading (atan2 of a near-zero vector is noise).
+constexpr double kHeadingMinSpeed_m_s = 0.05;
+
+double clampAbs(double x, double limit) { return std::clamp(x, -limit, limit); }
+
+/// Moves `current` towards `target` by at most max_step (per-axis acceleration limit).
+double approach(double current, double target, double max_step) {
+  return current + clampAbs(target - current, max_step);
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("invalid world spec: " + what);
+}
+
+}  // namespace
+
+const char* toString(SimStatus s) {
+  switch (s) {
+    case SimStatus::kRunning:
+      return "RUNNING";
+    case SimStatus::kGoalsReached:
+      return "GOALS_REACHED";
+    case SimStatus::kCollision:
+      return "COLLISION";
+    case SimStatus::kTimeLimit:
+      return "TIME_LIMIT";
+  }
+  return "?";
+}
+
+Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
+                       const PlannerAdapterFactory& planner_factory)
+    : spec_(spec), map_(map) {
+  const SimSettings& st = spec.settings;
+  require(st.physics_dt_s > 0.0 && st.physics_dt_s <= 0.05, "physics_dt_s must be in (0, 0.05]");
+  require(st.substeps_per_step >= 1, "substeps_per_step must be >= 1");
+  require(st.time_limit_s > 0.0, "time_limit_s must be > 0");
+  require(spec.robot.radius_m > 0.0, "robot radius must be > 0");
+  require(isFinite(spec.robot.start) && isFinite(spec.robot.goal), "robot start/goal not finite");
+  std::set<std::int32_t> ids;
+  for (const HumanSpec& h : spec.humans) {
+    require(h.id >= 1, "human id " + std::to_string(h.id) + " must be >= 1");
+    require(ids.insert(h.id).second, "duplicate human id " + std::to_string(h.id));
+    require(h.radius_m > 0.0 && h.speed_m_s >= 0.0 && h.max_acc_m_s2 > 0.0,
+            "human " + std::to_string(h.id) + ": radius, speed, acceleration");
+    require(isFinite(h.start) && isFinite(h.goal), "human start/goal not finite");
+  }
+
+  robot_.id = kRobotId;
+  robot_.kind = AgentKind::kRobot;
+  robot_.pose = spec.robot.start;
+  robot_.radius_m = spec.robot.radius_m;
+
+  humans_.reserve(spec.humans.size());
+  for (const HumanSpec& hs : spec.humans) {
+    Human h;
+    h.spec = hs;
+    h.state.id = hs.id;
+    h.state.kind = AgentKind::kHuman;
+    h.state.pose = hs.start;
+    h.state.radius_m = hs.radius_m;
+    h.path.push_back(hs.start.position());
+    for (const auto& w : hs.via) h.path.push_back(w);
+    h.path.push_back(hs.goal.position());
+    // One stream per human, derived from (seed, id): adding a human does not change the draws
+    // of the others.
+    h.rng = Rng::forStream(spec.seed, static_cast<std::uint64_t>(hs.id));
+    h.preferred_speed_m_s = hs.speed_m_s;
+    if (hs.speed_stddev_m_s > 0.0)
+      h.preferred_speed_m_s = std::max(0.1, h.rng.normal(hs.speed_m_s, hs.speed_stddev_m_s));
+    h.behaviour = makeBehaviour(hs.behaviour, planner_factory);
+    humans_.push_back(std::move(h));
+  }
+  const std::size_t n = humans_.size() + 2;  // robot, humans, wall
+  in_contact_.assign(n, std::vector<bool>(n, false));
+  summary_.human_goal_time_s.assign(humans_.size(), -1.0);
+}
+
+void Simulation::addCue(const Cue& cue) {
+  for (Human& h : humans_) {
+    if (h.spec.id != cue.human_id) continue;
+    // Keep them ordered by time so that behaviours can scan them in order.
+    auto it = std::upper_bound(h.cues.begin(), h.cues.end(), cue.t_s,
+                               [](double t, const Cue& c) { return t < c.t_s; });
+    h.cues.insert(it, cue);
+  }
+}
+
+void Simulation::setRobotBand(const Band& band, double stamp_s) {
+  robot_band_ = band;
+  robot_band_stamp_s_ = stamp_s;
+  has_band_ = true;
+}
+
+std::vector<AgentState> Simulation::agents() const {
+  std::vector<AgentState> out;
+  out.reserve(humans_.size() + 1);
+  out.push_back(robot_);
+  for (const Human& h : humans_) out.push_back(h.state);
+  return out;
+}
+
+std::vector<BehaviourStatus> Simulation::behaviourStatus() const {
+  std::vector<BehaviourStatus> out;
+  for (const Human& h : humans_) out.push_back(h.behaviour->status());
+  return out;
+}
+
+StepResult Simulation::step(const Velocity2& robot_cmd_body) {
+  StepResult r;
+  for (int i = 0; i < spec_.settings.substeps_per_step && status_ == SimStatus::kRunning; ++i)
+    physicsStep(robot_cmd_body, r.events);
+  r.t_s = t_s_;
+  r.agents = agents();
+  r.status = status_;
+  return r;
+}
+
+void Simulation::integrateRobot(const Velocity2& cmd, double dt_s) {
+  const RobotLimits& lim = spec_.robot.limits;
+  const bool holonomic = spec_.robot.kinematics == Kinematics::kHolonomic;
+  // Clamp the command to the velocity limits, then move towards it under the acceleration limits.
+  const double vx_cmd = std::clamp(cmd.vx_m_s, -lim.max_backward_m_s, lim.max_forward_m_s);
+  const double vy_cmd = holonomic ? clampAbs(cmd.vy_m_s, lim.max_lateral_m_s) : 0.0;
+  const double w_cmd = clampAbs(cmd.omega_rad_s, lim.max_omega_rad_s);
+  Velocity2& v = robot_body_vel_;
+  v.vx_m_s = approach(v.vx_m_s, vx_cmd, lim.max_acc_forward_m_s2 * dt_s);
+  v.vy_m_s = approach(v.vy_m_s, vy_cmd, lim.max_acc_lateral_m_s2 * dt_s);
+  v.omega_rad_s = approach(v.omega_rad_s, w_cmd, lim.max_acc_omega_rad_s2 * dt_s);
+  // Midpoint heading: second-order accurate for arcs, exact for straight lines.
+  const double th_mid = robot_.pose.theta_rad + 0.5 * v.omega_rad_s * dt_s;
+  const double c = std::cos(th_mid), s = std::sin(th_mid);
+  const double vx_w = c * v.vx_m_s - s * v.vy_m_s;
+  const double vy_w = s * v.vx_m_s + c * v.vy_m_s;
+  robot_.pose.x_m += vx_w * dt_s;
+  robot_.pose.y_m += vy_w * dt_s;
+  robot_.pose.theta_rad = wrapAngle(robot_.pose.theta_rad + v.omega_rad_s * dt_s);
+  robot_.velocity = {vx_w, vy_w, v.omega_rad_s};
+}
+
+void Simulation::physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& events) {
+  const double dt_s = spec_.settings.physics_dt_s;
+  // Every human decides on the same snapshot, so the result does not depend on update order.
+  std::vector<AgentState> snapshot;
+  snapshot.reserve(humans_.size());
+  for (const Human& h : humans_) snapshot.push_back(h.state);
+  const AgentState robot_snapshot = robot_;
+
+  std::vector<AgentState> others;
+  for (std::size_t i = 0; i < humans_.size(); ++i) {
+    Human& h = humans_[i];
+    others.clear();
+    for (std::size_t j = 0; j < snapshot.size(); ++j)
+      if (j != i) others.push_back(snapshot[j]);
+    // Only cues already heard are visible.
+    std::vector<Cue> heard;
+    for (const Cue& c : h.cues)
+      if (c.t_s <= t_s_) heard.push_back(c);
+    BehaviourContext ctx;
+    ctx.t_s = t_s_;
+    ctx.dt_s = dt_s;
+    ctx.self = &snapshot[i];
+    ctx.goal = h.spec.goal;
+    ctx.reference_path = &h.path;
+    ctx.preferred_speed_m_s = h.preferred_speed_m_s;
+    ctx.goal_tolerance_m = h.spec.goal_tolerance_m;
+    ctx.robot = &robot_snapshot;
+    ctx.robot_band = has_band_ ? &robot_band_ : nullptr;
+    ctx.robot_band_stamp_s = robot_band_stamp_s_;
+    ctx.other_humans = &others;
+    ctx.map = map_;
+    ctx.cues = &heard;
+    Velocity2 want = h.behaviour->desiredVelocity(ctx);
+    if (h.spec.velocity_noise_m_s > 0.0) {
+      want.vx_m_s += h.rng.normal(0.0, h.spec.velocity_noise_m_s);
+      want.vy_m_s += h.rng.normal(0.0, h.spec.velocity_noise_m_s);
+    }
+    // Acceleration limit on the velocity vector (not per axis: walking has no preferred axes).
+    const Eigen::Vector2d v{h.state.velocity.vx_m_s, h.state.velocity.vy_m_s};
+    Eigen::Vector2d dv = Eigen::Vector2d{want.vx_m_s, want.vy_m_s} - v;
+    const double max_dv = h.spec.max_acc_m_s2 * dt_s;
+    if (dv.norm() > max_dv) dv *= max_dv / dv.norm();
+    const Eigen::Vector2d v_new = v + dv;
+    AgentState& s = h.state;
+    s.pose.x_m += v_new.x() * dt_s;
+    s.pose.y_m += v_new.y() * dt_s;
+    const double th_old = s.pose.theta_rad;
+    if (v_new.norm() > kHeadingMinSpeed_m_s) s.pose.theta_rad = std::atan2(v_new.y(), v_new.x());
+    s.velocity = {v_new.x(), v_new.y(), wrapAngle(s.pose.theta_rad - th_old) / dt_s};
+  }
+  integrateRobot(cmd_body, dt_s);
+  ++physics_steps_;
+  // Time from the step count, not by accumulation, so that it never drifts.
+  t_s_ = static_cast<double>(physics_steps_) * dt_s;
+
+  // Goals.
+  if (!robot_at_goal_ && (robot_.pose.position() - spec_.robot.goal.position()).norm() <
+                             spec_.robot.goal_tolerance_m) {
+    robot_at_goal_ = true;
+    summary_.robot_goal_time_s = t_s_;
+    events.push_back({SimEvent::Kind::kGoalReached, t_s_, kRobotId, kRobotId, 0.0});
+  }
+  for (std::size_t i = 0; i < humans_.size(); ++i) {
+    Human& h = humans_[i];
+    if (!h.at_goal &&
+        (h.state.pose.position() - h.spec.goal.position()).norm() < h.spec.goal_tolerance_m) {
+      h.at_goal = true;
+      summary_.human_goal_time_s[i] = t_s_;
+      events.push_back({SimEvent::Kind::kGoalReached, t_s_, h.spec.id, h.spec.id, 0.0});
+    }
+  }
+  checkCollisions(events);
+  summary_.t_s = t_s_;
+  if (status_ != SimStatus::kRunning) return;
+
+  const bool all_goals = robot_at_goal_ && std::all_of(humans_.begin(), humans_.end(),
+                                                       [](const Human& h) { return h.at_goal; });
+  if (spec_.settings.end_on_goals && all_goals) {
+    end(SimStatus::kGoalsReached, events);
+  } else if (t_s_ >= spec_.settings.time_limit_s - 1e-9) {
+    end(SimStatus::kTimeLimit, events);
+  }
+}
+
+void Simulation::checkCollisions(std::vector<SimEvent>& events) {
+  const std::size_t wall = humans_.size() + 1;
+  bool robot_collided = false;
+  // Edge-triggered: one event when a contact starts, none while it lasts.
+  auto contact = [&](std::size_t a, std::size_t b, bool touching, std::int32_t id_a,
+                     std::int32_t id_b, double gap_m) {
+    if (touching && !in_contact_[a][b]) {
+      events.push_back({SimEvent::Kind::kCollision, t_s_, id_a, id_b, gap_m});
+      ++summary_.collisions;
+      if (a == 0) robot_collided = true;
+    }
+    in_contact_[a][b] = touching;
+  };
+  auto wallGap = [&](const AgentState& s) {
+    if (map_ == nullptr) return std::numeric_limits<double>::infinity();
+    const DistanceResult r = map_->nearest(s.pose.position());
+    if (r.status == DistanceStatus::kOk || r.status == DistanceStatus::kInObstacle)
+      return r.distance_m - s.radius_m;
+    return std::numeric_limits<double>::infinity();
+  };
+
+  const Eigen::Vector2d pr = robot_.pose.position();
+  for (std::size_t i = 0; i < humans_.size(); ++i) {
+    const AgentState& h = humans_[i].state;
+    const double gap_m = (h.pose.position() - pr).norm() - h.radius_m - robot_.radius_m;
+    summary_.min_robot_human_clearance_m = std::min(summary_.min_robot_human_clearance_m, gap_m);
+    contact(0, i + 1, gap_m < 0.0, kRobotId, h.id, gap_m);
+  }
+  const double robot_wall_gap_m = wallGap(robot_);
+  contact(0, wall, robot_wall_gap_m < 0.0, kRobotId, kWallId, robot_wall_gap_m);
+  for (std::size_t i = 0; i < humans_.size(); ++i) {
+    const AgentState& a = humans_[i].state;
+    for (std::size_t j = i + 1; j < humans_.size(); ++j) {
+      const AgentState& b = humans_[j].state;
+      const double gap_m = (a.pose.position() - b.pose.position()).norm() - a.radius_m - b.radius_m;
+      contact(i + 1, j + 1, gap_m < 0.0, a.id, b.id, gap_m);
+    }
+    const double wall_gap_m = wallGap(a);
+    contact(i + 1, wall, wall_gap_m < 0.0, a.id, kWallId, wall_gap_m);
+  }
+  if (robot_collided && spec_.settings.end_on_robot_collision) end(SimStatus::kCollision, events);
+}
+
+void Simulation::end(SimStatus s, std::vector<SimEvent>& events) {
+  status_ = s;
+  summary_.status = s;
+  SimEvent e;
+  e.kind = SimEvent::Kind::kEnded;
+  e.t_s = t_s_;
+  e.status = s;
+  events.push_back(e);
+}
+
+}  // namespace coopnav::sim

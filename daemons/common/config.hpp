@@ -1,0 +1,244 @@
+#pragma once
+/// @file Loading a daemon's YAML config into its struct. The struct's in-class initialisers are
+/// the only defaults; each struct lists its keys once, in `template <class V> void visit(V&)`,
+/// which serves loading, range validation and printing alike.
+///
+///   struct FooConfig {
+///     double speed_m_s{0.7};
+///     template <class V> void visit(V& v) { v("speed_m_s", speed_m_s, Range{0.0, 2.0}); }
+///   };
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace coopnav {
+
+/// Thrown when a config cannot be used; what() lists every problem found, one per line.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Closed range [min, max] for numeric keys.
+struct Range {
+  double min{-std::numeric_limits<double>::infinity()};
+  double max{std::numeric_limits<double>::infinity()};
+};
+
+/// Allowed values for string keys.
+struct OneOf {
+  std::vector<std::string> values;
+};
+
+namespace detail {
+template <class T>
+struct IsVector : std::false_type {};
+template <class T>
+struct IsVector<std::vector<T>> : std::true_type {};
+template <class T, class = void>
+struct HasVisit : std::false_type {};
+template <class T>
+struct HasVisit<T, std::void_t<decltype(&T::template visit<int>)>> : std::true_type {};
+}  // namespace detail
+
+/// Reads a YAML mapping into a struct through its visit(); collects every error.
+class ConfigReader {
+ public:
+  ConfigReader(const YAML::Node& node, std::string where, std::string prefix = "")
+      : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
+    if (node_ && !node_.IsNull() && !node_.IsMap()) error("", "is not a mapping");
+  }
+
+  template <class T>
+  void operator()(const char* key, T& field) {
+    seen_.insert(key);
+    if (!node_ || node_.IsNull() || !node_.IsMap()) return;
+    const YAML::Node v = node_[key];
+    if (!v) return;  // keep the in-class default
+    readValue(key, v, field);
+  }
+
+  template <class T>
+  void operator()(const char* key, T& field, Range r) {
+    (*this)(key, field);
+    checkRange(key, static_cast<double>(field), r);
+  }
+
+  void operator()(const char* key, std::string& field, const OneOf& allowed) {
+    (*this)(key, field);
+    for (const auto& a : allowed.values)
+      if (a == field) return;
+    std::string list;
+    for (const auto& a : allowed.values) list += (list.empty() ? "" : ", ") + a;
+    error(key, "= '" + field + "' is not one of {" + list + "}");
+  }
+
+  /// Extra cross-field check from a config's visit(): adds an error when !ok.
+  void require(bool ok, const std::string& key, const std::string& message) {
+    if (!ok) error(key, message);
+  }
+
+  /// Reports keys present in the file that the struct does not know.
+  void rejectUnknownKeys() {
+    if (!node_ || !node_.IsMap()) return;
+    for (const auto& kv : node_) {
+      const auto k = kv.first.as<std::string>();
+      if (!seen_.count(k)) error(k, "is not a known key");
+    }
+  }
+
+  const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  void error(const std::string& key, const std::string& msg) {
+    std::ostringstream s;
+    s << where_ << ": ";
+    if (!key.empty()) s << "key '" << prefix_ << key << "' ";
+    s << msg;
+    errors_.push_back(s.str());
+  }
+
+  void checkRange(const char* key, double value, Range r) {
+    if (!(value >= r.min && value <= r.max)) {
+      std::ostringstream s;
+      s << "= " << value << " is outside the allowed range [" << r.min << ", " << r.max << "]";
+      error(key, s.str());
+    }
+  }
+
+  template <class T>
+  void readValue(const char* key, const YAML::Node& v, T& field) {
+    if constexpr (detail::HasVisit<T>::value) {
+      ConfigReader sub(v, where_, prefix_ + key + ".");
+      field.visit(sub);
+      sub.rejectUnknownKeys();
+      errors_.insert(errors_.end(), sub.errors_.begin(), sub.errors_.end());
+    } else if constexpr (detail::IsVector<T>::value) {
+      if (!v.IsSequence()) {
+        error(key, "must be a list");
+        return;
+      }
+      T out;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        typename T::value_type item{};
+        const std::string item_key = std::string(key) + "[" + std::to_string(i) + "]";
+        readValue(item_key.c_str(), v[i], item);
+        out.push_back(item);
+      }
+      field = out;
+    } else {
+      try {
+        if (!v.IsScalar()) {
+          error(key, "must be a scalar");
+          return;
+        }
+        if constexpr (std::is_same_v<T, bool>) {
+          field = v.as<bool>();
+        } else if constexpr (std::is_floating_point_v<T>) {
+          const T x = v.as<T>();
+          if (!std::isfinite(x)) {
+            error(key, "= " + v.Scalar() + " is not a finite number");
+            return;
+          }
+          field = x;
+        } else {
+          field = v.as<T>();
+        }
+      } catch (const YAML::Exception&) {
+        error(key, "= '" + v.Scalar() + "' has the wrong type (line " +
+                       std::to_string(v.Mark().line + 1) + ")");
+      }
+    }
+  }
+
+  YAML::Node node_;
+  std::string where_;
+  std::string prefix_;
+  std::set<std::string> seen_;
+  std::vector<std::string> errors_;
+};
+
+/// Validates a config struct built in code (no file): range errors as from a file.
+template <class Config>
+std::vector<std::string> validateConfig(Config& config, const std::string& where = "config") {
+  ConfigReader r(YAML::Node(), where);
+  config.visit(r);
+  return r.errors();
+}
+
+/// Loads `path` (empty = defaults only) into a Config; throws ConfigError listing every problem.
+template <class Config>
+Config loadConfig(const std::string& path) {
+  Config config;
+  YAML::Node root;
+  if (!path.empty()) {
+    try {
+      root = YAML::LoadFile(path);
+    } catch (const YAML::BadFile&) {
+      throw ConfigError(path + ": cannot open the config file");
+    } catch (const YAML::ParserException& e) {
+      throw ConfigError(path + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
+                        ": " + e.msg);
+    }
+  }
+  ConfigReader r(root, path.empty() ? std::string("defaults") : path);
+  config.visit(r);
+  r.rejectUnknownKeys();
+  if (!r.errors().empty()) {
+    std::string all;
+    for (const auto& e : r.errors()) all += e + "\n";
+    all.pop_back();
+    throw ConfigError(all);
+  }
+  return config;
+}
+
+/// Prints a config as YAML (used by --print-config).
+class ConfigPrinter {
+ public:
+  explicit ConfigPrinter(YAML::Emitter& out) : out_(out) {}
+  template <class T, class... Rest>
+  void operator()(const char* key, T& field, const Rest&...) {
+    out_ << YAML::Key << key << YAML::Value;
+    emit(field);
+  }
+  void require(bool, const std::string&, const std::string&) {}
+
+ private:
+  template <class T>
+  void emit(T& field) {
+    if constexpr (detail::HasVisit<T>::value) {
+      out_ << YAML::BeginMap;
+      field.visit(*this);
+      out_ << YAML::EndMap;
+    } else if constexpr (detail::IsVector<T>::value) {
+      out_ << YAML::Flow << YAML::BeginSeq;
+      for (auto& x : field) emit(x);
+      out_ << YAML::EndSeq;
+    } else {
+      out_ << field;
+    }
+  }
+  YAML::Emitter& out_;
+};
+
+template <class Config>
+std::string configToYaml(Config config) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  ConfigPrinter p(out);
+  config.visit(p);
+  out << YAML::EndMap;
+  return out.c_str();
+}
+
+}  // namespace coopnav

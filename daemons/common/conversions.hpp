@@ -1,0 +1,119 @@
+#pragma once
+/// @file The one place where lcmtypes meet lib/ types. `fromLcm` validates what it converts
+/// (counts within the type's MAX_*, finite numbers, unique ids) and throws RejectedMessage with
+/// the reason; `toLcm` sets every count from the vector it describes (LCM's encoder trusts them).
+
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "common/runtime.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/bands_t.hpp"
+#include "coopnav/distance/distance_map.hpp"
+#include "coopnav/distance_reply_t.hpp"
+#include "coopnav/distance_request_t.hpp"
+#include "coopnav/geometry/types.hpp"
+#include "coopnav/goals_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
+#include "coopnav/velocity_command_t.hpp"
+
+namespace coopnav {
+
+/// Seconds <-> LCM utime (microseconds). Rounds to the nearest microsecond.
+double utimeToSeconds(std::int64_t utime);
+std::int64_t secondsToUtime(double t_s);
+
+/// All agents at one instant (coopnav_agent_states_t).
+struct AgentStatesSnapshot {
+  std::int64_t utime{0};
+  std::int64_t step{-1};
+  AgentState robot;
+  std::vector<AgentState> humans;
+  /// The human with `id`, or nullptr.
+  const AgentState* human(std::int32_t id) const;
+};
+
+AgentStatesSnapshot fromLcm(const agent_states_t& msg);
+agent_states_t toLcm(const AgentStatesSnapshot& s);
+
+/// One planning cycle's bands (coopnav_bands_t). Per-band validity is NOT enforced here: a band
+/// of length 0/1 or with NaN is kept, and the assessors report it as unknown for that human.
+struct BandsSnapshot {
+  std::int64_t utime{0};
+  std::int64_t step{-1};
+  std::int8_t status{bands_t::STATUS_OK};
+  std::int8_t robot_mode{0};
+  std::int32_t iterations{0};
+  double final_cost{0.0};
+  double solve_time_ms{0.0};
+  std::int32_t robot_id{0};
+  Band robot;
+  std::vector<std::pair<std::int32_t, Band>> humans;
+  const Band* humanBand(std::int32_t id) const;
+};
+
+BandsSnapshot fromLcm(const bands_t& msg);
+bands_t toLcm(const BandsSnapshot& s);
+
+/// Human reference paths (coopnav_reference_paths_t).
+struct ReferencePaths {
+  std::int64_t utime{0};
+  std::int64_t step{-1};
+  struct Entry {
+    std::int32_t agent_id{0};
+    std::int32_t revision{0};
+    Path2 path;
+  };
+  std::vector<Entry> paths;
+};
+
+ReferencePaths fromLcm(const reference_paths_t& msg);
+reference_paths_t toLcm(const ReferencePaths& p);
+
+/// Goals (coopnav_goals_t).
+struct Goal {
+  std::int32_t agent_id{0};
+  AgentKind kind{AgentKind::kHuman};
+  Pose2 pose;  ///< theta NaN = any heading
+};
+struct GoalsSnapshot {
+  std::int64_t utime{0};
+  std::vector<Goal> goals;
+};
+GoalsSnapshot fromLcm(const goals_t& msg);
+goals_t toLcm(const GoalsSnapshot& g);
+
+/// Velocity command (body frame).
+struct VelocityCommand {
+  std::int64_t utime{0};
+  std::int64_t step{-1};
+  Velocity2 body;  ///< vx forward, vy left, omega yaw rate (robot body frame)
+  std::int8_t mode{velocity_command_t::MODE_IDLE};
+};
+VelocityCommand fromLcm(const velocity_command_t& msg);
+velocity_command_t toLcm(const VelocityCommand& c);
+
+/// Distance queries: one query of the server's three kinds.
+enum class DistanceQueryKind : std::int8_t { kNearest = 0, kSide = 1, kRay = 2 };
+struct DistanceQuery {
+  DistanceQueryKind kind{DistanceQueryKind::kNearest};
+  Eigen::Vector2d point{0.0, 0.0};
+  Eigen::Vector2d vector{0.0, 0.0};  ///< SIDE: normal; RAY: direction
+  double max_range_m{10.0};
+};
+/// Request header fields are passed separately; queries are validated per query by the server
+/// (a NaN point is answered STATUS_INVALID_QUERY, not a rejected request).
+std::vector<DistanceQuery> queriesFromLcm(const distance_request_t& msg);
+distance_request_t toLcm(std::int64_t utime, std::int64_t request_id,
+                         const std::string& reply_channel,
+                         const std::vector<DistanceQuery>& queries);
+std::vector<DistanceResult> resultsFromLcm(const distance_reply_t& msg);
+distance_reply_t toLcm(std::int64_t utime, std::int64_t request_id,
+                       const std::vector<DistanceResult>& results);
+
+/// Answers one query against a map (the server's per-query logic; also used in-process).
+DistanceResult answerQuery(const DistanceMap& map, const DistanceQuery& q);
+
+}  // namespace coopnav

@@ -1,0 +1,22 @@
+#include "common/daemon_main.hpp"
+
+namespace coopnav {
+
+void addCommonOptions(CLI::App& app, CommonOptions& opts) {
+  app.add_option("-c,--config", opts.config_path,
+                 "YAML config file (default: built-in defaults; see config/<daemon>.yaml)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--lcm-url", opts.lcm_url,
+                 "LCM URL (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)");
+  app.add_option("--log-level", opts.log_level, "trace|debug|info|warn|error|critical|off")
+      ->capture_default_str();
+  app.add_flag("--print-config", opts.print_config,
+               "print the effective config as YAML and exit");
+}
+
+const char* exitCodeHelp() {
+  return "Exit codes: 0 clean stop (SIGINT/SIGTERM), 1 LCM unavailable or fatal error,\n"
+         "            2 bad command line or config, 3 bad map or scenario file.";
+}
+
+}  // namespace coopnav

@@ -1,0 +1,82 @@
+#pragma once
+/// @file The shared main() of every daemon: CLI (--help --config --lcm-url --log-level
+/// --print-config), config loading and validation, LCM set-up, the node, the loop, exit codes.
+///
+/// A node type provides: `using Config = ...;` and a constructor `Node(const Config&, Runtime&)`
+/// that subscribes and may throw StartupError (bad map, ...) to stop at start.
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <string>
+
+#include "common/config.hpp"
+#include "common/log.hpp"
+#include "common/runtime.hpp"
+
+namespace coopnav {
+
+/// Thrown by a node constructor when an input file (map, scenario) is unusable.
+class StartupError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct CommonOptions {
+  std::string config_path;
+  std::string lcm_url;
+  std::string log_level{"info"};
+  bool print_config{false};
+};
+
+/// Adds the common options to `app` (a daemon may add its own before calling runDaemon).
+void addCommonOptions(CLI::App& app, CommonOptions& opts);
+
+/// The exit-code paragraph shown at the end of every --help.
+const char* exitCodeHelp();
+
+template <class Node>
+int runDaemon(int argc, char** argv, const std::string& name, const std::string& description) {
+  CLI::App app{description, "coopnav_" + name};
+  CommonOptions opts;
+  addCommonOptions(app, opts);
+  app.footer(exitCodeHelp());
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+  if (!setLogLevel(opts.log_level)) {
+    std::cerr << name << ": unknown --log-level '" << opts.log_level << "'\n";
+    return kExitUsage;
+  }
+  typename Node::Config config;
+  try {
+    config = loadConfig<typename Node::Config>(opts.config_path);
+  } catch (const ConfigError& e) {
+    log().critical("{}: bad config:\n{}", name, e.what());
+    return kExitUsage;
+  }
+  if (opts.print_config) {
+    std::cout << configToYaml(config) << std::endl;
+    return kExitOk;
+  }
+  Runtime::installSignalHandlers();
+  try {
+    Runtime runtime(name, opts.lcm_url);
+    Node node(config, runtime);
+    return runtime.run();
+  } catch (const LcmUnavailable& e) {
+    log().critical("{}: {}", name, e.what());
+    return kExitRuntime;
+  } catch (const StartupError& e) {
+    log().critical("{}: cannot start: {}", name, e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    log().critical("{}: fatal: {}", name, e.what());
+    return kExitRuntime;
+  }
+}
+
+}  // namespace coopnav

@@ -1,0 +1,231 @@
+#include "common/runtime.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+
+#include "common/log.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "coopnav/step_ack_t.hpp"
+
+namespace coopnav {
+namespace {
+
+// One self-pipe per process: a signal handler may only write(2).
+int g_signal_pipe[2] = {-1, -1};
+
+void onSignal(int) {
+  const int saved = errno;
+  const char c = 's';
+  if (g_signal_pipe[1] >= 0) [[maybe_unused]] auto n = ::write(g_signal_pipe[1], &c, 1);
+  errno = saved;
+}
+
+std::int64_t wallUtime() {
+  // Status messages report process health: wall time is right here, and only here.
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+void makePipe(int fds[2]) {
+  if (::pipe(fds) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  for (int i = 0; i < 2; ++i) {
+    ::fcntl(fds[i], F_SETFL, ::fcntl(fds[i], F_GETFL) | O_NONBLOCK);
+    ::fcntl(fds[i], F_SETFD, FD_CLOEXEC);
+  }
+}
+
+}  // namespace
+
+void Runtime::installSignalHandlers() {
+  if (g_signal_pipe[0] >= 0) return;
+  makePipe(g_signal_pipe);
+  struct sigaction sa {};
+  sa.sa_handler = onSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;  // no SA_RESTART: poll() returns EINTR and we look at the pipe at once
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+Runtime::Runtime(std::string name, const std::string& lcm_url) : name_(std::move(name)) {
+  lcm_ = std::make_unique<lcm::LCM>(lcm_url);
+  // LCM 1.3.1 ignores a failed provider/self-test until handleTimeout aborts on fd -1.
+  if (!lcm_->good() || lcm_->getFileno() < 0) {
+    throw LcmUnavailable("LCM provider '" + (lcm_url.empty() ? std::string("default") : lcm_url) +
+                         "' is not usable (bad URL, no multicast route on lo, or self-test "
+                         "failure; see README 'Troubleshooting')");
+  }
+  makePipe(stop_pipe_);
+  state_ = daemon_status_t::STATE_STARTING;
+}
+
+Runtime::~Runtime() {
+  for (auto& s : subscriptions_)
+    if (s->handle) lcm_->unsubscribe(s->handle);
+  for (int fd : stop_pipe_)
+    if (fd >= 0) ::close(fd);
+}
+
+void Runtime::dispatch(const std::function<void()>& body, const std::string& channel) {
+  ++counters_.received;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    body();
+  } catch (const RejectedMessage& e) {
+    ++counters_.rejected;
+    log().warn("{}: rejected message on {}: {}", name_, channel, e.what());
+  } catch (const DroppedMessage& e) {
+    ++counters_.dropped;
+    log().info("{}: dropped message on {}: {}", name_, channel, e.what());
+  } catch (const std::exception& e) {
+    // A bug or an unforeseen input: keep running, count it, say so loudly.
+    ++counters_.rejected;
+    log().error("{}: handler for {} failed: {}", name_, channel, e.what());
+  }
+  cycle_ms_.push_back(
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+}
+
+void Runtime::ackStep(std::int64_t utime, std::int64_t step) {
+  if (step < 0) return;  // free-running: nobody waits
+  step_ack_t ack;
+  ack.utime = utime;
+  ack.step = step;
+  ack.participant = name_;
+  publish(channels::kStepAck, ack);
+}
+
+void Runtime::addTimer(std::chrono::milliseconds period, std::function<void()> fn) {
+  timers_.push_back({period, std::chrono::steady_clock::now() + period, std::move(fn)});
+}
+
+void Runtime::setDegraded(const std::string& detail) {
+  if (state_ != daemon_status_t::STATE_DEGRADED || detail_ != detail)
+    log().warn("{}: degraded: {}", name_, detail);
+  state_ = daemon_status_t::STATE_DEGRADED;
+  detail_ = detail;
+}
+
+void Runtime::setRunning(const std::string& detail) {
+  if (state_ == daemon_status_t::STATE_DEGRADED) log().info("{}: running again", name_);
+  state_ = daemon_status_t::STATE_RUNNING;
+  detail_ = detail;
+}
+
+void Runtime::publishStatus() {
+  daemon_status_t s;
+  s.utime = wallUtime();
+  s.name = name_;
+  s.pid = static_cast<int32_t>(::getpid());
+  s.state = state_;
+  s.received = counters_.received;
+  s.dropped = counters_.dropped;
+  s.rejected = counters_.rejected;
+  s.published = counters_.published + 1;  // this status message included
+  s.last_logic_utime = last_logic_utime_;
+  if (cycle_ms_.empty()) {
+    s.cycle_p50_ms = s.cycle_max_ms = std::numeric_limits<double>::quiet_NaN();
+  } else {
+    auto mid = cycle_ms_.begin() + static_cast<std::ptrdiff_t>(cycle_ms_.size() / 2);
+    std::nth_element(cycle_ms_.begin(), mid, cycle_ms_.end());
+    s.cycle_p50_ms = *mid;
+    s.cycle_max_ms = *std::max_element(cycle_ms_.begin(), cycle_ms_.end());
+    cycle_ms_.clear();
+  }
+  s.detail = detail_;
+  publish(channels::kStatus, s);
+}
+
+void Runtime::runDueTimers() {
+  const auto now = std::chrono::steady_clock::now();
+  for (auto& t : timers_) {
+    if (now >= t.next) {
+      t.next = now + t.period;
+      try {
+        t.fn();
+      } catch (const std::exception& e) {
+        log().error("{}: timer failed: {}", name_, e.what());
+      }
+    }
+  }
+}
+
+int Runtime::msUntilNextTimer() const {
+  const auto now = std::chrono::steady_clock::now();
+  long best = 1000;
+  for (const auto& t : timers_) {
+    best = std::min<long>(
+        best, std::chrono::duration_cast<std::chrono::milliseconds>(t.next - now).count());
+  }
+  return static_cast<int>(std::max<long>(best, 0));
+}
+
+int Runtime::spinFor(int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  int handled = 0;
+  while (true) {
+    runDueTimers();
+    const auto now = std::chrono::steady_clock::now();
+    int wait_ms = static_cast<int>(
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
+    wait_ms = std::max(0, std::min(wait_ms, msUntilNextTimer()));
+    // handleTimeout(0) is a non-blocking poll; a negative timeout would return -1 at once.
+    const int r = lcm_->handleTimeout(wait_ms);
+    if (r > 0) {
+      ++handled;
+      continue;
+    }
+    if (r < 0 && errno != EINTR) return handled;
+    if (std::chrono::steady_clock::now() >= deadline) return handled;
+  }
+}
+
+void Runtime::requestStop() {
+  stop_ = true;
+  const char c = 'q';
+  if (stop_pipe_[1] >= 0) [[maybe_unused]] auto n = ::write(stop_pipe_[1], &c, 1);
+}
+
+int Runtime::run() {
+  installSignalHandlers();
+  if (state_ == daemon_status_t::STATE_STARTING) state_ = daemon_status_t::STATE_RUNNING;
+  addTimer(std::chrono::milliseconds(1000), [this] { publishStatus(); });
+  publishStatus();
+  log().info("{}: ready (pid {})", name_, ::getpid());
+  pollfd fds[3];
+  fds[0] = {lcm_->getFileno(), POLLIN, 0};
+  fds[1] = {g_signal_pipe[0], POLLIN, 0};
+  fds[2] = {stop_pipe_[0], POLLIN, 0};
+  while (!stop_) {
+    runDueTimers();
+    const int n = ::poll(fds, 3, msUntilNextTimer());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      log().error("{}: poll failed: {}", name_, std::strerror(errno));
+      return kExitRuntime;
+    }
+    if (fds[1].revents & POLLIN) {
+      log().info("{}: signal received, stopping", name_);
+      break;
+    }
+    if (fds[2].revents & POLLIN) break;
+    if (fds[0].revents & POLLIN) {
+      // Drain what is queued without blocking, so a burst does not starve the status timer.
+      for (int i = 0; i < 1000 && lcm_->handleTimeout(0) > 0; ++i) {
+      }
+    }
+  }
+  state_ = daemon_status_t::STATE_STOPPING;
+  publishStatus();
+  return kExitOk;
+}
+
+}  // namespace coopnav

@@ -1,0 +1,186 @@
+#pragma once
+/// @file The lifecycle every coopnav daemon shares: LCM construction with a provider check,
+/// a poll loop on the LCM fd plus a signal self-pipe, clean exit on SIGINT/SIGTERM, a status
+/// message once a second, safe decoding with counters, and lockstep step acknowledgements.
+///
+/// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
+/// request timeouts) use the monotonic clock: they are about liveness, never about decisions.
+
+#include <lcm/lcm-cpp.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "coopnav/channels.hpp"
+
+namespace coopnav {
+
+/// Thrown when LCM cannot be used (bad URL, no multicast route, self-test failure).
+class LcmUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Thrown by a message handler to reject a message (bad content); counted, logged, dropped.
+class RejectedMessage : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Thrown by a message handler for a well-formed message it cannot use (stale, unknown id).
+class DroppedMessage : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Process exit codes, documented in every daemon's --help.
+enum ExitCode : int {
+  kExitOk = 0,         ///< clean stop on SIGINT/SIGTERM
+  kExitRuntime = 1,    ///< LCM unavailable or an unexpected failure
+  kExitUsage = 2,      ///< bad command line or config
+  kExitBadInput = 3,   ///< bad map or scenario file
+};
+
+struct RuntimeCounters {
+  std::int64_t received{0};
+  std::int64_t dropped{0};
+  std::int64_t rejected{0};
+  std::int64_t published{0};
+};
+
+class Runtime {
+ public:
+  /// Opens LCM at `lcm_url` ("" = $LCM_DEFAULT_URL or LCM's default) and checks the provider:
+  /// Debian's LCM 1.3.1 otherwise aborts later inside handleTimeout. Throws LcmUnavailable.
+  Runtime(std::string name, const std::string& lcm_url);
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+
+  const std::string& name() const { return name_; }
+  lcm::LCM& lcm() { return *lcm_; }
+
+  /// Subscribes with safe decoding: a message that fails to decode (wrong type on the channel,
+  /// truncated, corrupt count) is counted as rejected and logged, never crashes the daemon.
+  /// The handler may throw RejectedMessage or DroppedMessage to have the message counted so.
+  /// `queue_capacity` 0 = unlimited (request/reply servers must never drop silently).
+  template <class Msg>
+  void subscribe(const std::string& channel,
+                 std::function<void(const Msg&, std::int64_t recv_utime)> handler,
+                 int queue_capacity = 0);
+
+  /// Encodes and publishes; counts it. Returns false (and logs) on a publish failure.
+  template <class Msg>
+  bool publish(const std::string& channel, const Msg& msg);
+
+  /// Publishes a lockstep acknowledgement of step `step` stamped `utime`.
+  void ackStep(std::int64_t utime, std::int64_t step);
+
+  /// Runs `fn` every `period` of monotonic time from the loop (liveness work only).
+  void addTimer(std::chrono::milliseconds period, std::function<void()> fn);
+
+  /// Sets the state and the free-text detail reported in the status message.
+  void setDegraded(const std::string& detail);
+  void setRunning(const std::string& detail = "");
+
+  /// Records the message time of the latest input processed (reported in the status).
+  void noteLogicTime(std::int64_t utime) { last_logic_utime_ = utime; }
+
+  /// Handles messages for up to `timeout_ms` (0 = only what is pending); runs due timers.
+  /// Returns the number of messages handled. For tests and single-threaded clients.
+  int spinFor(int timeout_ms);
+
+  /// The daemon loop: until SIGINT/SIGTERM (or requestStop), handle messages, run timers,
+  /// publish status once a second. Returns kExitOk on a clean stop.
+  int run();
+
+  /// Asks run() to return (thread-safe and async-signal-safe).
+  void requestStop();
+
+  const RuntimeCounters& counters() const { return counters_; }
+  void countDropped() { ++counters_.dropped; }
+  void countRejected() { ++counters_.rejected; }
+
+  /// Installs SIGINT/SIGTERM handlers writing to a process-wide self-pipe (idempotent).
+  static void installSignalHandlers();
+
+ private:
+  struct Subscription;
+  struct Timer {
+    std::chrono::milliseconds period;
+    std::chrono::steady_clock::time_point next;
+    std::function<void()> fn;
+  };
+  void dispatch(const std::function<void()>& body, const std::string& channel);
+  void publishStatus();
+  void runDueTimers();
+  int msUntilNextTimer() const;
+
+  std::string name_;
+  std::unique_ptr<lcm::LCM> lcm_;
+  std::vector<std::unique_ptr<Subscription>> subscriptions_;
+  std::vector<Timer> timers_;
+  RuntimeCounters counters_;
+  std::int8_t state_{0};
+  std::string detail_;
+  std::int64_t last_logic_utime_{-1};
+  std::vector<double> cycle_ms_;
+  std::atomic<bool> stop_{false};
+  int stop_pipe_[2]{-1, -1};
+};
+
+// ---- template implementation ----
+
+struct Runtime::Subscription {
+  Runtime* runtime{nullptr};
+  std::string channel;
+  std::function<void(const lcm::ReceiveBuffer*)> on_message;
+  lcm::Subscription* handle{nullptr};
+  void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) { on_message(rbuf); }
+};
+
+template <class Msg>
+void Runtime::subscribe(const std::string& channel,
+                        std::function<void(const Msg&, std::int64_t)> handler,
+                        int queue_capacity) {
+  auto sub = std::make_unique<Subscription>();
+  sub->runtime = this;
+  sub->channel = channel;
+  sub->on_message = [this, channel, handler](const lcm::ReceiveBuffer* rbuf) {
+    dispatch(
+        [&] {
+          Msg msg;
+          // The generated decoder may throw (std::length_error on a negative count) or fail.
+          int used = -1;
+          try {
+            used = msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size));
+          } catch (const std::exception& e) {
+            throw RejectedMessage(std::string("decode threw: ") + e.what());
+          }
+          if (used < 0) throw RejectedMessage("cannot decode as " + std::string(Msg::getTypeName()));
+          if (used != static_cast<int>(rbuf->data_size))
+            throw RejectedMessage("trailing bytes after " + std::string(Msg::getTypeName()));
+          handler(msg, rbuf->recv_utime);
+        },
+        channel);
+  };
+  // Channel names are anchored GLib regexes in LCM: escape nothing, ours are plain UPPER_SNAKE.
+  sub->handle = lcm_->subscribe(channel, &Subscription::handleMessage, sub.get());
+  if (sub->handle) sub->handle->setQueueCapacity(queue_capacity);
+  subscriptions_.push_back(std::move(sub));
+}
+
+template <class Msg>
+bool Runtime::publish(const std::string& channel, const Msg& msg) {
+  if (lcm_->publish(channel, &msg) != 0) return false;
+  ++counters_.published;
+  return true;
+}
+
+}  // namespace coopnav

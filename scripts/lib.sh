@@ -1,0 +1,51 @@
+# Shared by the scripts: repository paths, dependency install, build, LCM route check.
+# Sourced, not executed.
+set -euo pipefail
+
+COOPNAV_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:-$COOPNAV_ROOT/build}"
+
+# Debian 12 packages: toolchain, LCM (C/C++, tools, Java for lcm-spy), libraries, test tools.
+COOPNAV_DEBS=(
+  build-essential cmake ninja-build pkg-config git ca-certificates
+  liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless libjchart2d-java
+  libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
+  iproute2 procps python3
+)
+
+coopnav_sudo() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+coopnav_install_deps() {
+  local missing=()
+  for p in "${COOPNAV_DEBS[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+  done
+  if [ "${#missing[@]}" -gt 0 ]; then
+    echo "coopnav: installing ${#missing[@]} Debian packages: ${missing[*]}"
+    coopnav_sudo env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    coopnav_sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+      "${missing[@]}"
+  fi
+}
+
+coopnav_build() {
+  local extra=()
+  if [ "${CI:-}" = "true" ]; then extra+=(-DCOOPNAV_WERROR=ON); fi
+  cmake -S "$COOPNAV_ROOT" -B "$COOPNAV_BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "${extra[@]}" "$@" >/dev/null
+  cmake --build "$COOPNAV_BUILD_DIR" -j"$(nproc)"
+}
+
+# LCM's udpm needs a multicast route; a minimal machine (or container) may have none on lo.
+coopnav_ensure_multicast() {
+  if ip route show 2>/dev/null | grep -qE '^(224\.0\.0\.0/4|default)'; then return 0; fi
+  echo "coopnav: no multicast route; adding 224.0.0.0/4 on lo"
+  coopnav_sudo ip link set lo up || true
+  coopnav_sudo ip link set lo multicast on || true
+  coopnav_sudo ip route add 224.0.0.0/4 dev lo || true
+}
+
+coopnav_bin() { echo "$COOPNAV_BUILD_DIR/daemons/$1/coopnav_$1"; }

@@ -1,0 +1,107 @@
+// The shared daemon runtime over an isolated udpm port: safe decoding with counters, status,
+// step acks, timers, the distance client's timeout when no server answers.
+#include "common/runtime.hpp"
+
+#include <gtest/gtest.h>
+
+#include "common/distance_client.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "coopnav/step_ack_t.hpp"
+#include "test_util.hpp"
+
+namespace coopnav {
+namespace {
+
+TEST(RuntimeTest, BadUrlIsReportedAtConstruction) {
+  EXPECT_THROW(Runtime("x", "nosuchprovider://"), LcmUnavailable);
+}
+
+TEST(RuntimeTest, WrongTypeOnAChannelIsRejectedAndCountedNotFatal) {
+  Runtime rt("dut", test::testLcmUrl());
+  int good = 0;
+  rt.subscribe<agent_states_t>("RT_TEST_STATES",
+                               [&](const agent_states_t&, std::int64_t) { ++good; });
+  step_ack_t wrong;
+  wrong.participant = "x";
+  rt.publish("RT_TEST_STATES", wrong);
+  agent_states_t right{};
+  right.robot.radius_m = 0.3;
+  rt.publish("RT_TEST_STATES", right);
+  test::waitFor([&] { return rt.counters().received >= 2; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  EXPECT_EQ(good, 1);
+  EXPECT_EQ(rt.counters().rejected, 1);
+}
+
+TEST(RuntimeTest, TruncatedAndCorruptCountsAreRejected) {
+  Runtime rt("dut", test::testLcmUrl());
+  int good = 0;
+  rt.subscribe<agent_states_t>("RT_TEST_TRUNC",
+                               [&](const agent_states_t&, std::int64_t) { ++good; });
+  agent_states_t m{};
+  m.num_humans = 1;
+  m.humans.resize(1);
+  std::vector<uint8_t> buf(m.getEncodedSize());
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  rt.lcm().publish("RT_TEST_TRUNC", buf.data(), static_cast<unsigned>(buf.size() - 9));
+  // Negative human count: the generated decoder would throw on resize.
+  const std::size_t count_offset = 8 + 8 + 8 + static_cast<std::size_t>(m.robot._getEncodedSizeNoHash());
+  buf[count_offset] = 0xff;
+  buf[count_offset + 1] = 0xf0;
+  rt.lcm().publish("RT_TEST_TRUNC", buf.data(), static_cast<unsigned>(buf.size()));
+  test::waitFor([&] { return rt.counters().received >= 2; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  EXPECT_EQ(good, 0);
+  EXPECT_EQ(rt.counters().rejected, 2);
+}
+
+TEST(RuntimeTest, HandlerExceptionsAreCountedAndTheLoopGoesOn) {
+  Runtime rt("dut", test::testLcmUrl());
+  rt.subscribe<step_ack_t>("RT_TEST_THROW", [&](const step_ack_t& a, std::int64_t) {
+    if (a.step == 1) throw RejectedMessage("bad");
+    if (a.step == 2) throw DroppedMessage("stale");
+  });
+  for (int s = 1; s <= 3; ++s) {
+    step_ack_t a;
+    a.step = s;
+    rt.publish("RT_TEST_THROW", a);
+  }
+  test::waitFor([&] { return rt.counters().received >= 3; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  EXPECT_EQ(rt.counters().rejected, 1);
+  EXPECT_EQ(rt.counters().dropped, 1);
+}
+
+TEST(RuntimeTest, StepAcksCarryTheParticipantName) {
+  Runtime dut("situation_assessor", test::testLcmUrl());
+  Runtime probe("probe", test::testLcmUrl());
+  std::vector<step_ack_t> acks;
+  probe.subscribe<step_ack_t>(channels::kStepAck,
+                              [&](const step_ack_t& a, std::int64_t) { acks.push_back(a); });
+  dut.ackStep(100000, 1);
+  dut.ackStep(200000, -1);  // free-running: not published
+  test::waitFor([&] { return !acks.empty(); }, std::chrono::seconds(2), [&] { probe.spinFor(5); });
+  probe.spinFor(50);
+  ASSERT_EQ(acks.size(), 1u);
+  EXPECT_EQ(acks[0].participant, "situation_assessor");
+  EXPECT_EQ(acks[0].step, 1);
+}
+
+TEST(RuntimeTest, DistanceClientGivesUpAfterItsAttemptsWhenNoServerAnswers) {
+  Runtime rt("dut", test::testLcmUrl());
+  DistanceClient::Options o;
+  o.timeout = std::chrono::milliseconds(30);
+  o.attempts = 2;
+  DistanceClient client(rt, "rt_test_nobody", o);
+  std::optional<DistanceClient::Outcome> out;
+  client.query({DistanceQuery{}}, 0, [&](const DistanceClient::Outcome& r) { out = r; });
+  test::waitFor([&] { return out.has_value(); }, std::chrono::seconds(2), [&] { rt.spinFor(5); });
+  ASSERT_TRUE(out.has_value());
+  EXPECT_FALSE(out->ok);
+  EXPECT_EQ(out->attempts_used, 2);
+  EXPECT_NE(out->error.find("no reply"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -1,0 +1,105 @@
+// The config loader: defaults only in the struct, errors that name key, value and range.
+#include "common/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace coopnav {
+namespace {
+
+struct Inner {
+  double gain{2.0};
+  template <class V>
+  void visit(V& v) {
+    v("gain", gain, Range{0.0, 10.0});
+  }
+};
+
+struct SampleConfig {
+  double speed_m_s{0.7};
+  int rate_hz{10};
+  std::string mode{"lockstep"};
+  bool speak{false};
+  std::vector<std::string> participants{"a", "b"};
+  Inner inner;
+  template <class V>
+  void visit(V& v) {
+    v("speed_m_s", speed_m_s, Range{0.0, 2.0});
+    v("rate_hz", rate_hz, Range{1, 100});
+    v("mode", mode, OneOf{{"lockstep", "realtime"}});
+    v("speak", speak);
+    v("participants", participants);
+    v("inner", inner);
+  }
+};
+
+std::string writeTemp(const std::string& text) {
+  static int n = 0;
+  const auto p = std::filesystem::temp_directory_path() /
+                 ("coopnav_cfg_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ".yaml");
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+TEST(ConfigTest, EmptyPathGivesTheStructDefaults) {
+  const auto c = loadConfig<SampleConfig>("");
+  EXPECT_EQ(c.speed_m_s, 0.7);
+  EXPECT_EQ(c.rate_hz, 10);
+  EXPECT_EQ(c.participants.size(), 2u);
+}
+
+TEST(ConfigTest, FileOverridesOnlyWhatItNames) {
+  const auto c = loadConfig<SampleConfig>(
+      writeTemp("speed_m_s: 1.1\ninner: {gain: 3}\nparticipants: [x]\nmode: realtime\n"));
+  EXPECT_EQ(c.speed_m_s, 1.1);
+  EXPECT_EQ(c.rate_hz, 10);
+  EXPECT_EQ(c.inner.gain, 3.0);
+  EXPECT_EQ(c.mode, "realtime");
+  ASSERT_EQ(c.participants.size(), 1u);
+}
+
+TEST(ConfigTest, ErrorsNameTheKeyTheValueAndTheRange) {
+  const auto path = writeTemp("speed_m_s: 5\nrate_hz: abc\nmode: fast\nbogus: 1\ninner: {gain: -1}\n");
+  try {
+    loadConfig<SampleConfig>(path);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos);
+    EXPECT_NE(msg.find("'speed_m_s' = 5 is outside the allowed range [0, 2]"), std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("'rate_hz' = 'abc' has the wrong type"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'mode' = 'fast' is not one of {lockstep, realtime}"), std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("'bogus' is not a known key"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'inner.gain' = -1"), std::string::npos) << msg;
+  }
+}
+
+TEST(ConfigTest, MissingFileAndSyntaxErrorsAreClear) {
+  EXPECT_THROW(loadConfig<SampleConfig>("/nonexistent/x.yaml"), ConfigError);
+  try {
+    loadConfig<SampleConfig>(writeTemp("speed_m_s: [1,\n"));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("syntax error at line"), std::string::npos);
+  }
+}
+
+TEST(ConfigTest, NonFiniteNumbersAreRejected) {
+  EXPECT_THROW(loadConfig<SampleConfig>(writeTemp("speed_m_s: .nan\n")), ConfigError);
+}
+
+TEST(ConfigTest, PrintedConfigLoadsBackToTheSameValues) {
+  SampleConfig c;
+  c.speed_m_s = 1.25;
+  c.inner.gain = 4.0;
+  const auto back = loadConfig<SampleConfig>(writeTemp(configToYaml(c)));
+  EXPECT_EQ(back.speed_m_s, 1.25);
+  EXPECT_EQ(back.inner.gain, 4.0);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -1,0 +1,165 @@
+#pragma once
+/// @file Decision logic of paper §II-D for one human: three rounds (t_CROSS ≈ 7 s, ≈ 4 s, after
+/// crossing), each firing once per interaction, read exactly as in clarifications.md "Decision
+/// pipeline". Pure: no clock (time is an input), no I/O; the daemon turns the output into
+/// utterance, robot-action and path-assessor-control messages.
+///
+/// Unknown handling: a branch that needs an UNKNOWN predicate (or an undefined Dir where a side
+/// must be spoken) stays silent and records why in RoundOutcome::reason. In particular an unknown
+/// predicate never leads to a dock.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coopnav/geometry/types.hpp"
+
+namespace coopnav::dialogue {
+
+/// Speech acts; values mirror coopnav_utterance_t.ACT_*.
+enum class SpeechAct : std::int8_t {
+  kInformDirection = 1,     ///< round 1: "I will pass on your {dir}." (dir = Dir)
+  kAskToMove = 2,           ///< round 1: describe the situation, ask to move (dir = opposite(Dir))
+  kInformDockIfNeeded = 3,  ///< round 1: both constrained
+  kRepeatDirection = 4,     ///< round 2: Dir again (dir = Dir)
+  kAskToMoveMore = 5,       ///< round 2: contributing, ask a bit more (dir = opposite(Dir))
+  kInformDocking = 6,       ///< round 2: docking, "I will wait here for you to pass."
+  kThank = 7,               ///< round 3: the human facilitated
+};
+const char* toString(SpeechAct a);
+
+/// Path assessor commands; values mirror coopnav_path_assessor_control_t.COMMAND_*.
+enum class RecorderCommand : std::int8_t { kStart = 1, kStop = 2, kReset = 3 };
+const char* toString(RecorderCommand c);
+
+/// Robot actions; values mirror coopnav_robot_action_t.ACTION_*.
+enum class RobotAction : std::int8_t { kDock = 1, kResume = 2 };
+const char* toString(RobotAction a);
+
+/// English text templates; "{dir}" is replaced by left_word / right_word.
+struct TextTemplates {
+  std::string inform_direction{"I will pass on your {dir}."};
+  std::string ask_to_move{"It is narrow here. Could you move to your {dir}, please?"};
+  std::string inform_dock_if_needed{"It is narrow here. I will wait at the side if needed."};
+  std::string repeat_direction{"I am passing on your {dir}."};
+  std::string ask_to_move_more{"Could you move a little more to your {dir}, please?"};
+  std::string inform_docking{"I will wait here for you to pass."};
+  std::string thank{"Thank you."};
+  std::string left_word{"left"};
+  std::string right_word{"right"};
+};
+
+/// Renders the template of act with {dir} replaced (every occurrence). dir kUndefined -> "".
+std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir);
+
+/// Decision tuning. Defaults in this one place.
+struct DecisionConfig {
+  double round1_t_cross_s{7.0};  ///< [s] round 1 when t_CROSS first falls to <= this (§II-D)
+  double round2_t_cross_s{4.0};  ///< [s] round 2 when t_CROSS first falls to <= this (§II-D)
+  TextTemplates templates;
+};
+
+/// Situation assessor output for this human at one time (coopnav_situation_t).
+struct SituationSnapshot {
+  std::optional<double> t_cross_s;  ///< [s] from now to closest approach; nullopt = unknown
+  Tristate human_needs_to_contribute{Tristate::kUnknown};
+  Tristate human_is_constrained{Tristate::kUnknown};
+  Tristate robot_is_constrained{Tristate::kUnknown};
+  Side dir{Side::kUndefined};   ///< side the robot passes on, as the human sees it
+  std::optional<double> d_h_m;  ///< [m] nullopt = unknown
+};
+
+/// Path assessor output for this human (coopnav_path_assessment_t), window since the last reset.
+struct PathSnapshot {
+  std::optional<double> cm_window_m;             ///< [m] nullopt = no samples
+  Tristate is_contributing{Tristate::kUnknown};  ///< CM > τ over the same window
+};
+
+struct DecisionInput {
+  double t_s{0.0};  ///< [s] decision time (the situation's time), any monotonic time base
+  SituationSnapshot situation;
+  PathSnapshot path;
+  bool crossed{false};  ///< the agents have crossed (see CrossedTracker)
+};
+
+struct Utterance {
+  SpeechAct act{SpeechAct::kInformDirection};
+  /// INFORM/REPEAT: side the robot passes on; ASK_*: side the human is asked to move to;
+  /// kUndefined for the others.
+  Side direction{Side::kUndefined};
+  int round{0};
+  std::string text;
+};
+
+/// Record of one fired round: which flowchart branch was taken and why (also when silent).
+struct RoundOutcome {
+  int round{0};
+  double t_s{0.0};
+  std::optional<double> t_cross_s;
+  std::string branch;  ///< e.g. "needs & !robot_constrained -> inform Dir"
+  std::string reason;  ///< why it stayed silent, "" when it spoke or acted as the flowchart says
+};
+
+struct DecisionOutput {
+  std::vector<Utterance> utterances;
+  std::vector<RecorderCommand> recorder_commands;  ///< in order of issue
+  std::vector<RobotAction> robot_actions;
+  std::vector<RoundOutcome> rounds;  ///< rounds fired at this step (0, 1 or 2 entries)
+  bool empty() const {
+    return utterances.empty() && recorder_commands.empty() && robot_actions.empty() &&
+           rounds.empty();
+  }
+};
+
+/// Per-human decision state machine of paper §II-D.
+/// Round 1 fires at the first step with known t_CROSS <= round1_t_cross_s; round 2 at the first
+/// LATER step with t_CROSS <= round2_t_cross_s (never in the same step as round 1, so that its CM
+/// has samples since the recorder start); round 3 at the first step with crossed == true. Each
+/// fires at most once per interaction, whatever t_CROSS does afterwards. Rounds 1 and 2 are
+/// skipped once crossed.
+class HumanDecision {
+ public:
+  explicit HumanDecision(const DecisionConfig& config = {});
+
+  /// Advances the state machine with the latest snapshots; returns what to do now.
+  DecisionOutput step(const DecisionInput& input);
+  /// The human left the scene: ends the interaction (stops the recorder if it was started, resumes
+  /// a docked robot). No further rounds fire.
+  DecisionOutput endInteraction(double t_s, const std::string& reason);
+
+  bool roundFired(int round) const;
+  bool docked() const { return docked_; }
+  bool ended() const { return ended_; }
+
+ private:
+  void round1(const DecisionInput& in, DecisionOutput& out);
+  void round2(const DecisionInput& in, DecisionOutput& out);
+  void round3(const DecisionInput& in, DecisionOutput& out);
+  void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
+
+  DecisionConfig config_;
+  bool fired_[3]{false, false, false};
+  bool recorder_started_{false};
+  bool docked_{false};
+  bool ended_{false};
+};
+
+/// Crossed detection state for one human (clarifications: the robot is behind the human along
+/// the human's heading, having been ahead).
+struct CrossedTracker {
+  bool seen_ahead{false};
+  bool crossed{false};  ///< latched once true
+};
+
+/// [m] Robot position along the human's heading, relative to the human (> 0 = ahead).
+double robotAlongHumanHeading_m(const Pose2& human, const Eigen::Vector2d& robot_m);
+
+/// Pure update of the crossed detection with hysteresis: "ahead" once the robot is more than
+/// hysteresis_m ahead, "crossed" once, having been ahead, it is more than hysteresis_m behind.
+/// Non-finite input leaves the state unchanged.
+CrossedTracker updateCrossed(CrossedTracker previous, const Pose2& human,
+                             const Eigen::Vector2d& robot_m, double hysteresis_m = 0.2);
+
+}  // namespace coopnav::dialogue

@@ -1,0 +1,280 @@
+#include "coopnav/dialogue/decision.hpp"
+
+#include <cmath>
+
+#include "coopnav/geometry/geometry.hpp"
+
+namespace coopnav::dialogue {
+
+namespace {
+
+// Kleene comparison for StillNeedsToContribute = CM < d_h.
+Tristate lessThan(std::optional<double> a, std::optional<double> b) {
+  if (!a || !b || std::isnan(*a) || std::isnan(*b)) return Tristate::kUnknown;
+  return toTristate(*a < *b);
+}
+
+}  // namespace
+
+const char* toString(SpeechAct a) {
+  switch (a) {
+    case SpeechAct::kInformDirection:
+      return "inform_direction";
+    case SpeechAct::kAskToMove:
+      return "ask_to_move";
+    case SpeechAct::kInformDockIfNeeded:
+      return "inform_dock_if_needed";
+    case SpeechAct::kRepeatDirection:
+      return "repeat_direction";
+    case SpeechAct::kAskToMoveMore:
+      return "ask_to_move_more";
+    case SpeechAct::kInformDocking:
+      return "inform_docking";
+    case SpeechAct::kThank:
+      return "thank";
+  }
+  return "?";
+}
+
+const char* toString(RecorderCommand c) {
+  switch (c) {
+    case RecorderCommand::kStart:
+      return "start";
+    case RecorderCommand::kStop:
+      return "stop";
+    case RecorderCommand::kReset:
+      return "reset";
+  }
+  return "?";
+}
+
+const char* toString(RobotAction a) {
+  switch (a) {
+    case RobotAction::kDock:
+      return "dock";
+    case RobotAction::kResume:
+      return "resume";
+  }
+  return "?";
+}
+
+std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir) {
+  std::string text;
+  switch (act) {
+    case SpeechAct::kInformDirection:
+      text = templates.inform_direction;
+      break;
+    case SpeechAct::kAskToMove:
+      text = templates.ask_to_move;
+      break;
+    case SpeechAct::kInformDockIfNeeded:
+      text = templates.inform_dock_if_needed;
+      break;
+    case SpeechAct::kRepeatDirection:
+      text = templates.repeat_direction;
+      break;
+    case SpeechAct::kAskToMoveMore:
+      text = templates.ask_to_move_more;
+      break;
+    case SpeechAct::kInformDocking:
+      text = templates.inform_docking;
+      break;
+    case SpeechAct::kThank:
+      text = templates.thank;
+      break;
+  }
+  const std::string word = dir == Side::kLeft
+                               ? templates.left_word
+                               : (dir == Side::kRight ? templates.right_word : std::string());
+  static const std::string kPlaceholder = "{dir}";
+  for (std::size_t pos = text.find(kPlaceholder); pos != std::string::npos;
+       pos = text.find(kPlaceholder, pos + word.size())) {
+    text.replace(pos, kPlaceholder.size(), word);
+  }
+  return text;
+}
+
+HumanDecision::HumanDecision(const DecisionConfig& config) : config_(config) {}
+
+bool HumanDecision::roundFired(int round) const {
+  return round >= 1 && round <= 3 && fired_[round - 1];
+}
+
+void HumanDecision::say(SpeechAct act, Side dir, int round, DecisionOutput& out) const {
+  out.utterances.push_back({act, dir, round, renderText(config_.templates, act, dir)});
+}
+
+DecisionOutput HumanDecision::step(const DecisionInput& in) {
+  DecisionOutput out;
+  if (ended_) return out;
+  const auto& t_cross = in.situation.t_cross_s;
+  const bool t_cross_known = t_cross && std::isfinite(*t_cross);
+  bool fired_round1_now = false;
+  if (!in.crossed && t_cross_known) {
+    if (!fired_[0] && *t_cross <= config_.round1_t_cross_s) {
+      round1(in, out);
+      fired_round1_now = true;
+    }
+    // Round 2 never in the same step as round 1: its CM needs samples since the recorder start.
+    if (fired_[0] && !fired_round1_now && !fired_[1] && *t_cross <= config_.round2_t_cross_s) {
+      round2(in, out);
+    }
+  }
+  if (in.crossed && !fired_[2]) round3(in, out);
+  return out;
+}
+
+// Paper §II-D, round 1 (clarifications, "Decision pipeline").
+void HumanDecision::round1(const DecisionInput& in, DecisionOutput& out) {
+  fired_[0] = true;
+  const SituationSnapshot& s = in.situation;
+  RoundOutcome r{1, in.t_s, s.t_cross_s, "", ""};
+  // The recording starts whatever is said: round 2 and round 3 read it.
+  out.recorder_commands.push_back(RecorderCommand::kStart);
+  recorder_started_ = true;
+
+  auto sayDir = [&](SpeechAct act, Side side, const char* branch) {
+    r.branch = branch;
+    if (side == Side::kUndefined) {
+      r.reason = "Dir undefined: no side to speak";
+      return;
+    }
+    say(act, side, 1, out);
+  };
+
+  if (s.human_needs_to_contribute == Tristate::kTrue) {
+    if (s.robot_is_constrained == Tristate::kFalse) {
+      sayDir(SpeechAct::kInformDirection, s.dir, "needs & !robot_constrained -> inform Dir");
+    } else if (s.robot_is_constrained == Tristate::kTrue) {
+      if (s.human_is_constrained == Tristate::kFalse) {
+        sayDir(SpeechAct::kAskToMove, opposite(s.dir),
+               "needs & robot_constrained & !human_constrained -> ask to move away");
+      } else if (s.human_is_constrained == Tristate::kTrue) {
+        r.branch = "needs & robot_constrained & human_constrained -> dock if needed";
+        say(SpeechAct::kInformDockIfNeeded, Side::kUndefined, 1, out);
+      } else {
+        r.branch = "needs & robot_constrained & human_constrained unknown";
+        r.reason = "HumanIsConstrained unknown: silent";
+      }
+    } else {
+      r.branch = "needs & robot_constrained unknown";
+      r.reason = "RobotIsConstrained unknown: silent";
+    }
+  } else if (s.human_needs_to_contribute == Tristate::kFalse) {
+    // The paper's "if the human is not constrained" read as the else branch of
+    // HumanNeedsToContribute (clarifications).
+    if (s.robot_is_constrained == Tristate::kTrue) {
+      sayDir(SpeechAct::kInformDirection, s.dir, "!needs & robot_constrained -> inform Dir");
+    } else if (s.robot_is_constrained == Tristate::kFalse) {
+      r.branch = "!needs & !robot_constrained -> silent";
+    } else {
+      r.branch = "!needs & robot_constrained unknown";
+      r.reason = "RobotIsConstrained unknown: silent";
+    }
+  } else {
+    r.branch = "needs unknown";
+    r.reason = "HumanNeedsToContribute unknown: silent";
+  }
+  out.rounds.push_back(r);
+}
+
+// Paper §II-D, round 2: StillNeedsToContribute = CM < d_h.
+void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
+  fired_[1] = true;
+  const SituationSnapshot& s = in.situation;
+  RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
+  const Tristate still = lessThan(in.path.cm_window_m, s.d_h_m);
+  if (still == Tristate::kTrue) {
+    if (s.robot_is_constrained == Tristate::kFalse) {
+      r.branch = "still & !robot_constrained -> repeat Dir";
+      if (s.dir == Side::kUndefined) {
+        r.reason = "Dir undefined: no side to speak";
+      } else {
+        say(SpeechAct::kRepeatDirection, s.dir, 2, out);
+      }
+    } else if (s.robot_is_constrained == Tristate::kTrue) {
+      // Read IsContributing, then reset the recorder (the snapshot was read before the reset).
+      const Tristate contributing = in.path.is_contributing;
+      out.recorder_commands.push_back(RecorderCommand::kReset);
+      if (contributing == Tristate::kTrue) {
+        r.branch = "still & robot_constrained & contributing -> ask to move more";
+        if (s.dir == Side::kUndefined) {
+          r.reason = "Dir undefined: no side to speak";
+        } else {
+          say(SpeechAct::kAskToMoveMore, opposite(s.dir), 2, out);
+        }
+      } else if (contributing == Tristate::kFalse) {
+        r.branch = "still & robot_constrained & !contributing -> dock";
+        out.robot_actions.push_back(RobotAction::kDock);
+        docked_ = true;
+        say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
+      } else {
+        r.branch = "still & robot_constrained & contributing unknown";
+        r.reason = "IsContributing unknown: no dock, silent";
+      }
+    } else {
+      r.branch = "still & robot_constrained unknown";
+      r.reason = "RobotIsConstrained unknown: silent";
+    }
+  } else if (still == Tristate::kFalse) {
+    r.branch = "!still -> silent";
+  } else {
+    r.branch = "still unknown";
+    r.reason = std::string("StillNeedsToContribute unknown (CM ") +
+               (in.path.cm_window_m ? "known" : "unknown") + ", d_h " +
+               (s.d_h_m ? "known" : "unknown") + "): silent";
+  }
+  out.rounds.push_back(r);
+}
+
+// Paper §II-D, round 3: after crossing, stop the recorder; thank if the human facilitated.
+void HumanDecision::round3(const DecisionInput& in, DecisionOutput& out) {
+  fired_[2] = true;
+  ended_ = true;
+  RoundOutcome r{3, in.t_s, std::nullopt, "", ""};
+  if (recorder_started_) out.recorder_commands.push_back(RecorderCommand::kStop);
+  if (docked_) {
+    out.robot_actions.push_back(RobotAction::kResume);
+    docked_ = false;
+  }
+  if (!fired_[0]) {
+    r.branch = "crossed before round 1";
+    r.reason = "no assessment was recorded: silent";
+  } else if (in.path.is_contributing == Tristate::kTrue) {
+    r.branch = "crossed & contributing -> thank";
+    say(SpeechAct::kThank, Side::kUndefined, 3, out);
+  } else {
+    r.branch = "crossed & !contributing -> silent";
+    if (in.path.is_contributing == Tristate::kUnknown) r.reason = "IsContributing unknown: silent";
+  }
+  out.rounds.push_back(r);
+}
+
+DecisionOutput HumanDecision::endInteraction(double t_s, const std::string& reason) {
+  DecisionOutput out;
+  if (ended_) return out;
+  ended_ = true;
+  if (recorder_started_ && !fired_[2]) out.recorder_commands.push_back(RecorderCommand::kStop);
+  if (docked_) {
+    out.robot_actions.push_back(RobotAction::kResume);
+    docked_ = false;
+  }
+  out.rounds.push_back({0, t_s, std::nullopt, "interaction ended", reason});
+  return out;
+}
+
+double robotAlongHumanHeading_m(const Pose2& human, const Eigen::Vector2d& robot_m) {
+  return headingVector(human.theta_rad).dot(robot_m - human.position());
+}
+
+CrossedTracker updateCrossed(CrossedTracker previous, const Pose2& human,
+                             const Eigen::Vector2d& robot_m, double hysteresis_m) {
+  if (previous.crossed || !isFinite(human) || !robot_m.allFinite()) return previous;
+  const double along_m = robotAlongHumanHeading_m(human, robot_m);
+  // Hysteresis: a robot hovering around the human's lateral line (along ≈ 0) flips neither state.
+  if (along_m > hysteresis_m) previous.seen_ahead = true;
+  if (previous.seen_ahead && along_m < -hysteresis_m) previous.crossed = true;
+  return previous;
+}
+
+}  // namespace coopnav::dialogue

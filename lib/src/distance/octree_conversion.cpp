@@ -1,0 +1,87 @@
+#include "coopnav/distance/octree_conversion.hpp"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace coopnav {
+
+std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int slab_layers) {
+  if (grid.empty()) throw std::invalid_argument("gridToOctree: empty grid");
+  if (slab_layers < 1) throw std::invalid_argument("gridToOctree: slab_layers must be >= 1");
+  const double res = grid.resolution_m();
+  auto tree = std::make_unique<octomap::OcTree>(res);
+  // Fixed values rather than updateNode(): the map is given, not observed, so every voxel gets
+  // the clamped certainty directly.
+  const float occupied_log = tree->getClampingThresMaxLog();
+  const float free_log = tree->getClampingThresMinLog();
+  for (int j = 0; j < grid.height(); ++j) {
+    for (int i = 0; i < grid.width(); ++i) {
+      const CellState s = grid.at(i, j);
+      if (s == CellState::kUnknown) continue;
+      const float value = s == CellState::kOccupied ? occupied_log : free_log;
+      for (int k = 0; k < slab_layers; ++k) {
+        octomap::OcTreeKey key;
+        const octomap::point3d p_tree(static_cast<float>((i + 0.5) * res),
+                                      static_cast<float>((j + 0.5) * res),
+                                      static_cast<float>((k + 0.5) * res));
+        if (!tree->coordToKeyChecked(p_tree, key)) {
+          throw std::invalid_argument("gridToOctree: grid exceeds the OcTree key range");
+        }
+        tree->setNodeValue(key, value, /*lazy_eval=*/true);
+      }
+    }
+  }
+  tree->updateInnerOccupancy();
+  tree->prune();
+  return tree;
+}
+
+OccupancyGrid2 octreeToGrid(const octomap::OcTree& tree, double z_min_m, double z_max_m,
+                            const Eigen::Vector2d& frame_origin_m) {
+  const double res = tree.getResolution();
+  struct Leaf {
+    int i0, j0, size;  // cell range [i0, i0 + size) x [j0, j0 + size) in tree-frame cells
+    bool occupied;
+  };
+  std::vector<Leaf> leaves;
+  int min_i = INT_MAX, min_j = INT_MAX, max_i = INT_MIN, max_j = INT_MIN;
+  const unsigned max_depth = tree.getTreeDepth();
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    const double half_m = 0.5 * it.getSize();
+    const double z_m = it.getZ();
+    if (z_m + half_m <= z_min_m || z_m - half_m >= z_max_m) continue;
+    // Keys index cells as floor(coord / res) + 2^(depth-1); a coarse leaf's key is its first cell.
+    const int size = 1 << (max_depth - it.getDepth());
+    const octomap::OcTreeKey key = it.getIndexKey();
+    const int centre = 1 << (max_depth - 1);
+    Leaf leaf{static_cast<int>(key[0]) - centre, static_cast<int>(key[1]) - centre, size,
+              tree.isNodeOccupied(*it)};
+    min_i = std::min(min_i, leaf.i0);
+    min_j = std::min(min_j, leaf.j0);
+    max_i = std::max(max_i, leaf.i0 + size - 1);
+    max_j = std::max(max_j, leaf.j0 + size - 1);
+    leaves.push_back(leaf);
+  }
+  if (leaves.empty()) return OccupancyGrid2();
+  OccupancyGrid2 grid(max_i - min_i + 1, max_j - min_j + 1, res,
+                      frame_origin_m + res * Eigen::Vector2d(min_i, min_j), CellState::kUnknown);
+  for (const Leaf& leaf : leaves) {
+    for (int j = leaf.j0; j < leaf.j0 + leaf.size; ++j) {
+      for (int i = leaf.i0; i < leaf.i0 + leaf.size; ++i) {
+        const int gi = i - min_i;
+        const int gj = j - min_j;
+        if (leaf.occupied) {
+          grid.set(gi, gj, CellState::kOccupied);
+        } else if (grid.at(gi, gj) == CellState::kUnknown) {
+          grid.set(gi, gj, CellState::kFree);
+        }
+      }
+    }
+  }
+  return grid;
+}
+
+}  // namespace coopnav

@@ -1,6 +1,19 @@
 #include "common/daemon_main.hpp"
 
+#include <filesystem>
+
 namespace coopnav {
+
+std::string configBaseDir(const std::string& config_path) {
+  if (config_path.empty()) return ".";
+  const auto parent = std::filesystem::path(config_path).parent_path();
+  return parent.empty() ? std::string(".") : parent.string();
+}
+
+std::string resolvePath(const std::string& base_dir, const std::string& path) {
+  if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
+  return (std::filesystem::path(base_dir) / path).lexically_normal().string();
+}
 
 void addCommonOptions(CLI::App& app, CommonOptions& opts) {
   app.add_option("-c,--config", opts.config_path,

@@ -8,6 +8,8 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <type_traits>
+#include <utility>
 #include <string>
 
 #include "common/config.hpp"
@@ -35,6 +37,20 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts);
 /// The exit-code paragraph shown at the end of every --help.
 const char* exitCodeHelp();
 
+namespace detail {
+template <class T, class = void>
+struct HasResolvePaths : std::false_type {};
+template <class T>
+struct HasResolvePaths<T, std::void_t<decltype(std::declval<T&>().resolvePaths(std::string()))>>
+    : std::true_type {};
+}  // namespace detail
+
+/// Directory relative paths in a config are resolved against: the config file's, else ".".
+std::string configBaseDir(const std::string& config_path);
+
+/// Joins base and path unless path is absolute or empty.
+std::string resolvePath(const std::string& base_dir, const std::string& path);
+
 template <class Node>
 int runDaemon(int argc, char** argv, const std::string& name, const std::string& description) {
   CLI::App app{description, "coopnav_" + name};
@@ -57,6 +73,9 @@ int runDaemon(int argc, char** argv, const std::string& name, const std::string&
   } catch (const ConfigError& e) {
     log().critical("{}: bad config:\n{}", name, e.what());
     return kExitUsage;
+  }
+  if constexpr (detail::HasResolvePaths<typename Node::Config>::value) {
+    config.resolvePaths(configBaseDir(opts.config_path));
   }
   if (opts.print_config) {
     std::cout << configToYaml(config) << std::endl;

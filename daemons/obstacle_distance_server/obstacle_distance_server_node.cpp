@@ -1,0 +1,72 @@
+#include "obstacle_distance_server_node.hpp"
+
+#include <algorithm>
+
+#include "common/conversions.hpp"
+#include "common/daemon_main.hpp"
+#include "common/log.hpp"
+#include "common/map_loader.hpp"
+#include "coopnav/distance_reply_t.hpp"
+
+namespace coopnav {
+
+void ObstacleDistanceServerConfig::resolvePaths(const std::string& base_dir) {
+  map_file = resolvePath(base_dir, map_file);
+  write_bt_path = resolvePath(base_dir, write_bt_path);
+}
+
+ObstacleDistanceServerNode::ObstacleDistanceServerNode(const Config& config, Runtime& runtime)
+    : config_(config), runtime_(runtime) {
+  LoadedMap map;
+  try {
+    MapLoadOptions opts;
+    opts.bt_z_min_m = config_.bt_z_min_m;
+    opts.bt_z_max_m = config_.bt_z_max_m;
+    map = loadMap(config_.map_file, opts);
+    if (!config_.write_bt_path.empty()) writeBt(*map.octree, config_.write_bt_path);
+  } catch (const MapLoadError& e) {
+    throw StartupError(e.what());
+  }
+  field_ = std::make_unique<GridDistanceField>(
+      map.grid, config_.unknown_is_obstacle ? UnknownPolicy::kObstacle : UnknownPolicy::kFree);
+  const auto& g = field_->grid();
+  const std::string detail = "map " + config_.map_file + " " + std::to_string(g.width()) + "x" +
+                             std::to_string(g.height()) + " @ " +
+                             std::to_string(g.resolution_m()) + " m";
+  log().info("obstacle_distance_server: {}, {} occupied cells, octree {} leaves", detail,
+             g.count(CellState::kOccupied), map.octree ? map.octree->getNumLeafNodes() : 0);
+  runtime_.setRunning(detail);
+  // Unlimited queue: a request/reply server must never drop a queued request silently.
+  runtime_.subscribe<distance_request_t>(
+      channels::kDistanceRequest,
+      [this](const distance_request_t& m, std::int64_t) { onRequest(m); }, 0);
+}
+
+void ObstacleDistanceServerNode::onRequest(const distance_request_t& msg) {
+  if (msg.reply_channel.empty() || msg.reply_channel.size() > 63)
+    throw RejectedMessage("request " + std::to_string(msg.request_id) +
+                          " has no usable reply_channel");
+  std::vector<DistanceQuery> queries;
+  try {
+    queries = queriesFromLcm(msg);
+  } catch (const RejectedMessage& e) {
+    // Tell the client why instead of letting it time out, then count the rejection.
+    distance_reply_t reply;
+    reply.utime = msg.utime;
+    reply.request_id = msg.request_id;
+    reply.status = distance_reply_t::STATUS_BAD_REQUEST;
+    reply.error = e.what();
+    reply.num_results = 0;
+    runtime_.publish(msg.reply_channel, reply);
+    throw;
+  }
+  std::vector<DistanceResult> results;
+  results.reserve(queries.size());
+  for (auto q : queries) {
+    q.max_range_m = std::min(q.max_range_m, config_.max_range_cap_m);
+    results.push_back(answerQuery(*field_, q));
+  }
+  runtime_.publish(msg.reply_channel, toLcm(msg.utime, msg.request_id, results));
+}
+
+}  // namespace coopnav

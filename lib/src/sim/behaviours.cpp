@@ -75,7 +75,7 @@ double wallLimitedOffset(const BehaviourContext& ctx, double side, double from_a
 
 /// Side (+1 left / -1 right of the path) away from the robot's predicted lateral position; a
 /// dead-on robot gets the human's right (the human–human keep-right bias, Moussaïd et al. 2009).
-double sideAwayFrom(double robot_lateral_m) { return robot_lateral_m > 1e-3 ? -1.0 : 1.0; }
+double sideAwayFrom(double robot_lateral_m) { return robot_lateral_m < -1e-3 ? 1.0 : -1.0; }
 
 /// The TEB-like last-moment sidestep of the minimally contributing human. Latches its side and
 /// the largest sidestep of an encounter so that the human does not oscillate while passing.

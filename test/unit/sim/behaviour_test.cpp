@@ -1,0 +1,277 @@
+// Head-on encounters in analytic corridors: a robot drives straight at constant speed (it never
+// avoids) towards a human walking the corridor's centre line the other way. Measures each
+// behaviour's lateral deviation from its path and how long before the crossing it starts.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "coopnav/sim/simulation.hpp"
+#include "corridor_map.hpp"
+
+namespace coopnav::sim {
+namespace {
+
+constexpr double kOnsetThreshold_m = 0.05;  ///< deviation that counts as "started avoiding"
+
+struct HeadOn {
+  double corridor_width_m{6.0};
+  double robot_lane_m{0.0};  ///< robot's lateral offset from the centre line (+y)
+  double robot_speed_m_s{0.6};
+  double human_speed_m_s{1.0};
+  BehaviourConfig behaviour;
+  std::vector<Cue> cues;
+  std::uint64_t seed{1};
+  double speed_stddev_m_s{0.0};
+  double velocity_noise_m_s{0.0};
+};
+
+struct Trace {
+  std::vector<double> t_s, x_m, dev_m;  ///< human samples; dev: signed, +y > 0
+  double crossing_t_s{-1.0};            ///< first time the human is not ahead of the robot
+  SimStatus status{SimStatus::kRunning};
+  double min_clearance_m{0.0};
+  std::vector<AgentState> last;
+  int human_wall_collisions{0};
+
+  double maxAbsDev() const {
+    double m = 0.0;
+    for (double d : dev_m) m = std::max(m, std::abs(d));
+    return m;
+  }
+  double maxAbsDevBefore(double t) const {
+    double m = 0.0;
+    for (std::size_t i = 0; i < t_s.size(); ++i)
+      if (t_s[i] < t) m = std::max(m, std::abs(dev_m[i]));
+    return m;
+  }
+  /// Seconds between the first deviation above threshold and the crossing (< 0: never).
+  double onsetLead() const {
+    for (std::size_t i = 0; i < t_s.size(); ++i)
+      if (std::abs(dev_m[i]) > kOnsetThreshold_m) return crossing_t_s - t_s[i];
+    return -1.0;
+  }
+};
+
+Trace runHeadOn(const HeadOn& h) {
+  const double yc = h.corridor_width_m / 2.0;
+  test::CorridorMap map(0.0, h.corridor_width_m);
+  WorldSpec w;
+  w.seed = h.seed;
+  w.settings.time_limit_s = 30.0;
+  w.robot.start = {0.0, yc + h.robot_lane_m, 0.0};
+  w.robot.goal = {24.0, yc + h.robot_lane_m, 0.0};
+  HumanSpec hs;
+  hs.id = 1;
+  hs.start = {24.0, yc, M_PI};
+  hs.goal = {0.0, yc, M_PI};
+  hs.speed_m_s = h.human_speed_m_s;
+  hs.speed_stddev_m_s = h.speed_stddev_m_s;
+  hs.velocity_noise_m_s = h.velocity_noise_m_s;
+  hs.behaviour = h.behaviour;
+  w.humans.push_back(hs);
+  Simulation sim(w, &map);
+  for (const Cue& c : h.cues) sim.addCue(c);
+  Trace tr;
+  while (sim.status() == SimStatus::kRunning) {
+    const StepResult r = sim.step({h.robot_speed_m_s, 0.0, 0.0});
+    const AgentState& robot = r.agents[0];
+    const AgentState& human = r.agents[1];
+    tr.t_s.push_back(r.t_s);
+    tr.x_m.push_back(human.pose.x_m);
+    tr.dev_m.push_back(human.pose.y_m - yc);
+    if (tr.crossing_t_s < 0.0 && human.pose.x_m <= robot.pose.x_m) tr.crossing_t_s = r.t_s;
+    for (const SimEvent& e : r.events)
+      if (e.kind == SimEvent::Kind::kCollision && e.agent_id == 1 && e.other_id == kWallId)
+        ++tr.human_wall_collisions;
+    tr.last = r.agents;
+    if (tr.crossing_t_s > 0.0 && r.t_s > tr.crossing_t_s + 6.0) break;
+  }
+  tr.status = sim.status();
+  tr.min_clearance_m = sim.summary().min_robot_human_clearance_m;
+  return tr;
+}
+
+BehaviourConfig config(BehaviourType t) {
+  BehaviourConfig c;
+  c.type = t;
+  return c;
+}
+
+TEST(FacilitatingHuman, WideCorridorYieldsEarlyAndFar) {
+  HeadOn h;
+  h.behaviour = config(BehaviourType::kFacilitating);
+  const Trace tr = runHeadOn(h);
+  ASSERT_GT(tr.crossing_t_s, 0.0);
+  EXPECT_GE(tr.maxAbsDev(), 0.5);
+  EXPECT_NEAR(tr.maxAbsDev(), 0.9, 0.1);  // clarifications: ~0.9 m in the 6 m corridor
+  EXPECT_GE(tr.onsetLead(), 3.0);
+  EXPECT_GT(tr.min_clearance_m, 0.0);
+  EXPECT_NE(tr.status, SimStatus::kCollision);
+  // Dead-on robot: the human keeps to its right (+y when walking towards -x).
+  EXPECT_GT(tr.maxAbsDevBefore(tr.crossing_t_s), 0.5);
+  EXPECT_GT(tr.dev_m[static_cast<std::size_t>(tr.crossing_t_s / 0.1) - 1], 0.5);
+}
+
+TEST(FacilitatingHuman, NarrowCorridorYieldIsLimitedByWalls) {
+  HeadOn h;
+  h.corridor_width_m = 2.25;
+  h.robot_lane_m = -0.3;  // in 2.25 m the robot must take its share too (on the human's left)
+  h.behaviour = config(BehaviourType::kFacilitating);
+  const Trace tr = runHeadOn(h);
+  // 2.25 / 2 - 0.3 (radius) - 0.3 (wall margin) = 0.525 m: clarifications' ~0.5 m.
+  EXPECT_GE(tr.maxAbsDev(), 0.45);
+  EXPECT_LE(tr.maxAbsDev(), 0.55);
+  EXPECT_GE(tr.onsetLead(), 3.0);
+  EXPECT_EQ(tr.human_wall_collisions, 0);
+}
+
+TEST(FacilitatingHuman, YieldsAwayFromAnOffsetRobotAndReturnsAfterPassing) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;  // robot on the human's right (+y)
+  h.behaviour = config(BehaviourType::kFacilitating);
+  const Trace tr = runHeadOn(h);
+  EXPECT_LT(*std::min_element(tr.dev_m.begin(), tr.dev_m.end()), -0.5);  // moved to -y
+  EXPECT_LT(std::abs(tr.dev_m.back()), 0.1);  // back on its path 6 s after crossing
+}
+
+TEST(FacilitatingHuman, PlannerModeWithoutAdapterIsAClearError) {
+  BehaviourConfig c = config(BehaviourType::kFacilitating);
+  c.facilitating.planner = "band";
+  EXPECT_THROW(makeBehaviour(c), std::invalid_argument);
+}
+
+TEST(FacilitatingHuman, PlannerAdapterIsUsedWhenItHasAPlan) {
+  struct Fixed : HumanPlannerAdapter {
+    std::optional<Velocity2> plan(const BehaviourContext&) override {
+      return Velocity2{0.0, 0.7, 0.0};
+    }
+  };
+  BehaviourConfig c = config(BehaviourType::kFacilitating);
+  c.facilitating.planner = "band";
+  auto b = makeBehaviour(c, [](const FacilitatingParams&) { return std::make_unique<Fixed>(); });
+  AgentState self;
+  Path2 path{{0, 0}, {10, 0}};
+  BehaviourContext ctx;
+  ctx.self = &self;
+  ctx.goal = {10, 0, 0};
+  ctx.reference_path = &path;
+  EXPECT_EQ(b->desiredVelocity(ctx), (Velocity2{0.0, 0.7, 0.0}));
+}
+
+TEST(MinimalHuman, WideCorridorSidestepsLateAndLittle) {
+  for (double width : {6.0, 2.25}) {
+    SCOPED_TRACE(width);
+    HeadOn h;
+    h.corridor_width_m = width;
+    h.robot_lane_m = 0.6;  // the robot took its share; the human completes the clearance
+    h.behaviour = config(BehaviourType::kMinimal);
+    const Trace tr = runHeadOn(h);
+    EXPECT_LT(tr.maxAbsDev(), 0.4);
+    EXPECT_GT(tr.maxAbsDev(), 0.1);  // it does avoid
+    EXPECT_GT(tr.onsetLead(), 0.0);
+    EXPECT_LT(tr.onsetLead(), 1.5);  // real pedestrians: median 1.2-1.6 s (notes §6)
+    EXPECT_NE(tr.status, SimStatus::kCollision);
+  }
+}
+
+TEST(ObliviousHuman, CollidesWithARobotThatDoesNotAvoid) {
+  HeadOn h;
+  h.behaviour = config(BehaviourType::kOblivious);
+  const Trace tr = runHeadOn(h);
+  EXPECT_EQ(tr.status, SimStatus::kCollision);
+  EXPECT_LT(tr.maxAbsDev(), 1e-9);
+}
+
+TEST(ResponsiveHuman, YieldsOnlyAfterTheCueToTheAskedSide) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = config(BehaviourType::kResponsive);
+  constexpr double kCue_s = 6.0;
+  h.cues.push_back({1, Side::kLeft, kCue_s});  // human walks -x: its left is -y
+  const Trace tr = runHeadOn(h);
+  const double react_s = h.behaviour.responsive.reaction_time_s;
+  EXPECT_LT(tr.maxAbsDevBefore(kCue_s + react_s), 1e-6);
+  EXPECT_LT(*std::min_element(tr.dev_m.begin(), tr.dev_m.end()), -0.6);
+  EXPECT_NE(tr.status, SimStatus::kCollision);
+}
+
+TEST(ResponsiveHuman, WithoutCueBehavesMinimally) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = config(BehaviourType::kResponsive);
+  const Trace responsive = runHeadOn(h);
+  h.behaviour = config(BehaviourType::kMinimal);
+  const Trace minimal = runHeadOn(h);
+  EXPECT_EQ(responsive.dev_m, minimal.dev_m);
+}
+
+TEST(ResponsiveHuman, CueForAnotherHumanIsIgnored) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = config(BehaviourType::kResponsive);
+  h.cues.push_back({7, Side::kLeft, 2.0});
+  EXPECT_LT(runHeadOn(h).maxAbsDev(), 0.4);
+}
+
+TEST(LateFacilitatingHuman, StartsYieldingAboutThreeSecondsBefore) {
+  HeadOn h;
+  h.robot_lane_m = 0.3;
+  h.behaviour = config(BehaviourType::kLateFacilitating);
+  const Trace tr = runHeadOn(h);
+  EXPECT_GT(tr.onsetLead(), 1.8);
+  EXPECT_LT(tr.onsetLead(), 3.0);
+  EXPECT_GE(tr.maxAbsDev(), 0.4);
+  EXPECT_NE(tr.status, SimStatus::kCollision);
+}
+
+TEST(SocialForceHuman, AvoidsTheRobot) {
+  HeadOn h;
+  h.robot_lane_m = 0.4;  // 0.4 m < 0.77 m sum of radii: walking straight collides
+  h.behaviour = config(BehaviourType::kOblivious);
+  ASSERT_EQ(runHeadOn(h).status, SimStatus::kCollision);
+  h.behaviour = config(BehaviourType::kSocialForce);
+  const Trace tr = runHeadOn(h);
+  EXPECT_GT(tr.maxAbsDev(), 0.1);
+  EXPECT_GT(tr.min_clearance_m, 0.0);
+  EXPECT_NE(tr.status, SimStatus::kCollision);
+  EXPECT_EQ(tr.human_wall_collisions, 0);
+}
+
+TEST(SocialForceHuman, KeepsOffTheWallsInANarrowCorridor) {
+  HeadOn h;
+  h.corridor_width_m = 2.25;
+  h.robot_lane_m = 0.4;
+  h.behaviour = config(BehaviourType::kSocialForce);
+  const Trace tr = runHeadOn(h);
+  EXPECT_EQ(tr.human_wall_collisions, 0);
+  EXPECT_GT(tr.maxAbsDev(), 0.1);
+}
+
+TEST(Determinism, SameSeedGivesBitEqualTrajectories) {
+  for (BehaviourType t : {BehaviourType::kFacilitating, BehaviourType::kSocialForce}) {
+    HeadOn h;
+    h.behaviour = config(t);
+    h.speed_stddev_m_s = 0.15;
+    h.velocity_noise_m_s = 0.05;
+    h.seed = 42;
+    const Trace a = runHeadOn(h), b = runHeadOn(h);
+    EXPECT_EQ(a.x_m, b.x_m);  // exact equality of doubles: bit-identical
+    EXPECT_EQ(a.dev_m, b.dev_m);
+    h.seed = 43;
+    const Trace c = runHeadOn(h);
+    EXPECT_NE(a.x_m, c.x_m);
+  }
+}
+
+TEST(Determinism, NoNoiseMeansSeedDoesNotMatter) {
+  HeadOn h;
+  h.behaviour = config(BehaviourType::kMinimal);
+  h.robot_lane_m = 0.6;
+  const Trace a = runHeadOn(h);
+  h.seed = 99;
+  EXPECT_EQ(a.dev_m, runHeadOn(h).dev_m);
+}
+
+}  // namespace
+}  // namespace coopnav::sim

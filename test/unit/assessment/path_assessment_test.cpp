@@ -1,0 +1,190 @@
+// Human path assessment of paper §II-C: CA sign, CM, IsContributing and the fixed-rate recorder.
+#include "coopnav/assessment/path_assessment.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numeric>
+
+namespace coopnav::assessment {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+TEST(DiscountedMean, ConstantCaGivesThatConstant) {
+  EXPECT_NEAR(*discountedMean(std::vector<double>(57, 0.37), 0.98), 0.37, 1e-12);
+}
+
+TEST(DiscountedMean, MatchesTheGeometricSeriesClosedForm) {
+  // M samples of a followed by K samples of b:
+  // CM = (a γ^K (1 − γ^M) + b (1 − γ^K)) / (1 − γ^(M+K)).
+  const double a = 0.1, b = 0.9, g = 0.98;
+  const int M = 40, K = 25;
+  std::vector<double> ca(M, a);
+  ca.insert(ca.end(), K, b);
+  const double expected = (a * std::pow(g, K) * (1 - std::pow(g, M)) + b * (1 - std::pow(g, K))) /
+                          (1 - std::pow(g, M + K));
+  EXPECT_NEAR(*discountedMean(ca, g), expected, 1e-12);
+  // Two samples by hand: (γ a + b) / (γ + 1).
+  EXPECT_NEAR(*discountedMean({a, b}, g), (g * a + b) / (g + 1), 1e-15);
+}
+
+TEST(DiscountedMean, GammaToOneIsThePlainMean) {
+  std::vector<double> ca;
+  for (int i = 0; i < 200; ++i) ca.push_back(std::sin(0.1 * i) + 0.01 * i);
+  const double mean = std::accumulate(ca.begin(), ca.end(), 0.0) / ca.size();
+  EXPECT_NEAR(*discountedMean(ca, 1.0), mean, 1e-12);
+  EXPECT_NEAR(*discountedMean(ca, 1.0 - 1e-9), mean, 1e-6);
+  EXPECT_NEAR(*discountedMean(ca, 1.0 + 1e-9), mean, 1e-6);
+}
+
+TEST(DiscountedMean, IsSafeForLargeNAndAnyGamma) {
+  std::vector<double> ca(1000000, 0.2);
+  ca.back() = 1.2;
+  // γ < 1: the newest sample weighs 1 / Σγ^k ≈ 1 − γ.
+  EXPECT_NEAR(*discountedMean(ca, 0.98), 0.2 + 1.0 * 0.02, 1e-9);
+  // γ > 1 (early samples weigh more): finite, and the newest weighs ≈ γ^-(N−1) ≈ 0.
+  const auto cm = discountedMean(ca, 1.02);
+  ASSERT_TRUE(cm.has_value());
+  EXPECT_TRUE(std::isfinite(*cm));
+  EXPECT_NEAR(*cm, 0.2, 1e-9);
+  EXPECT_FALSE(discountedMean({}, 0.98).has_value());
+  EXPECT_FALSE(discountedMean({1.0}, 0.0).has_value());
+  EXPECT_FALSE(discountedMean({1.0}, kNaN).has_value());
+}
+
+TEST(IsContributing, StrictlyAboveTau) {
+  EXPECT_EQ(isContributing(0.41, 0.4), Tristate::kTrue);
+  EXPECT_EQ(isContributing(0.4, 0.4), Tristate::kFalse);
+  EXPECT_EQ(isContributing(0.39, 0.4), Tristate::kFalse);
+  EXPECT_EQ(isContributing(std::nullopt, 0.4), Tristate::kUnknown);
+  EXPECT_EQ(isContributing(kNaN, 0.4), Tristate::kUnknown);
+}
+
+// Reference path along +x: its left is +y.
+const Path2 kPath{{0, 0}, {20, 0}};
+
+TEST(ContributionAt, PositiveAwayFromTheRobotOnBothSides) {
+  // Robot on the left (+y): a human on the right is contributing, on the left is not.
+  EXPECT_NEAR(contributionAt(kPath, {3, -0.5}, {5, 1}, Side::kUndefined, 0.1)->ca_m, 0.5, 1e-12);
+  EXPECT_NEAR(contributionAt(kPath, {3, 0.5}, {5, 1}, Side::kUndefined, 0.1)->ca_m, -0.5, 1e-12);
+  // Robot on the right (−y): mirrored.
+  EXPECT_NEAR(contributionAt(kPath, {3, -0.5}, {5, -1}, Side::kUndefined, 0.1)->ca_m, -0.5, 1e-12);
+  EXPECT_NEAR(contributionAt(kPath, {3, 0.5}, {5, -1}, Side::kUndefined, 0.1)->ca_m, 0.5, 1e-12);
+  EXPECT_EQ(contributionAt(kPath, {3, 0.5}, {5, -1}, Side::kUndefined, 0.1)->robot_side,
+            Side::kRight);
+}
+
+TEST(ContributionAt, RobotOnThePathKeepsItsLastSideOrUsesTheHumanRelativeSide) {
+  // Within the deadband: the remembered side wins.
+  auto c = contributionAt(kPath, {3, 0.5}, {5, 0.05}, Side::kRight, 0.1);
+  EXPECT_EQ(c->robot_side, Side::kRight);
+  EXPECT_NEAR(c->ca_m, 0.5, 1e-12);
+  // No memory: the robot is left of a human who stepped right -> contributing.
+  c = contributionAt(kPath, {3, -0.5}, {5, 0.0}, Side::kUndefined, 0.1);
+  EXPECT_EQ(c->robot_side, Side::kLeft);
+  EXPECT_FALSE(c->side_from_path);
+  EXPECT_NEAR(c->ca_m, 0.5, 1e-12);
+  // Both on the path: no side, no evidence.
+  c = contributionAt(kPath, {3, 0.02}, {5, 0.0}, Side::kUndefined, 0.1);
+  EXPECT_EQ(c->robot_side, Side::kUndefined);
+  EXPECT_EQ(c->ca_m, 0.0);
+  EXPECT_FALSE(contributionAt(Path2{}, {3, 0}, {5, 1}, Side::kUndefined, 0.1).has_value());
+  EXPECT_FALSE(contributionAt(kPath, {kNaN, 0}, {5, 1}, Side::kUndefined, 0.1).has_value());
+}
+
+// Scene for the recorder: human h(t) = (t, −0.1 t) drifting right, robot r(t) = (10 − t, 1) on
+// the left of the path, so CA(t) = 0.1 t exactly (linear motion: interpolation is exact).
+Eigen::Vector2d humanAt(double t) { return {t, -0.1 * t}; }
+Eigen::Vector2d robotAt(double t) { return {10 - t, 1}; }
+
+PathRecorder recordAtRate(int messages_per_s, double until_s) {
+  PathRecorder rec;
+  EXPECT_TRUE(rec.start(0.0, kPath));
+  const int n = static_cast<int>(std::round(until_s * messages_per_s));
+  for (int i = 0; i <= n; ++i) {
+    const double t = static_cast<double>(i) / messages_per_s;
+    EXPECT_TRUE(rec.observe(t, humanAt(t), robotAt(t)));
+  }
+  return rec;
+}
+
+TEST(PathRecorder, SamplesAtAFixedRateWhateverTheMessageRate) {
+  for (int rate : {2, 7, 10, 50}) {
+    const PathRecorder rec = recordAtRate(rate, 3.0);
+    const auto& s = rec.interactionSamples();
+    ASSERT_EQ(s.size(), 31u) << rate << " Hz";  // 0.0, 0.1, ..., 3.0
+    for (std::size_t k = 0; k < s.size(); ++k) {
+      EXPECT_NEAR(s[k].t_s, 0.1 * k, 1e-9);
+      EXPECT_NEAR(s[k].ca_m, 0.01 * k, 1e-9) << rate << " Hz, k " << k;
+    }
+    EXPECT_NEAR(*rec.snapshot().cm_window_m, *recordAtRate(10, 3.0).snapshot().cm_window_m, 1e-12);
+  }
+}
+
+TEST(PathRecorder, ResetStartsANewDecisionWindowButNotANewInteraction) {
+  PathRecorder rec;
+  ASSERT_TRUE(rec.start(0.0, kPath));
+  // CA 0.2 up to 1.0 s, then 0.6 (human steps further right).
+  for (int i = 0; i <= 20; ++i) {
+    const double t = 0.1 * i;
+    const double y = t <= 1.0 + 1e-9 ? -0.2 : -0.6;
+    rec.observe(t, {t, y}, {10 - t, 1});
+    if (i == 10) rec.reset(t);
+  }
+  PathAssessmentSnapshot snap = rec.snapshot();
+  EXPECT_EQ(snap.state, RecorderState::kRecording);
+  EXPECT_EQ(snap.window_samples, 10u);  // 1.1 .. 2.0
+  EXPECT_NEAR(*snap.cm_window_m, 0.6, 1e-12);
+  EXPECT_EQ(snap.is_contributing_window, Tristate::kTrue);
+  EXPECT_EQ(snap.interaction_samples, 21u);
+  const double g = 0.98;
+  const double whole =
+      (0.2 * std::pow(g, 10) * (1 - std::pow(g, 11)) + 0.6 * (1 - std::pow(g, 10))) /
+      (1 - std::pow(g, 21));
+  EXPECT_NEAR(*snap.cm_interaction_m, whole, 1e-12);
+
+  // Stop at 2.0 s: later observations add nothing, data stay readable.
+  rec.stop(2.0);
+  rec.observe(2.5, {2.5, -0.6}, {7.5, 1});
+  snap = rec.snapshot();
+  EXPECT_EQ(snap.state, RecorderState::kStopped);
+  EXPECT_EQ(snap.interaction_samples, 21u);
+
+  // A new start clears both windows.
+  ASSERT_TRUE(rec.start(3.0, kPath));
+  EXPECT_EQ(rec.snapshot().interaction_samples, 0u);
+  EXPECT_FALSE(rec.snapshot().cm_window_m.has_value());
+  EXPECT_EQ(rec.snapshot().is_contributing_window, Tristate::kUnknown);
+}
+
+TEST(PathRecorder, CommandsStampedInThePastTakeEffectFromTheirTime) {
+  PathRecorder rec;
+  for (int i = 0; i <= 10; ++i) rec.observe(0.1 * i, humanAt(0.1 * i), robotAt(0.1 * i));
+  EXPECT_EQ(rec.state(), RecorderState::kIdle);
+  ASSERT_TRUE(rec.start(0.5, kPath));  // the control message arrives after the data
+  const auto& s = rec.interactionSamples();
+  ASSERT_EQ(s.size(), 6u);  // 0.5 .. 1.0
+  EXPECT_NEAR(s.front().ca_m, 0.05, 1e-9);
+  rec.stop(0.75);  // drops 0.8 .. 1.0
+  EXPECT_EQ(rec.interactionSamples().size(), 3u);
+}
+
+TEST(PathRecorder, RejectsBadInput) {
+  PathRecorder rec;
+  EXPECT_FALSE(rec.start(0.0, Path2{}));
+  EXPECT_FALSE(rec.start(0.0, Path2{{0, 0}, {kNaN, 1}}));
+  EXPECT_EQ(rec.state(), RecorderState::kIdle);
+  ASSERT_TRUE(rec.start(0.0, kPath));
+  EXPECT_TRUE(rec.observe(0.0, {0, 0}, {5, 1}));
+  EXPECT_FALSE(rec.observe(0.0, {0, 0}, {5, 1}));  // not after the previous
+  EXPECT_FALSE(rec.observe(-1.0, {0, 0}, {5, 1}));
+  EXPECT_FALSE(rec.observe(0.1, {kNaN, 0}, {5, 1}));
+  EXPECT_FALSE(rec.observe(kNaN, {0, 0}, {5, 1}));
+  EXPECT_EQ(rec.interactionSamples().size(), 1u);
+}
+
+}  // namespace
+}  // namespace coopnav::assessment

@@ -1,0 +1,288 @@
+// Map loaders: ROS map_server YAML + PGM (open.pgm corridor widths), .bt round trip, walls maps,
+// and every bad input giving a MapLoadError that names what is wrong.
+#include "common/map_loader.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/distance/octree_conversion.hpp"
+
+namespace coopnav {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+const std::string kOpenYaml = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("coopnav_map_test_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string write(const std::string& name, const std::string& content) const {
+    const fs::path p = path_ / name;
+    std::ofstream(p, std::ios::binary) << content;
+    return p.string();
+  }
+  std::string dir() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+const char* kRosYaml =
+    "image: m.pgm\nresolution: 0.5\norigin: [1.0, -2.0, 0.0]\nnegate: 0\n"
+    "occupied_thresh: 0.65\nfree_thresh: 0.196\n";
+
+// Message of the MapLoadError thrown by f, or "" when none is thrown.
+template <class F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const MapLoadError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Free length through a corridor at x: rays up and down from a point inside it.
+double corridorWidth(const GridDistanceField& field, double x_m, double y_inside_m) {
+  const DistanceResult up = field.ray({x_m, y_inside_m}, {0.0, 1.0}, 20.0);
+  const DistanceResult down = field.ray({x_m, y_inside_m}, {0.0, -1.0}, 20.0);
+  EXPECT_EQ(up.status, DistanceStatus::kOk);
+  EXPECT_EQ(down.status, DistanceStatus::kOk);
+  return up.distance_m + down.distance_m;
+}
+
+TEST(MapLoaderTest, OpenPgmCorridorWidths) {
+  // Given the CoHAN open map
+  const LoadedMap map = loadMap(kOpenYaml);
+  ASSERT_EQ(map.grid.width(), 928);
+  ASSERT_EQ(map.grid.height(), 576);
+  EXPECT_DOUBLE_EQ(map.grid.resolution_m(), 0.05);
+  EXPECT_EQ(map.grid.origin_m(), Eigen::Vector2d(-5.0, -10.0));
+  const GridDistanceField field(map.grid);
+  // Then the wide corridor (y 3.50 - 9.50) and the narrow one (y 0.45 - 2.70) measure 6.00 m and
+  // 2.25 m at x = 15 and x = 30.15, both along the divider (x 9.65 - 35.30)
+  for (const double x_m : {15.0, 30.15}) {
+    EXPECT_NEAR(corridorWidth(field, x_m, 6.5), 6.00, 1e-9) << "x = " << x_m;
+    EXPECT_NEAR(corridorWidth(field, x_m, 1.5), 2.25, 1e-9) << "x = " << x_m;
+    const DistanceResult up = field.ray({x_m, 1.5}, {0.0, 1.0}, 20.0);
+    EXPECT_NEAR(up.obstacle.y(), 2.70, 1e-9);
+  }
+  // And the hand-drawn top wall wobbles by one pixel: at x = 30.00 it starts at y = 9.45
+  EXPECT_NEAR(corridorWidth(field, 30.0, 6.5), 5.95, 1e-9);
+  // And NEAREST mid-corridor is the half width less half a cell (snapped to the cell centre)
+  EXPECT_NEAR(field.nearest({30.01, 1.56}).distance_m, 2.70 - 1.575, 1e-9);
+  // And the pillar interior (drawn as a hollow outline) is unknown, outside the map is outside
+  EXPECT_EQ(field.nearest({-4.9, -9.9}).status, DistanceStatus::kUnknownSpace);
+  EXPECT_EQ(field.nearest({50.0, 0.0}).status, DistanceStatus::kOutsideMap);
+  // And the OcTree of record holds the known cells
+  ASSERT_NE(map.tree, nullptr);
+  EXPECT_DOUBLE_EQ(map.tree->getResolution(), 0.05);
+  const auto* node = map.tree->search(15.0 - (-5.0), 6.5 - (-10.0), 0.025);
+  ASSERT_NE(node, nullptr);
+  EXPECT_FALSE(map.tree->isNodeOccupied(node));
+}
+
+TEST(MapLoaderTest, P2AndP5GiveTheSameGridWithRosSemantics) {
+  TempDir tmp;
+  // Given the same 3x2 image (row 0 = top) as ASCII with comments and as binary
+  tmp.write("m.pgm", "P2\n# a comment\n3 2 # trailing\n255\n0 205 254\n# mid\n100 91 255\n");
+  const std::string p2 = tmp.write("p2.yaml", kRosYaml);
+  const LoadedMap a = loadMap(p2);
+  const std::string pixels{'\x00', '\xcd', '\xfe', '\x64', '\x5b', '\xff'};
+  tmp.write("m5.pgm", "P5\n# c\n3 2\n255\n" + pixels);
+  std::string yaml5 = kRosYaml;
+  yaml5.replace(yaml5.find("m.pgm"), 5, "m5.pgm");
+  const LoadedMap b = loadMap(tmp.write("p5.yaml", yaml5));
+  // Then both grids are equal
+  EXPECT_EQ(a.grid, b.grid);
+  // And follow map_server: p = (255 - v) / 255, occupied > 0.65, free < 0.196, top row at j = 1
+  EXPECT_EQ(a.grid.at(0, 1), CellState::kOccupied);  // 0
+  EXPECT_EQ(a.grid.at(1, 1), CellState::kUnknown);   // 205: p = 0.19608 > 0.196
+  EXPECT_EQ(a.grid.at(2, 1), CellState::kFree);      // 254
+  EXPECT_EQ(a.grid.at(0, 0), CellState::kUnknown);   // 100: p = 0.608
+  EXPECT_EQ(a.grid.at(1, 0), CellState::kUnknown);   // 91: p = 0.643
+  EXPECT_EQ(a.grid.at(2, 0), CellState::kFree);      // 255
+  EXPECT_EQ(a.grid.origin_m(), Eigen::Vector2d(1.0, -2.0));
+  // And negate flips the reading; an absolute image path works too
+  std::string neg = kRosYaml;
+  neg.replace(neg.find("negate: 0"), 9, "negate: 1");
+  neg.replace(neg.find("m.pgm"), 5, tmp.dir() + "/m.pgm");
+  const LoadedMap c = loadMap(tmp.write("sub_neg.yaml", neg));
+  EXPECT_EQ(c.grid.at(0, 1), CellState::kFree);
+  EXPECT_EQ(c.grid.at(2, 1), CellState::kOccupied);
+}
+
+TEST(MapLoaderTest, SixteenBitP5) {
+  TempDir tmp;
+  const std::string pixels{'\x00', '\x00', '\x03', '\xe8'};  // 0 and 1000 of maxval 1000
+  tmp.write("m.pgm", "P5 2 1 1000\n" + pixels);
+  const LoadedMap m = loadMap(tmp.write("m.yaml", kRosYaml));
+  EXPECT_EQ(m.grid.at(0, 0), CellState::kOccupied);
+  EXPECT_EQ(m.grid.at(1, 0), CellState::kFree);
+}
+
+TEST(MapLoaderTest, BtRoundTripOfOpenMap) {
+  TempDir tmp;
+  // Given the open map written as .bt
+  const LoadedMap map = loadMap(kOpenYaml);
+  const std::string bt = tmp.dir() + "/open.bt";
+  writeBt(*map.tree, bt);
+  // When read back with the grid origin as the tree frame's world position
+  MapLoadOptions options;
+  options.bt_origin_m = map.tree_origin_m;
+  const LoadedMap back = loadMap(bt, options);
+  // Then it is the same grid, cropped to the known cells' bounding box
+  EXPECT_DOUBLE_EQ(back.grid.resolution_m(), map.grid.resolution_m());
+  EXPECT_EQ(back.grid.count(CellState::kOccupied), map.grid.count(CellState::kOccupied));
+  EXPECT_EQ(back.grid.count(CellState::kFree), map.grid.count(CellState::kFree));
+  int mismatches = 0;
+  for (int j = 0; j < map.grid.height(); ++j) {
+    for (int i = 0; i < map.grid.width(); ++i) {
+      const auto c = back.grid.cellOf(map.grid.cellCenter_m(i, j));
+      const CellState s = c ? back.grid.at(c->x(), c->y()) : CellState::kUnknown;
+      mismatches += s != map.grid.at(i, j);
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+  // And corridor widths are unchanged
+  const GridDistanceField field(back.grid);
+  EXPECT_NEAR(corridorWidth(field, 15.0, 6.5), 6.00, 1e-6);
+}
+
+TEST(MapLoaderTest, BtRoundTripIsExactWhenCornersAreKnown) {
+  TempDir tmp;
+  OccupancyGrid2 grid(37, 21, 0.1, Eigen::Vector2d(-3.0, 4.0), CellState::kFree);
+  for (int k = 0; k < 21; ++k) grid.set(k + 5, k, CellState::kOccupied);
+  grid.set(3, 3, CellState::kUnknown);
+  for (const int layers : {1, 2, 4}) {
+    const auto tree = gridToOctree(grid, layers);
+    writeBt(*tree, tmp.dir() + "/g.bt");
+    MapLoadOptions options;
+    options.bt_origin_m = grid.origin_m();
+    EXPECT_EQ(loadMap(tmp.dir() + "/g.bt", options).grid, grid) << layers << " layers";
+  }
+}
+
+TEST(MapLoaderTest, WallsMapIsFourConnectedAndBoxesFill) {
+  const YAML::Node node = YAML::Load(R"(
+resolution_m: 0.1
+margin_m: 0.5
+walls:
+  - {x0_m: 0.0, y0_m: 0.0, x1_m: 7.0, y1_m: 3.0, thickness_m: 0.01}
+  - {x0_m: 0.0, y0_m: 4.0, x1_m: 7.0, y1_m: 4.0, thickness_m: 0.3}
+boxes:
+  - {min_x_m: 2.0, min_y_m: 5.0, max_x_m: 3.0, max_y_m: 5.5}
+)");
+  const LoadedMap map = loadMapFromNode(node, "/nonexistent", {}, "scenario.yaml: map");
+  const OccupancyGrid2& g = map.grid;
+  // (extent: walls grown by half their thickness, boxes, then the margin; whole cells)
+  EXPECT_NEAR(g.origin_m().x(), -0.15 - 0.5, 1e-12);
+  EXPECT_NEAR(g.origin_m().y(), -0.005 - 0.5, 1e-12);
+  EXPECT_EQ(g.height(), 66);  // ceil((5.5 + 0.5 - (-0.505)) / 0.1)
+  const GridDistanceField field(g);
+  // Then a ray crossing the thin diagonal wall anywhere is stopped by it
+  const Eigen::Vector2d along = Eigen::Vector2d(7.0, 3.0).normalized();
+  const Eigen::Vector2d normal(-along.y(), along.x());
+  for (int k = 1; k < 200; ++k) {
+    const Eigen::Vector2d on = along * (k * 7.6 / 200.0);
+    const DistanceResult r = field.ray(on - 0.4 * normal, normal, 1.0);
+    ASSERT_EQ(r.status, DistanceStatus::kOk) << on.transpose();
+    EXPECT_LT(r.distance_m, 0.4 + 0.1 * M_SQRT2) << on.transpose();
+  }
+  // And the thick wall and the box are solid, the rest is free
+  EXPECT_EQ(field.nearest({1.0, 4.1}).status, DistanceStatus::kInObstacle);
+  EXPECT_EQ(field.nearest({1.0, 3.9}).status, DistanceStatus::kInObstacle);
+  EXPECT_EQ(field.nearest({2.5, 5.25}).status, DistanceStatus::kInObstacle);
+  EXPECT_EQ(field.nearest({2.05, 5.05}).status, DistanceStatus::kInObstacle);
+  EXPECT_EQ(field.nearest({2.5, 5.65}).status, DistanceStatus::kOk);
+  EXPECT_EQ(g.count(CellState::kUnknown), 0u);
+  // And the same map loads from a file, directly or through `file:`
+  TempDir tmp;
+  std::ofstream(tmp.dir() + "/walls.yaml") << YAML::Dump(node);
+  EXPECT_EQ(loadMap(tmp.dir() + "/walls.yaml").grid, g);
+  EXPECT_EQ(loadMapFromNode(YAML::Load("{file: walls.yaml}"), tmp.dir()).grid, g);
+}
+
+TEST(MapLoaderTest, BadInputsGiveClearErrors) {
+  TempDir tmp;
+  const std::string good_pgm = "P2\n2 2\n255\n0 255 255 0\n";
+  tmp.write("m.pgm", good_pgm);
+  const auto ros = [&](const std::string& name, const std::string& yaml) {
+    return errorOf([&] { loadMap(tmp.write(name, yaml)); });
+  };
+  const auto replace = [](std::string s, const std::string& from, const std::string& to) {
+    return s.replace(s.find(from), from.size(), to);
+  };
+
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/nope.yaml"); }),
+              AllOf(HasSubstr("nope.yaml"), HasSubstr("cannot open")));
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/nope.bt"); }),
+              AllOf(HasSubstr("nope.bt"), HasSubstr("cannot open")));
+  EXPECT_THAT(ros("a.yaml", replace(kRosYaml, "resolution: 0.5\n", "")),
+              AllOf(HasSubstr("a.yaml"), HasSubstr("missing key 'resolution'")));
+  EXPECT_THAT(ros("b.yaml", replace(kRosYaml, "0.5", "fine")),
+              AllOf(HasSubstr("b.yaml"), HasSubstr("'resolution'"), HasSubstr("line 2"),
+                    HasSubstr("'fine'")));
+  EXPECT_THAT(ros("c.yaml", replace(kRosYaml, "-2.0, 0.0]", "-2.0, 0.3]")),
+              AllOf(HasSubstr("c.yaml"), HasSubstr("yaw 0.3"), HasSubstr("not supported")));
+  EXPECT_THAT(ros("d.yaml", replace(kRosYaml, "[1.0, -2.0, 0.0]", "1.0")),
+              AllOf(HasSubstr("'origin'"), HasSubstr("[x, y, yaw]")));
+  EXPECT_THAT(ros("e.yaml", replace(kRosYaml, "m.pgm", "missing.pgm")),
+              AllOf(HasSubstr("e.yaml"), HasSubstr("missing.pgm"), HasSubstr("not found")));
+  EXPECT_THAT(ros("f.yaml", std::string(kRosYaml) + "mode: scale\n"),
+              AllOf(HasSubstr("'mode'"), HasSubstr("scale"), HasSubstr("trinary")));
+  EXPECT_THAT(ros("g.yaml", replace(kRosYaml, "negate: 0", "negate: 2")),
+              AllOf(HasSubstr("'negate'"), HasSubstr("'2'")));
+  EXPECT_THAT(ros("h.yaml", replace(kRosYaml, "free_thresh: 0.196", "free_thresh: 0.9")),
+              HasSubstr("free_thresh"));
+  EXPECT_THAT(ros("i.yaml", "image: [unclosed\n"), AllOf(HasSubstr("i.yaml"), HasSubstr("line")));
+  EXPECT_THAT(ros("j.yaml", "foo: 1\n"), AllOf(HasSubstr("j.yaml"), HasSubstr("'image'")));
+
+  const auto pgm = [&](const std::string& content) {
+    tmp.write("bad.pgm", content);
+    return ros("bad.yaml", replace(kRosYaml, "m.pgm", "bad.pgm"));
+  };
+  EXPECT_THAT(pgm("P6\n2 2\n255\n"), AllOf(HasSubstr("bad.pgm"), HasSubstr("bad PGM magic 'P6'")));
+  EXPECT_THAT(pgm("P5\n2 2\n255\n\x01\x02"),
+              AllOf(HasSubstr("bad.pgm"), HasSubstr("truncated"), HasSubstr("expected 4 bytes"),
+                    HasSubstr("got 2")));
+  EXPECT_THAT(pgm("P2\n2 2\n255\n1 2 3\n"),
+              AllOf(HasSubstr("truncated"), HasSubstr("expected 4 values, got 3")));
+  EXPECT_THAT(pgm("P2\n2 2\n255\n1 2 3 x\n"),
+              AllOf(HasSubstr("bad PGM pixel 'x"), HasSubstr("byte")));
+  EXPECT_THAT(pgm("P2\n2 2\n100\n1 2 3 200\n"), HasSubstr("exceeds maxval 100"));
+  EXPECT_THAT(pgm("P2\n2 -2\n255\n"), HasSubstr("bad PGM height"));
+  EXPECT_THAT(pgm("P5\n2 2\n"), HasSubstr("truncated PGM header"));
+
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.write("garbage.bt", "not an octree\n")); }),
+              AllOf(HasSubstr("garbage.bt"), HasSubstr("OctoMap")));
+  EXPECT_THAT(ros("w1.yaml", "resolution_m: 0.1\nwalls: 3\n"),
+              AllOf(HasSubstr("w1.yaml"), HasSubstr("'walls'"), HasSubstr("sequence")));
+  EXPECT_THAT(ros("w2.yaml", "resolution_m: 0.1\nwalls:\n  - {x0_m: 0, y0_m: 0, x1_m: 1}\n"),
+              AllOf(HasSubstr("walls[0]"), HasSubstr("missing key 'y1_m'")));
+  EXPECT_THAT(ros("w3.yaml",
+                  "resolution_m: 0.1\nboxes:\n  - {min_x_m: 0, min_y_m: a, max_x_m: 1, "
+                  "max_y_m: 1}\n"),
+              AllOf(HasSubstr("boxes[0].min_y_m"), HasSubstr("'a'"), HasSubstr("line 3")));
+  EXPECT_THAT(ros("w4.yaml", "walls: []\nresolution_m: 0.1\n"), HasSubstr("without any wall"));
+  EXPECT_THAT(errorOf([&] { loadMapFromNode(YAML::Load("{file: [1]}"), tmp.dir()); }),
+              HasSubstr("'file'"));
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -1,0 +1,321 @@
+// Decision logic of paper §II-D (clarifications, "Decision pipeline"): every flowchart branch is a
+// row of a table; once-firing under t_CROSS jitter; unknown never docks; crossed detection.
+#include "coopnav/dialogue/decision.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace coopnav::dialogue {
+namespace {
+
+constexpr Tristate T = Tristate::kTrue;
+constexpr Tristate F = Tristate::kFalse;
+constexpr Tristate U = Tristate::kUnknown;
+constexpr Side L = Side::kLeft;
+constexpr Side R = Side::kRight;
+constexpr Side X = Side::kUndefined;
+
+using Act = SpeechAct;
+using Rec = RecorderCommand;
+
+struct Row {
+  const char* name;
+  int round;  // the round under test; earlier rounds are run with a neutral situation first
+  // Inputs.
+  Tristate needs, human_constrained, robot_constrained;
+  Side dir;
+  std::optional<double> d_h_m, cm_m;
+  Tristate contributing;
+  // Expected outputs of that round.
+  std::vector<Act> acts;
+  std::vector<Side> directions;
+  std::vector<Rec> recorder;
+  std::vector<RobotAction> actions;
+  bool silent_with_reason;
+};
+
+const std::optional<double> kNone;
+
+// clang-format off
+const Row kRows[] = {
+  // Round 1 (t_CROSS first <= 7 s): the recorder always starts.
+  {"r1 needs, robot free -> inform Dir", 1, T, F, F, L, 0.8, kNone, U,
+   {Act::kInformDirection}, {L}, {Rec::kStart}, {}, false},
+  {"r1 needs, robot constrained, human free -> ask to move away from Dir", 1, T, F, T, L, 0.8,
+   kNone, U, {Act::kAskToMove}, {R}, {Rec::kStart}, {}, false},
+  {"r1 needs, both constrained -> dock if needed", 1, T, T, T, R, 0.8, kNone, U,
+   {Act::kInformDockIfNeeded}, {X}, {Rec::kStart}, {}, false},
+  {"r1 no need, robot constrained -> inform Dir", 1, F, F, T, R, 0.1, kNone, U,
+   {Act::kInformDirection}, {R}, {Rec::kStart}, {}, false},
+  {"r1 no need, robot free -> silent", 1, F, F, F, R, 0.1, kNone, U,
+   {}, {}, {Rec::kStart}, {}, false},
+  {"r1 no need, human constrained, robot free -> silent", 1, F, T, F, R, 0.1, kNone, U,
+   {}, {}, {Rec::kStart}, {}, false},
+  {"r1 needs unknown -> silent", 1, U, F, T, L, kNone, kNone, U,
+   {}, {}, {Rec::kStart}, {}, true},
+  {"r1 needs, robot unknown -> silent", 1, T, F, U, L, 0.8, kNone, U,
+   {}, {}, {Rec::kStart}, {}, true},
+  {"r1 needs, robot constrained, human unknown -> silent", 1, T, U, T, L, 0.8, kNone, U,
+   {}, {}, {Rec::kStart}, {}, true},
+  {"r1 no need, robot unknown -> silent", 1, F, F, U, L, 0.1, kNone, U,
+   {}, {}, {Rec::kStart}, {}, true},
+  {"r1 needs, robot free, Dir undefined -> silent", 1, T, F, F, X, 0.8, kNone, U,
+   {}, {}, {Rec::kStart}, {}, true},
+  // Round 2 (t_CROSS first <= 4 s): StillNeedsToContribute = CM < d_h.
+  {"r2 still, robot free -> repeat Dir", 2, T, F, F, L, 0.8, 0.1, F,
+   {Act::kRepeatDirection}, {L}, {}, {}, false},
+  {"r2 still, robot constrained, contributing -> reset, ask to move more", 2, T, F, T, L, 0.8,
+   0.5, T, {Act::kAskToMoveMore}, {R}, {Rec::kReset}, {}, false},
+  {"r2 still, robot constrained, not contributing -> reset, dock", 2, T, T, T, L, 0.8, 0.1, F,
+   {Act::kInformDocking}, {X}, {Rec::kReset}, {RobotAction::kDock}, false},
+  {"r2 not still (CM >= d_h) -> silent", 2, T, F, T, L, 0.5, 0.9, T,
+   {}, {}, {}, {}, false},
+  {"r2 CM == d_h is not still -> silent", 2, T, F, T, L, 0.5, 0.5, T,
+   {}, {}, {}, {}, false},
+  {"r2 still, robot constrained, contributing unknown -> reset, no dock", 2, T, T, T, L, 0.8,
+   0.1, U, {}, {}, {Rec::kReset}, {}, true},
+  {"r2 CM unknown -> no dock", 2, T, T, T, L, 0.8, kNone, F, {}, {}, {}, {}, true},
+  {"r2 d_h unknown -> no dock", 2, T, T, T, L, kNone, 0.1, F, {}, {}, {}, {}, true},
+  {"r2 still, robot unknown, not contributing -> no dock", 2, T, T, U, L, 0.8, 0.1, F,
+   {}, {}, {}, {}, true},
+  {"r2 still, robot free, Dir undefined -> silent", 2, T, F, F, X, 0.8, 0.1, F,
+   {}, {}, {}, {}, true},
+  // Round 3 (crossed): stop the recorder, thank if the human facilitated.
+  {"r3 contributing -> stop, thank", 3, T, F, T, L, 0.8, 0.6, T,
+   {Act::kThank}, {X}, {Rec::kStop}, {}, false},
+  {"r3 not contributing -> stop, silent", 3, T, F, T, L, 0.8, 0.1, F,
+   {}, {}, {Rec::kStop}, {}, false},
+  {"r3 contributing unknown -> stop, silent", 3, T, F, T, L, 0.8, kNone, U,
+   {}, {}, {Rec::kStop}, {}, true},
+};
+// clang-format on
+
+DecisionInput inputFor(const Row& row, double t_s, std::optional<double> t_cross_s, bool crossed) {
+  DecisionInput in;
+  in.t_s = t_s;
+  in.situation.t_cross_s = t_cross_s;
+  in.situation.human_needs_to_contribute = row.needs;
+  in.situation.human_is_constrained = row.human_constrained;
+  in.situation.robot_is_constrained = row.robot_constrained;
+  in.situation.dir = row.dir;
+  in.situation.d_h_m = row.d_h_m;
+  in.path.cm_window_m = row.cm_m;
+  in.path.is_contributing = row.contributing;
+  in.crossed = crossed;
+  return in;
+}
+
+// A situation in which rounds 1 and 2 stay silent and do nothing but the recorder start.
+DecisionInput neutral(double t_s, double t_cross_s) {
+  DecisionInput in;
+  in.t_s = t_s;
+  in.situation.t_cross_s = t_cross_s;
+  in.situation.human_needs_to_contribute = F;
+  in.situation.human_is_constrained = F;
+  in.situation.robot_is_constrained = F;
+  in.situation.d_h_m = 0.1;
+  in.path.cm_window_m = 0.5;
+  in.path.is_contributing = T;
+  return in;
+}
+
+class DecisionTable : public ::testing::TestWithParam<Row> {};
+
+TEST_P(DecisionTable, BranchGivesItsUtteranceActionAndRecorderCommand) {
+  const Row& row = GetParam();
+  HumanDecision dut;
+  DecisionOutput out;
+  if (row.round == 1) {
+    out = dut.step(inputFor(row, 10.0, 6.9, false));
+  } else if (row.round == 2) {
+    dut.step(neutral(10.0, 6.9));
+    out = dut.step(inputFor(row, 13.0, 3.9, false));
+  } else {
+    dut.step(neutral(10.0, 6.9));
+    out = dut.step(inputFor(row, 17.0, std::nullopt, true));
+  }
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, row.round);
+  EXPECT_FALSE(out.rounds[0].branch.empty());
+  EXPECT_EQ(!out.rounds[0].reason.empty(), row.silent_with_reason) << out.rounds[0].reason;
+  ASSERT_EQ(out.utterances.size(), row.acts.size());
+  for (std::size_t i = 0; i < row.acts.size(); ++i) {
+    EXPECT_EQ(out.utterances[i].act, row.acts[i]);
+    EXPECT_EQ(out.utterances[i].direction, row.directions[i]);
+    EXPECT_EQ(out.utterances[i].round, row.round);
+    EXPECT_FALSE(out.utterances[i].text.empty());
+    EXPECT_EQ(out.utterances[i].text.find("{dir}"), std::string::npos);
+  }
+  EXPECT_EQ(out.recorder_commands, row.recorder);
+  EXPECT_EQ(out.robot_actions, row.actions);
+  EXPECT_EQ(dut.docked(), !row.actions.empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(Flowchart, DecisionTable, ::testing::ValuesIn(kRows),
+                         [](const ::testing::TestParamInfo<Row>& p) {
+                           std::string n = "row" + std::to_string(p.index) + "_";
+                           for (const char* c = p.param.name; *c; ++c) {
+                             n += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+                           }
+                           return n;
+                         });
+
+TEST(Decision, EachRoundFiresOnceWhileTCrossJitters) {
+  HumanDecision dut;
+  DecisionInput in = neutral(0.0, 9.0);
+  in.situation.human_needs_to_contribute = T;  // round 1 informs Dir; round 2 repeats it
+  in.situation.dir = L;
+  in.situation.d_h_m = 0.8;
+  in.path.cm_window_m = 0.1;
+  int rounds[4] = {0, 0, 0, 0};
+  int utterances = 0;
+  int starts = 0;
+  const std::optional<double> t_cross[] = {9.0, 7.2, 6.9, 7.1, std::nullopt, 6.95, 7.3, 5.0,
+                                           4.1, 3.9, 4.2, 3.8, std::nullopt, 4.05, 2.0, 0.5};
+  double t = 0.0;
+  for (const auto& tc : t_cross) {
+    in.t_s = (t += 0.1);
+    in.situation.t_cross_s = tc;
+    const DecisionOutput out = dut.step(in);
+    for (const auto& r : out.rounds) ++rounds[r.round];
+    utterances += static_cast<int>(out.utterances.size());
+    for (auto c : out.recorder_commands) starts += c == Rec::kStart;
+  }
+  in.crossed = true;
+  for (int i = 0; i < 3; ++i) {
+    const DecisionOutput out = dut.step(in);
+    for (const auto& r : out.rounds) ++rounds[r.round];
+  }
+  EXPECT_EQ(rounds[1], 1);
+  EXPECT_EQ(rounds[2], 1);
+  EXPECT_EQ(rounds[3], 1);
+  EXPECT_EQ(utterances, 2);  // inform Dir, repeat Dir
+  EXPECT_EQ(starts, 1);
+  EXPECT_TRUE(dut.ended());
+}
+
+TEST(Decision, RoundTwoNeverFiresInTheStepOfRoundOne) {
+  // t_CROSS first known at 3.5 s (e.g. the human appeared late): round 1 now, round 2 next step.
+  HumanDecision dut;
+  DecisionOutput out = dut.step(neutral(0.0, 3.5));
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, 1);
+  out = dut.step(neutral(0.1, 3.4));
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, 2);
+}
+
+TEST(Decision, UnknownTCrossFiresNothing) {
+  HumanDecision dut;
+  DecisionInput in = neutral(0.0, 0.0);
+  in.situation.t_cross_s = std::nullopt;
+  EXPECT_TRUE(dut.step(in).empty());
+  EXPECT_FALSE(dut.roundFired(1));
+}
+
+TEST(Decision, UnknownNeverDocksWhateverElseIsTrue) {
+  // Every combination with at least one unknown among the round-2 inputs: no dock.
+  const Tristate vals[] = {T, F, U};
+  for (Tristate robot : vals) {
+    for (Tristate contributing : vals) {
+      for (int cm_known = 0; cm_known < 2; ++cm_known) {
+        for (int dh_known = 0; dh_known < 2; ++dh_known) {
+          const bool any_unknown = robot == U || contributing == U || !cm_known || !dh_known;
+          if (!any_unknown) continue;
+          HumanDecision dut;
+          dut.step(neutral(0.0, 6.0));
+          DecisionInput in = neutral(1.0, 3.0);
+          in.situation.human_needs_to_contribute = T;
+          in.situation.robot_is_constrained = robot;
+          in.situation.dir = L;
+          in.situation.d_h_m = dh_known ? std::optional<double>(0.8) : std::nullopt;
+          in.path.cm_window_m = cm_known ? std::optional<double>(0.1) : std::nullopt;
+          in.path.is_contributing = contributing;
+          const DecisionOutput out = dut.step(in);
+          EXPECT_TRUE(out.robot_actions.empty());
+          EXPECT_FALSE(dut.docked());
+        }
+      }
+    }
+  }
+}
+
+TEST(Decision, CrossingAfterADockResumesAndStops) {
+  HumanDecision dut;
+  dut.step(neutral(0.0, 6.0));
+  DecisionInput in = neutral(1.0, 3.0);
+  in.situation.human_needs_to_contribute = T;
+  in.situation.robot_is_constrained = T;
+  in.situation.d_h_m = 0.8;
+  in.path.cm_window_m = 0.1;
+  in.path.is_contributing = F;
+  ASSERT_EQ(dut.step(in).robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+  in.crossed = true;
+  const DecisionOutput out = dut.step(in);
+  EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+  EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kStop});
+  EXPECT_FALSE(dut.docked());
+}
+
+TEST(Decision, CrossedBeforeRoundOneRecordsWhyAndIssuesNoStop) {
+  HumanDecision dut;
+  DecisionInput in = neutral(0.0, 9.0);
+  in.crossed = true;
+  const DecisionOutput out = dut.step(in);
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, 3);
+  EXPECT_FALSE(out.rounds[0].reason.empty());
+  EXPECT_TRUE(out.recorder_commands.empty());
+  EXPECT_TRUE(out.utterances.empty());
+}
+
+TEST(Decision, HumanLeavingEndsTheInteraction) {
+  HumanDecision dut;
+  dut.step(neutral(0.0, 6.0));
+  const DecisionOutput out = dut.endInteraction(2.0, "human left the scene");
+  EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kStop});
+  EXPECT_TRUE(dut.ended());
+  EXPECT_TRUE(dut.step(neutral(3.0, 3.0)).empty());
+  EXPECT_TRUE(dut.endInteraction(4.0, "again").empty());
+}
+
+TEST(RenderText, ReplacesEveryDirPlaceholderWithTheConfiguredWords) {
+  TextTemplates t;
+  EXPECT_EQ(renderText(t, Act::kInformDirection, L), "I will pass on your left.");
+  EXPECT_EQ(renderText(t, Act::kAskToMoveMore, R),
+            "Could you move a little more to your right, please?");
+  t.inform_direction = "{dir}, {dir}!";
+  t.left_word = "links";
+  EXPECT_EQ(renderText(t, Act::kInformDirection, L), "links, links!");
+  EXPECT_EQ(renderText(t, Act::kThank, X), "Thank you.");
+}
+
+TEST(Crossed, RobotBehindHavingBeenAheadWithHysteresis) {
+  const Pose2 human{0.0, 0.0, 0.0};  // walking +x
+  CrossedTracker s;
+  s = updateCrossed(s, human, {-3.0, 1.0});  // behind but never ahead: not crossed
+  EXPECT_FALSE(s.crossed);
+  EXPECT_FALSE(s.seen_ahead);
+  s = updateCrossed(s, human, {5.0, 1.0});
+  EXPECT_TRUE(s.seen_ahead);
+  s = updateCrossed(s, human, {0.1, 1.0});
+  s = updateCrossed(s, human, {-0.15, 1.0});  // inside the 0.2 m band: not yet
+  EXPECT_FALSE(s.crossed);
+  s = updateCrossed(s, human, {-0.25, 1.0});
+  EXPECT_TRUE(s.crossed);
+  s = updateCrossed(s, human, {3.0, 1.0});  // latched
+  EXPECT_TRUE(s.crossed);
+  // Heading matters: a human walking −x has the robot at x = −5 ahead of it.
+  EXPECT_NEAR(robotAlongHumanHeading_m({0, 0, M_PI}, {-5.0, 0.0}), 5.0, 1e-12);
+  // Non-finite input changes nothing.
+  CrossedTracker n;
+  n = updateCrossed(n, {0, 0, std::nan("")}, {5.0, 0.0});
+  EXPECT_FALSE(n.seen_ahead);
+}
+
+}  // namespace
+}  // namespace coopnav::dialogue

@@ -1,0 +1,201 @@
+// Scenario files: a complete file loads into the struct; each kind of mistake gives one clear
+// message naming the file, the key, the value and what is allowed.
+
+#include "../../../daemons/world_sim/scenario.cpp"  // the daemon has no library target yet
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "corridor_map.hpp"
+
+namespace coopnav::world_sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* kValid = R"(
+name: corridor_facilitating
+seed: 7
+time_limit_s: 40.0
+map:
+  walls:
+    - {x0_m: -1, y0_m: 0, x1_m: 30, y1_m: 0, thickness_m: 0.2}
+    - {x0_m: -1, y0_m: 6, x1_m: 30, y1_m: 6}
+rates: {physics_hz: 40, publish_hz: 10}
+lockstep: {enabled: true, participants: [band_source, dialogue_manager], step_timeout_s: 5}
+robot:
+  start: {x_m: 1, y_m: 3, theta_rad: 0}
+  goal: {x_m: 25, y_m: 3}
+  radius_m: 0.4
+  kinematics: holonomic
+  limits: {max_forward_m_s: 0.7, max_acc_forward_m_s2: 0.5}
+humans:
+  - id: 1
+    start: {x_m: 25, y_m: 3, theta_rad: 3.14159}
+    goal: {x_m: 1, y_m: 3}
+    via: [{x_m: 13, y_m: 3}]
+    behaviour: facilitating
+    speed_m_s: 1.1
+    params: {trigger_ttc_s: 4.5, yield: {offset_m: 0.8}}
+  - id: 2
+    start: {x_m: 28, y_m: 2}
+    goal: {x_m: 2, y_m: 2}
+    behaviour: social_force
+    params: {robot_weight: 3.0}
+)";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+/// The error message of parsing `text`, or "" when it parses.
+std::string errorOf(const std::string& text) {
+  try {
+    parseScenario(text, "bad.yaml", ".");
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Scenario, ValidFileLoadsWithDefaultsForOmittedKeys) {
+  const Scenario sc = parseScenario(kValid, "ok.yaml", ".");
+  EXPECT_EQ(sc.name, "corridor_facilitating");
+  EXPECT_EQ(sc.seed, 7u);
+  EXPECT_EQ(sc.map.walls.size(), 2u);
+  EXPECT_DOUBLE_EQ(sc.map.walls[1].thickness_m, WallSegment{}.thickness_m);
+  EXPECT_EQ(sc.lockstep.participants,
+            (std::vector<std::string>{"band_source", "dialogue_manager"}));
+  EXPECT_EQ(sc.robot.kinematics, sim::Kinematics::kHolonomic);
+  EXPECT_DOUBLE_EQ(sc.robot.limits.max_forward_m_s, 0.7);
+  EXPECT_DOUBLE_EQ(sc.robot.limits.max_omega_rad_s, sim::RobotLimits{}.max_omega_rad_s);
+  ASSERT_EQ(sc.humans.size(), 2u);
+  EXPECT_EQ(sc.humans[0].behaviour.type, sim::BehaviourType::kFacilitating);
+  EXPECT_DOUBLE_EQ(sc.humans[0].behaviour.facilitating.trigger_ttc_s, 4.5);
+  EXPECT_DOUBLE_EQ(sc.humans[0].behaviour.facilitating.yield.offset_m, 0.8);
+  EXPECT_DOUBLE_EQ(sc.humans[0].behaviour.facilitating.yield.wall_margin_m,
+                   sim::YieldParams{}.wall_margin_m);
+  EXPECT_EQ(sc.humans[0].via.size(), 1u);
+  EXPECT_DOUBLE_EQ(sc.humans[1].speed_m_s, sim::HumanSpec{}.speed_m_s);
+  EXPECT_DOUBLE_EQ(sc.humans[1].behaviour.social_force.robot_weight, 3.0);
+
+  const sim::WorldSpec w = toWorldSpec(sc);
+  EXPECT_DOUBLE_EQ(w.settings.physics_dt_s, 0.025);
+  EXPECT_EQ(w.settings.substeps_per_step, 4);
+  test::CorridorMap map(0.1, 5.9);
+  EXPECT_NO_THROW(checkScenarioAgainstMap(sc, map));
+  sim::Simulation simulation(w, &map);  // a loaded scenario is a valid world
+  EXPECT_EQ(simulation.agents().size(), 3u);
+}
+
+struct BadCase {
+  const char* what;
+  std::string from, to;
+  std::vector<std::string> expect;  ///< substrings of the message
+};
+
+TEST(Scenario, EachMistakeGivesAClearError) {
+  const std::vector<BadCase> cases = {
+      {"missing key", "  goal: {x_m: 25, y_m: 3}\n", "", {"bad.yaml", "'robot.goal'", "missing"}},
+      {"missing human key",
+       "    behaviour: social_force\n",
+       "",
+       {"'humans[1].behaviour'", "missing"}},
+      {"wrong type", "seed: 7", "seed: seven", {"'seed'", "seven", "wrong type"}},
+      {"unknown key", "  radius_m: 0.4", "  radius: 0.4", {"'robot.radius'", "not a known key"}},
+      {"unknown behaviour",
+       "behaviour: facilitating",
+       "behaviour: teleport",
+       {"'humans[0].behaviour'", "teleport", "minimal", "responsive"}},
+      {"negative speed",
+       "speed_m_s: 1.1",
+       "speed_m_s: -1.0",
+       {"'humans[0].speed_m_s'", "-1.0", "[0, 3]"}},
+      {"duplicate id", "  - id: 2", "  - id: 1", {"'humans[1].id'", "duplicates humans[0].id"}},
+      {"unknown param",
+       "trigger_ttc_s: 4.5",
+       "trigger_ttc: 4.5",
+       {"'humans[0].params.trigger_ttc'", "not a known key"}},
+      {"param out of range",
+       "offset_m: 0.8",
+       "offset_m: 9",
+       {"'humans[0].params.yield.offset_m'", "[0, 3]"}},
+      {"two maps", "map:\n", "map:\n  file: open.yaml\n", {"'map.'", "exactly one"}},
+      {"bad rate ratio", "publish_hz: 10", "publish_hz: 15", {"'rates.physics_hz'", "multiple"}},
+      {"slow physics", "physics_hz: 40", "physics_hz: 10", {"'rates.physics_hz'", "[20, 2000]"}},
+      {"bad kinematics",
+       "kinematics: holonomic",
+       "kinematics: tracked",
+       {"'robot.kinematics'", "differential, holonomic"}},
+      {"bad planner",
+       "trigger_ttc_s: 4.5",
+       "planner: cohan",
+       {"'humans[0].params.planner'", "analytic, band"}},
+      {"humans not a list", "humans:\n", "humans: 3\nx_humans:\n", {"'humans'", "list"}},
+  };
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.what);
+    const std::string msg = errorOf(replaced(kValid, c.from, c.to));
+    ASSERT_FALSE(msg.empty());
+    for (const auto& s : c.expect) EXPECT_NE(msg.find(s), std::string::npos) << msg;
+  }
+}
+
+TEST(Scenario, SyntaxErrorNamesTheLine) {
+  const std::string msg = errorOf("name: x\nseed: [1,\n");
+  EXPECT_NE(msg.find("bad.yaml"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("line"), std::string::npos) << msg;
+}
+
+TEST(Scenario, StartInsideAWallIsRejectedAgainstTheMap) {
+  Scenario sc = parseScenario(kValid, "walls.yaml", ".");
+  sc.humans[1].start.y_m = 0.05;  // inside the lower wall
+  sc.robot.goal.y_m = 5.7;        // free but closer to the wall than the robot's radius
+  test::CorridorMap map(0.1, 5.9);
+  try {
+    checkScenarioAgainstMap(sc, map);
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("'humans[1].start'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("not in free space"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'robot.goal'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("radius"), std::string::npos) << msg;
+  }
+}
+
+TEST(Scenario, LoadsFromFileAndResolvesTheMapPath) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("coopnav_scenario_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "maps");
+  std::ofstream(dir / "maps" / "m.yaml") << "image: m.pgm\n";
+  const std::string text =
+      replaced(kValid,
+               "map:\n  walls:\n    - {x0_m: -1, y0_m: 0, x1_m: 30, y1_m: 0, thickness_m: 0.2}\n"
+               "    - {x0_m: -1, y0_m: 6, x1_m: 30, y1_m: 6}\n",
+               "map:\n  file: maps/m.yaml\n");
+  std::ofstream(dir / "s.yaml") << text;
+  const Scenario sc = loadScenario((dir / "s.yaml").string());
+  EXPECT_EQ(fs::path(sc.map.file), (dir / "maps" / "m.yaml").lexically_normal());
+
+  std::ofstream(dir / "bad.yaml") << replaced(text, "maps/m.yaml", "maps/none.yaml");
+  try {
+    loadScenario((dir / "bad.yaml").string());
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.yaml"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'map.file'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+  }
+  EXPECT_THROW(loadScenario((dir / "absent.yaml").string()), ScenarioError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace coopnav::world_sim

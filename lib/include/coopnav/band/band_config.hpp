@@ -1,0 +1,158 @@
+#pragma once
+/// @file Configuration of the dual time-elastic-band planner (CoHAN-style, Singamaneni et al.
+/// 2021, arXiv 2106.09971; TEB: Rösmann et al. 2013/2015). In-class defaults are CoHAN 2.0's
+/// simulation values (`config/robot/hateb_local_planner_params.yaml`, see
+/// ../shared/notes/band-planner.md §6) unless a comment says why we differ. Defaults live here
+/// and only here; the daemon's YAML overrides them key by key.
+
+#include <string>
+#include <vector>
+
+#include "coopnav/geometry/types.hpp"
+
+namespace coopnav {
+
+/// Kinematic limits of one agent kind. Body frame: x forward, y left.
+struct AgentKinematics {
+  bool holonomic{true};               ///< false: differential drive (vy = 0, non-holonomic term)
+  double max_vel_x_m_s{0.7};          ///< forward speed limit
+  double max_vel_x_backwards_m_s{0.4};
+  double max_vel_y_m_s{0.7};          ///< lateral speed limit (holonomic only)
+  double max_vel_theta_rad_s{1.2};
+  double acc_lim_x_m_s2{0.3};
+  double acc_lim_y_m_s2{0.3};
+  double acc_lim_theta_rad_s2{0.4};
+  /// The nominal-speed term pulls an anticipated band to max(this, tracked speed) (CoHAN:
+  /// max(0.3, 5-sample average), ros.cpp l.771).
+  double min_nominal_vel_m_s{0.3};
+  double radius_m{0.34};  ///< default disc radius when the request gives none (<= 0)
+};
+
+/// CoHAN 2.0 sim agent (human) limits: 1.3 / 0.4 / 1.1 m/s, acc 0.6 / 0.3 / 0.8, radius 0.30.
+inline AgentKinematics defaultHumanKinematics() {
+  AgentKinematics k;
+  k.holonomic = true;
+  k.max_vel_x_m_s = 1.3;
+  k.max_vel_x_backwards_m_s = 0.2;  // not in CoHAN's table; a small step back is human
+  k.max_vel_y_m_s = 0.4;
+  k.max_vel_theta_rad_s = 1.1;
+  k.acc_lim_x_m_s2 = 0.6;
+  k.acc_lim_y_m_s2 = 0.3;
+  k.acc_lim_theta_rad_s2 = 0.8;
+  k.radius_m = 0.30;
+  return k;
+}
+
+/// Cost weights of one band (g2o information = weight, i.e. cost = weight * e^2).
+struct BandWeights {
+  double max_vel_x{2.0};
+  double max_vel_y{2.0};
+  double max_vel_theta{1.0};
+  double acc_lim_x{1.0};
+  double acc_lim_y{1.0};
+  double acc_lim_theta{1.0};
+  double nominal_vel{0.0};  ///< CoHAN `weight_agent_nominal_vel` (humans: 2)
+  double optimaltime{1.0};
+  double viapoint{0.05};
+  double obstacle{50.0};
+  /// Non-holonomic term. CoHAN 2.0 sim uses 1.0 for its omni PR2; for a differential-drive agent
+  /// the planner uses `kinematics_nh_diff_drive` instead (1.0 lets bands jump sideways, notes §9).
+  double kinematics_nh{1.0};
+  double kinematics_nh_diff_drive{1000.0};
+  double kinematics_forward_drive{100.0};  ///< diff drive only (CoHAN code default)
+};
+
+/// CoHAN 2.0 sim agent weights: max_vel 4, acc 2, nominal 2, optimaltime 3, viapoint 0.5.
+inline BandWeights defaultOtherWeights() {
+  BandWeights w;
+  w.max_vel_x = 4.0;
+  w.max_vel_y = 4.0;
+  w.acc_lim_x = 2.0;
+  w.acc_lim_y = 2.0;
+  w.acc_lim_theta = 2.0;
+  w.nominal_vel = 2.0;
+  w.optimaltime = 3.0;
+  w.viapoint = 0.5;
+  return w;
+}
+
+/// Whole planner configuration. Names carry units; weights are dimensionless.
+struct BandPlannerConfig {
+  // --- band resolution (CoHAN 2.0 sim) ---
+  double dt_ref_s{0.125};
+  double dt_hysteresis_s{0.0125};
+  int min_samples{3};
+  int max_samples{500};
+  /// Smallest ΔT the optimiser may use (TEB keeps ΔT > 0 by a bound; we use a penalty + clamp).
+  double dt_min_s{0.01};
+
+  // --- horizon ---
+  /// Robot plan cut (CoHAN 2.0: 0.9 * costmap half-size = 6.75 m).
+  double max_plan_length_m{6.75};
+  /// Anticipated agents' bands cover this many seconds; <= 0: the planning agent's band duration
+  /// (poses past the other band's end pair with nothing, so they would only cost time).
+  double other_horizon_s{0.0};
+
+  // --- optimisation (CoHAN 2.0 sim: 8 inner x 4 outer, weight_adapt_factor 2) ---
+  int no_inner_iterations{8};
+  int no_outer_iterations{4};
+  double weight_adapt_factor{2.0};
+  double penalty_epsilon{0.01};
+  bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
+  /// Re-initialise a warm band whose start is farther than this from the agent [m].
+  double warm_start_reset_dist_m{1.0};
+
+  // --- agents: limits by kind (AgentState::kind), weights by role in the plan ---
+  AgentKinematics robot{};  ///< CoHAN 2.0 sim PR2 (omni): 0.7 / 0.4 / 0.7 / 1.2, acc 0.3 / 0.4
+  AgentKinematics human{defaultHumanKinematics()};
+  /// Weights of the planning agent's band (the robot in band_source; the simulated human when
+  /// world_sim runs the planner for a "facilitating" human, the robot then being an "other").
+  BandWeights planning_weights{};
+  /// Weights of anticipated agents' bands: held to their path 10x harder, time 3x, nominal
+  /// speed 2 -> "minimal human contribution" (paper §II-A).
+  BandWeights other_weights{defaultOtherWeights()};
+
+  // --- obstacles ---
+  double min_obstacle_dist_m{0.2};  ///< clearance from the agent's disc edge
+
+  // --- coupling (CoHAN 2.0 sim) ---
+  double min_agent_robot_dist_m{0.6};  ///< disc edge to disc edge
+  double min_agent_agent_dist_m{0.4};
+  double weight_agent_robot_safety{5.0};
+  double weight_agent_agent_safety{2.0};
+  double rel_vel_cost_threshold{1.5};
+  double weight_agent_robot_rel_vel{5.0};
+  /// Safety term only while agents are closer than this now [m]; CoHAN hard-codes 2.0 because
+  /// it pairs by index. We pair by time, so the term is safe to keep always (<= 0: always).
+  double safety_activation_dist_m{0.0};
+  /// Lateral offset given to the planning band at a predicted head-on meeting, to break the
+  /// exact symmetry (notes §9: no lateral gradient, 1/|d| blow-up) [m].
+  double symmetry_break_offset_m{0.3};
+
+  // --- goal / command ---
+  double xy_goal_tolerance_m{0.2};
+  double yaw_goal_tolerance_rad{0.2};
+  bool free_goal_heading{true};  ///< goal heading follows the path, not the requested theta
+
+  // --- global planner ---
+  double global_resolution_m{0.1};
+  double global_clearance_pref_m{0.5};  ///< beyond radius: clearance the path likes to keep
+  double global_clearance_weight{2.0};
+  double global_replan_dist_m{0.75};  ///< re-plan when the agent strays this far from its path
+
+  /// Errors found by validate(): key, offending value and allowed range, one per problem.
+  struct Error {
+    std::string key;
+    double value;
+    std::string allowed;
+  };
+  /// Checks every key; empty when the configuration is usable.
+  std::vector<Error> validate() const;
+
+  /// Limits of an agent of this kind.
+  const AgentKinematics& kinematics(AgentKind kind) const {
+    return kind == AgentKind::kRobot ? robot : human;
+  }
+};
+
+}  // namespace coopnav

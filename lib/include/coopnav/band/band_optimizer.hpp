@@ -1,0 +1,66 @@
+#pragma once
+/// @file Joint optimisation of several timed elastic bands (the planning agent's and one per
+/// anticipated agent) as ONE sparse nonlinear least-squares problem in Ceres, as CoHAN puts the
+/// robot and human bands in one g2o graph (Singamaneni et al. 2021). Outer loop as TEB
+/// (Rösmann et al. 2015): autoResize, build the problem (time pairing and via-point anchors are
+/// fixed here), a few Levenberg–Marquardt iterations, obstacle weight × weight_adapt_factor.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "coopnav/band/band_config.hpp"
+#include "coopnav/band/costs/segment_velocity.hpp"
+#include "coopnav/band/timed_elastic_band.hpp"
+#include "coopnav/distance/distance_map.hpp"
+#include "coopnav/geometry/types.hpp"
+
+namespace coopnav {
+
+/// One band in the joint problem. The optimiser changes *band in place.
+struct BandAgent {
+  std::int32_t id{0};
+  bool is_robot{false};  ///< the robot in the relative-velocity formula
+  TimedElasticBand* band{nullptr};
+  band_costs::MotionLimits limits;  ///< limits with √weights filled in (makeMotionLimits)
+  BandWeights weights;
+  double radius_m{0.3};
+  Velocity2 start_velocity_body;  ///< measured velocity at the first pose, body frame
+  bool end_is_goal{false};        ///< standstill at the last pose (goal-acceleration term)
+  const Path2* reference{nullptr};  ///< via-point path (nullptr: none)
+};
+
+/// Builds MotionLimits (√weights) from kinematics and weights; nominal_vel_m_s <= 0 disables it.
+band_costs::MotionLimits makeMotionLimits(const AgentKinematics& kin, const BandWeights& w,
+                                          double epsilon, double nominal_vel_m_s);
+
+/// Cost of one term family after the last iteration (Ceres cost = ½ Σ r²).
+struct TermCost {
+  std::string name;
+  double cost{0.0};
+};
+
+struct OptimizeStats {
+  int iterations{0};          ///< LM iterations over all outer loops
+  int outer_iterations{0};
+  double initial_cost{0.0};   ///< at the first outer iteration
+  double final_cost{0.0};
+  double solver_time_s{0.0};  ///< as Ceres measured it
+  bool budget_exhausted{false};
+  std::vector<TermCost> terms;
+};
+
+/// Optimises agents[0..] jointly; agents[0] is the planning agent (coupled to every other), the
+/// others are coupled pairwise when their bands come close. Respects max_iterations (total LM
+/// iterations, <= 0: config inner × outer) and time_budget_s (Ceres' solver time, <= 0: none).
+/// Bands with < 2 poses are left untouched.
+OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
+                            const BandPlannerConfig& cfg, int max_iterations,
+                            double time_budget_s);
+
+/// Time pairing helper: for each pose time of band a, the segment and fraction of band b at the
+/// same time (nullopt past b's end). Exposed for tests and the crossing read-out.
+std::vector<std::optional<TimedElasticBand::Locator>> pairByTime(const TimedElasticBand& a,
+                                                                 const TimedElasticBand& b);
+
+}  // namespace coopnav

@@ -1,0 +1,323 @@
+#include "coopnav/band/band_optimizer.hpp"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "coopnav/band/costs/acceleration_cost.hpp"
+#include "coopnav/band/costs/agent_safety_cost.hpp"
+#include "coopnav/band/costs/kinematics_cost.hpp"
+#include "coopnav/band/costs/obstacle_cost.hpp"
+#include "coopnav/band/costs/relative_velocity_cost.hpp"
+#include "coopnav/band/costs/time_optimal_cost.hpp"
+#include "coopnav/band/costs/velocity_cost.hpp"
+#include "coopnav/band/costs/via_point_cost.hpp"
+#include "coopnav/geometry/geometry.hpp"
+
+namespace coopnav {
+namespace {
+
+using namespace band_costs;  // NOLINT: the cost functors only
+
+enum Term : int {
+  kVelocity = 0,
+  kAcceleration,
+  kTimeOptimal,
+  kViaPoint,
+  kObstacle,
+  kKinematics,
+  kAgentRobotSafety,
+  kRelativeVelocity,
+  kAgentAgentSafety,
+  kNumTerms
+};
+constexpr const char* kTermNames[kNumTerms] = {
+    "velocity",  "acceleration", "time_optimal",   "via_point",         "obstacle",
+    "kinematics", "agent_robot_safety", "relative_velocity", "agent_agent_safety"};
+
+/// Pairs whose time-paired distance stays above this margin beyond the safety distance get no
+/// agent–agent terms (they could not become active within one cycle).
+constexpr double kPairPrefilterMargin_m = 2.0;
+
+template <typename Functor, int kN, int... kBlocks>
+ceres::CostFunction* autodiff(Functor* f) {
+  return new ceres::AutoDiffCostFunction<Functor, kN, kBlocks...>(f);
+}
+
+double sq(double w) { return std::sqrt(std::max(w, 0.0)); }
+
+double minPairedDistance(const TimedElasticBand& a, const TimedElasticBand& b) {
+  const auto pairs = pairByTime(a, b);
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (!pairs[i]) continue;
+    const Pose2 pa = a.pose(i);
+    const Pose2 pb0 = b.pose(pairs[i]->segment);
+    const Pose2 pb1 = b.pose(pairs[i]->segment + 1);
+    const double s = pairs[i]->fraction;
+    const Eigen::Vector2d pb = (1.0 - s) * pb0.position() + s * pb1.position();
+    best = std::min(best, (pa.position() - pb).norm());
+  }
+  return best;
+}
+
+class ProblemBuilder {
+ public:
+  ProblemBuilder(std::vector<BandAgent>& agents, const DistanceMap& map,
+                 const BandPlannerConfig& cfg, double obstacle_multiplier)
+      : agents_(agents), map_(map), cfg_(cfg), obst_mult_(obstacle_multiplier) {
+    ceres::Problem::Options po;
+    po.enable_fast_removal = false;
+    problem_ = std::make_unique<ceres::Problem>(po);
+  }
+
+  ceres::Problem& problem() { return *problem_; }
+  const std::vector<ceres::ResidualBlockId>& blocks(int term) const { return blocks_[term]; }
+
+  void build() {
+    for (auto& a : agents_) addBand(a);
+    for (std::size_t i = 0; i < agents_.size(); ++i) {
+      for (std::size_t j = i + 1; j < agents_.size(); ++j) addCoupling(i, j);
+    }
+  }
+
+ private:
+  void add(int term, ceres::CostFunction* f, const std::vector<double*>& params) {
+    blocks_[term].push_back(problem_->AddResidualBlock(f, nullptr, params));
+  }
+
+  void addBand(BandAgent& a) {
+    TimedElasticBand& b = *a.band;
+    const std::size_t n = b.size();
+    if (n < 2) return;
+    for (std::size_t i = 0; i < n; ++i) problem_->AddParameterBlock(b.poseData(i), 3);
+    for (std::size_t i = 0; i + 1 < n; ++i) problem_->AddParameterBlock(b.dtData(i), 1);
+    problem_->SetParameterBlockConstant(b.poseData(0));
+    problem_->SetParameterBlockConstant(b.poseData(n - 1));
+
+    const MotionLimits& lim = a.limits;
+    const BandWeights& w = a.weights;
+    const double eps = cfg_.penalty_epsilon;
+    const bool diff = !lim.holonomic;
+    const double sw_nh = sq(diff ? w.kinematics_nh_diff_drive : w.kinematics_nh);
+    const double sw_fwd = diff ? sq(w.kinematics_forward_drive) : 0.0;
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      add(kVelocity, autodiff<VelocityCost, 4, 3, 3, 1>(new VelocityCost(lim)),
+          {b.poseData(i), b.poseData(i + 1), b.dtData(i)});
+      add(kTimeOptimal,
+          autodiff<TimeOptimalCost, 2, 1>(new TimeOptimalCost(sq(w.optimaltime), cfg_.dt_min_s)),
+          {b.dtData(i)});
+      if (sw_nh > 0.0 || sw_fwd > 0.0) {
+        add(kKinematics, autodiff<KinematicsCost, 2, 3, 3>(new KinematicsCost(sw_nh, sw_fwd)),
+            {b.poseData(i), b.poseData(i + 1)});
+      }
+    }
+    for (std::size_t i = 0; i + 2 < n; ++i) {
+      add(kAcceleration, autodiff<AccelerationCost, 3, 3, 3, 3, 1, 1>(new AccelerationCost(lim)),
+          {b.poseData(i), b.poseData(i + 1), b.poseData(i + 2), b.dtData(i), b.dtData(i + 1)});
+    }
+    const Velocity2& v0 = a.start_velocity_body;
+    add(kAcceleration,
+        autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
+            new BoundaryAccelerationCost(lim, v0.vx_m_s, v0.vy_m_s, v0.omega_rad_s, true)),
+        {b.poseData(0), b.poseData(1), b.dtData(0)});
+    if (a.end_is_goal) {
+      add(kAcceleration,
+          autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
+              new BoundaryAccelerationCost(lim, 0.0, 0.0, 0.0, false)),
+          {b.poseData(n - 2), b.poseData(n - 1), b.dtData(n - 2)});
+    }
+    const double sw_obst = sq(w.obstacle * obst_mult_);
+    const bool via = a.reference != nullptr && a.reference->size() >= 2 && w.viapoint > 0.0;
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      add(kObstacle,
+          new ObstacleCost(&map_, sw_obst, cfg_.min_obstacle_dist_m, a.radius_m, eps),
+          {b.poseData(i)});
+      if (via) {
+        const auto proj = projectOntoPath(*a.reference, b.pose(i).position());
+        if (!proj) continue;
+        const Eigen::Vector2d d =
+            (*a.reference)[proj->segment + 1] - (*a.reference)[proj->segment];
+        if (d.norm() < 1e-9) continue;
+        const Eigen::Vector2d normal(-d.y() / d.norm(), d.x() / d.norm());
+        add(kViaPoint,
+            autodiff<ViaPointCost, 1, 3>(new ViaPointCost(sq(w.viapoint), proj->closest, normal)),
+            {b.poseData(i)});
+      }
+    }
+  }
+
+  void addCoupling(std::size_t ia, std::size_t ib) {
+    BandAgent& A = agents_[ia];
+    BandAgent& B = agents_[ib];
+    TimedElasticBand& a = *A.band;
+    TimedElasticBand& b = *B.band;
+    if (a.size() < 2 || b.size() < 2) return;
+    const bool robot_pair = A.is_robot != B.is_robot;
+    const double min_dist = robot_pair ? cfg_.min_agent_robot_dist_m : cfg_.min_agent_agent_dist_m;
+    const double radii = A.radius_m + B.radius_m;
+    if (ia != 0 && minPairedDistance(a, b) > radii + min_dist + kPairPrefilterMargin_m) return;
+    // The safety distance is an obstacle that moves: like TEB's dynamic obstacles it gets the
+    // outer-loop weight multiplier, so that the penalty's residual violation shrinks.
+    const double sw_safety =
+        sq(obst_mult_ *
+           (robot_pair ? cfg_.weight_agent_robot_safety : cfg_.weight_agent_agent_safety));
+    bool safety_on = true;
+    if (cfg_.safety_activation_dist_m > 0.0) {
+      safety_on = (a.pose(0).position() - b.pose(0).position()).norm() - radii <
+                  cfg_.safety_activation_dist_m;
+    }
+    const double sw_rel = sq(cfg_.weight_agent_robot_rel_vel);
+    const auto pairs = pairByTime(a, b);
+    const double eps = cfg_.penalty_epsilon;
+    for (std::size_t i = 1; i < pairs.size(); ++i) {
+      if (!pairs[i]) continue;
+      const std::size_t j = pairs[i]->segment;
+      const double s = pairs[i]->fraction;
+      if (safety_on && i + 1 < a.size()) {
+        add(robot_pair ? kAgentRobotSafety : kAgentAgentSafety,
+            autodiff<AgentSafetyCost, 1, 3, 3, 3>(
+                new AgentSafetyCost(sw_safety, min_dist, radii, s, eps)),
+            {a.poseData(i), b.poseData(j), b.poseData(j + 1)});
+      }
+      if (robot_pair && sw_rel > 0.0 && i + 1 < a.size()) {
+        add(kRelativeVelocity,
+            autodiff<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(new RelativeVelocityCost(
+                sw_rel, cfg_.rel_vel_cost_threshold, s, A.is_robot, eps)),
+            {a.poseData(i), a.poseData(i + 1), a.dtData(i), b.poseData(j), b.poseData(j + 1),
+             b.dtData(j)});
+      }
+    }
+  }
+
+  std::vector<BandAgent>& agents_;
+  const DistanceMap& map_;
+  const BandPlannerConfig& cfg_;
+  double obst_mult_;
+  std::unique_ptr<ceres::Problem> problem_;
+  std::vector<ceres::ResidualBlockId> blocks_[kNumTerms];
+};
+
+double evaluateTerms(ProblemBuilder& pb, std::vector<TermCost>* terms) {
+  double total = 0.0;
+  terms->clear();
+  for (int t = 0; t < kNumTerms; ++t) {
+    double c = 0.0;
+    if (!pb.blocks(t).empty()) {
+      ceres::Problem::EvaluateOptions eo;
+      eo.residual_blocks = pb.blocks(t);
+      eo.apply_loss_function = false;
+      pb.problem().Evaluate(eo, &c, nullptr, nullptr, nullptr);
+    }
+    terms->push_back({kTermNames[t], c});
+    total += c;
+  }
+  return total;
+}
+
+}  // namespace
+
+band_costs::MotionLimits makeMotionLimits(const AgentKinematics& kin, const BandWeights& w,
+                                          double epsilon, double nominal_vel_m_s) {
+  MotionLimits m;
+  m.holonomic = kin.holonomic;
+  m.max_vel_x_m_s = kin.max_vel_x_m_s;
+  m.max_vel_x_backwards_m_s = kin.max_vel_x_backwards_m_s;
+  m.max_vel_y_m_s = kin.max_vel_y_m_s;
+  m.max_vel_theta_rad_s = kin.max_vel_theta_rad_s;
+  m.acc_lim_x_m_s2 = kin.acc_lim_x_m_s2;
+  m.acc_lim_y_m_s2 = kin.acc_lim_y_m_s2;
+  m.acc_lim_theta_rad_s2 = kin.acc_lim_theta_rad_s2;
+  m.epsilon = epsilon;
+  m.sqrt_w_vel_x = sq(w.max_vel_x);
+  m.sqrt_w_vel_y = sq(w.max_vel_y);
+  m.sqrt_w_vel_theta = sq(w.max_vel_theta);
+  m.sqrt_w_acc_x = sq(w.acc_lim_x);
+  m.sqrt_w_acc_y = sq(w.acc_lim_y);
+  m.sqrt_w_acc_theta = sq(w.acc_lim_theta);
+  m.sqrt_w_nominal = nominal_vel_m_s > 0.0 ? sq(w.nominal_vel) : 0.0;
+  m.nominal_vel_m_s = std::max(nominal_vel_m_s, 0.0);
+  return m;
+}
+
+std::vector<std::optional<TimedElasticBand::Locator>> pairByTime(const TimedElasticBand& a,
+                                                                 const TimedElasticBand& b) {
+  std::vector<std::optional<TimedElasticBand::Locator>> out(a.size());
+  if (b.size() < 2) return out;
+  const auto ta = a.times_s();
+  const auto tb = b.times_s();
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < ta.size(); ++i) {
+    const double t = ta[i];
+    if (t > tb.back()) break;
+    while (j + 2 < tb.size() && tb[j + 1] < t) ++j;
+    const double dt = tb[j + 1] - tb[j];
+    out[i] = TimedElasticBand::Locator{j, dt > 0.0 ? std::clamp((t - tb[j]) / dt, 0.0, 1.0) : 0.0};
+  }
+  return out;
+}
+
+OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
+                            const BandPlannerConfig& cfg, int max_iterations,
+                            double time_budget_s) {
+  OptimizeStats stats;
+  if (agents.empty()) return stats;
+  const int total_iter = max_iterations > 0 ? max_iterations
+                                            : cfg.no_inner_iterations * cfg.no_outer_iterations;
+  double remaining_s = time_budget_s > 0.0 ? time_budget_s : 0.0;
+  double multiplier = 1.0;
+  for (int outer = 0; outer < cfg.no_outer_iterations; ++outer) {
+    const int left = total_iter - stats.iterations;
+    if (left <= 0) break;
+    if (time_budget_s > 0.0 && remaining_s <= 0.0) {
+      stats.budget_exhausted = true;
+      break;
+    }
+    for (auto& a : agents) {
+      if (a.band->size() >= 2) {
+        a.band->autoResize(cfg.dt_ref_s, cfg.dt_hysteresis_s, cfg.min_samples, cfg.max_samples);
+      }
+    }
+    ProblemBuilder pb(agents, map, cfg, multiplier);
+    pb.build();
+    if (pb.problem().NumResidualBlocks() == 0) break;
+
+    ceres::Solver::Options opt;
+    // Tuned as measured in notes §9: plain λI damping as g2o (no Jacobi scaling), one thread,
+    // no line search; defaults were 3x slower and stalled in the flat θ/y directions.
+    opt.minimizer_type = ceres::TRUST_REGION;
+    opt.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    opt.jacobi_scaling = false;
+    opt.min_lm_diagonal = 1.0;
+    opt.max_lm_diagonal = 1.0;
+    opt.initial_trust_region_radius = getenv("TR") ? atof(getenv("TR")) : 1.0;
+    opt.num_threads = 1;
+    opt.max_num_iterations = std::min(cfg.no_inner_iterations, left);
+    opt.logging_type = ceres::SILENT;
+    opt.minimizer_progress_to_stdout = false;
+    if (time_budget_s > 0.0) opt.max_solver_time_in_seconds = remaining_s;
+    ceres::Solver::Summary sum;
+    ceres::Solve(opt, &pb.problem(), &sum);
+    if (outer == 0) stats.initial_cost = sum.initial_cost;
+    stats.iterations += sum.num_successful_steps + sum.num_unsuccessful_steps;
+    stats.solver_time_s += sum.total_time_in_seconds;
+    remaining_s -= sum.total_time_in_seconds;
+    stats.outer_iterations = outer + 1;
+    for (auto& a : agents) a.band->normalize(cfg.dt_min_s);
+    const bool last = outer + 1 == cfg.no_outer_iterations ||
+                      stats.iterations >= total_iter ||
+                      (time_budget_s > 0.0 && remaining_s <= 0.0);
+    if (last) {
+      stats.final_cost = evaluateTerms(pb, &stats.terms);
+      if (time_budget_s > 0.0 && remaining_s <= 0.0) stats.budget_exhausted = true;
+      break;
+    }
+    multiplier *= cfg.weight_adapt_factor;
+  }
+  return stats;
+}
+
+}  // namespace coopnav

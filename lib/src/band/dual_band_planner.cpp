@@ -1,0 +1,344 @@
+#include "coopnav/band/dual_band_planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "coopnav/band/velocity_command.hpp"
+#include "coopnav/geometry/geometry.hpp"
+
+namespace coopnav {
+namespace {
+
+/// A cached path is re-used while its goal moved less than this [m].
+constexpr double kSameGoal_m = 1e-3;
+/// Head-on test for the symmetry break: lateral offset of the other agent at closest approach
+/// below which neither side is preferred by the geometry [m].
+constexpr double kHeadOnLateral_m = 0.1;
+/// Extra length given to anticipated bands beyond nominal speed × horizon (fraction).
+constexpr double kOtherLengthMargin = 0.1;
+/// Constant-velocity prediction horizon when an other agent's goal is unknown [s].
+constexpr double kConstVelHorizon_s = 10.0;
+
+PlanStatus fromPathStatus(PathStatus s) {
+  switch (s) {
+    case PathStatus::kOk: return PlanStatus::kOk;
+    case PathStatus::kInvalidInput: return PlanStatus::kInvalidInput;
+    case PathStatus::kStartOutsideMap:
+    case PathStatus::kGoalOutsideMap: return PlanStatus::kOutsideMap;
+    case PathStatus::kStartInObstacle: return PlanStatus::kStartInObstacle;
+    case PathStatus::kGoalInObstacle: return PlanStatus::kGoalInObstacle;
+    case PathStatus::kNoPath: return PlanStatus::kNoPath;
+  }
+  return PlanStatus::kNoPath;
+}
+
+double speedOf(const Velocity2& v) { return std::hypot(v.vx_m_s, v.vy_m_s); }
+
+/// Heading of the path at arc length s (direction of the segment holding s).
+double pathHeadingAtEnd(const Path2& p, double fallback) {
+  if (p.size() < 2) return fallback;
+  const Eigen::Vector2d d = p[p.size() - 1] - p[p.size() - 2];
+  return d.norm() > 1e-9 ? std::atan2(d.y(), d.x()) : fallback;
+}
+
+}  // namespace
+
+const char* toString(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kOk: return "ok";
+    case PlanStatus::kGoalReached: return "goal_reached";
+    case PlanStatus::kInvalidInput: return "invalid_input";
+    case PlanStatus::kInvalidConfig: return "invalid_config";
+    case PlanStatus::kOutsideMap: return "outside_map";
+    case PlanStatus::kStartInObstacle: return "start_in_obstacle";
+    case PlanStatus::kGoalInObstacle: return "goal_in_obstacle";
+    case PlanStatus::kNoPath: return "no_path";
+  }
+  return "unknown";
+}
+
+DualBandPlanner::DualBandPlanner(BandPlannerConfig config, std::shared_ptr<const DistanceMap> map)
+    : config_(std::move(config)), config_errors_(config_.validate()), map_(std::move(map)) {
+  if (config_errors_.empty() && map_) {
+    GridPathPlanner::Options o;
+    o.resolution_m = config_.global_resolution_m;
+    o.clearance_pref_m = config_.global_clearance_pref_m;
+    o.clearance_weight = config_.global_clearance_weight;
+    o.sample_spacing_m = 0.1;
+    global_ = std::make_unique<GridPathPlanner>(map_, o);
+  }
+}
+
+void DualBandPlanner::reset() {
+  bands_.clear();
+  paths_.clear();
+}
+
+PlanResult DualBandPlanner::plan(const PlanRequest& req) {
+  PlanResult out;
+  const BandPlannerConfig& cfg = config_;
+  if (!config_errors_.empty() || !map_ || !global_) {
+    out.status = PlanStatus::kInvalidConfig;
+    return out;
+  }
+  const AgentState& me = req.agent;
+  if (!isFinite(me.pose) || !std::isfinite(req.goal.x_m) || !std::isfinite(req.goal.y_m) ||
+      !std::isfinite(req.stamp_s)) {
+    out.status = PlanStatus::kInvalidInput;
+    return out;
+  }
+  const AgentKinematics& my_kin = cfg.kinematics(me.kind);
+  const double my_radius = me.radius_m > 0.0 ? me.radius_m : my_kin.radius_m;
+  const Eigen::Vector2d my_pos = me.pose.position();
+  const Eigen::Vector2d goal_pos = req.goal.position();
+  const double horizon_fallback_s = cfg.max_plan_length_m / my_kin.max_vel_x_m_s;
+
+  // --- the planning agent's global path (cached while on it and the goal is unchanged) ---
+  const bool at_goal = (goal_pos - my_pos).norm() < cfg.xy_goal_tolerance_m;
+  Path2 my_path;
+  if (!at_goal) {
+    auto it = paths_.find(me.id);
+    bool reuse = false;
+    if (it != paths_.end() && (it->second.goal - goal_pos).norm() < kSameGoal_m &&
+        it->second.status == PathStatus::kOk) {
+      const auto proj = projectOntoPath(it->second.path, my_pos);
+      reuse = proj && proj->distance_m < cfg.global_replan_dist_m;
+    }
+    if (!reuse) {
+      const PathResult pr = global_->plan(my_pos, goal_pos, my_radius);
+      if (pr.status != PathStatus::kOk) {
+        paths_.erase(me.id);
+        bands_.erase(me.id);
+        out.status = fromPathStatus(pr.status);
+        return out;
+      }
+      paths_[me.id] = {goal_pos, pr.path, pr.status};
+      bands_.erase(me.id);  // a new path invalidates the warm band
+    }
+    my_path = paths_[me.id].path;
+  }
+
+  // --- the planning agent's band ---
+  TimedElasticBand my_band;
+  bool my_end_is_goal = true;
+  bool cold_start = true;
+  if (at_goal) {
+    my_band = TimedElasticBand::fromPath(me.pose, {my_pos}, my_kin.max_vel_x_m_s, cfg.dt_ref_s);
+  } else {
+    const auto proj = projectOntoPath(my_path, my_pos);
+    const double from_m = proj ? proj->arc_length_m : 0.0;
+    const Path2 local = subPath(my_path, from_m, cfg.max_plan_length_m);
+    my_end_is_goal = from_m + cfg.max_plan_length_m >= pathLength(my_path) - 1e-6;
+    const double end_th = my_end_is_goal && !cfg.free_goal_heading && std::isfinite(req.goal.theta_rad)
+                              ? req.goal.theta_rad
+                              : pathHeadingAtEnd(local, me.pose.theta_rad);
+    const Pose2 end{local.back().x(), local.back().y(), end_th};
+    auto mem = bands_.find(me.id);
+    if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2) {
+      TimedElasticBand warm = mem->second.band;
+      warm.pruneToStart(me.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
+      const bool near = warm.size() >= 2 &&
+                        (warm.pose(1).position() - my_pos).norm() < cfg.warm_start_reset_dist_m &&
+                        (warm.pose(warm.size() - 1).position() - end.position()).norm() <
+                            cfg.warm_start_reset_dist_m;
+      if (near) {
+        warm.setEnd(end);
+        my_band = std::move(warm);
+        cold_start = false;
+      }
+    }
+    if (cold_start) {
+      my_band = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
+                                           end_th);
+    }
+  }
+  out.agent_path = my_path;
+  out.warm_started = !cold_start;
+
+  // --- anticipated agents ---
+  const double other_T_s = cfg.other_horizon_s > 0.0
+                               ? cfg.other_horizon_s
+                               : (my_band.size() >= 2 ? my_band.duration_s() : horizon_fallback_s);
+  struct OtherWork {
+    const OtherAgentInput* in;
+    TimedElasticBand band;
+    bool end_is_goal;
+    double nominal_m_s;
+    double radius_m;
+  };
+  std::vector<OtherWork> work;
+  for (const auto& o : req.others) {
+    const AgentState& st = o.state;
+    if (!isFinite(st.pose) || !std::isfinite(st.velocity.vx_m_s) ||
+        !std::isfinite(st.velocity.vy_m_s)) {
+      out.skipped_ids.push_back(st.id);
+      continue;
+    }
+    const AgentKinematics& k = cfg.kinematics(st.kind);
+    const double radius = st.radius_m > 0.0 ? st.radius_m : k.radius_m;
+    const double nominal = std::min(std::max(k.min_nominal_vel_m_s, speedOf(st.velocity)),
+                                    k.max_vel_x_m_s);
+    const Eigen::Vector2d pos = st.pose.position();
+    OtherAgentResult res;
+    res.id = st.id;
+    Path2 ref;
+    if (o.reference_path.size() >= 2) {
+      ref = o.reference_path;
+    } else if (std::isfinite(o.goal.x_m) && std::isfinite(o.goal.y_m)) {
+      const Eigen::Vector2d g = o.goal.position();
+      auto it = paths_.find(st.id);
+      bool reuse = false;
+      if (it != paths_.end() && (it->second.goal - g).norm() < kSameGoal_m) {
+        const auto proj = projectOntoPath(it->second.path, pos);
+        reuse = proj && proj->distance_m < cfg.global_replan_dist_m;
+      }
+      if (!reuse) {
+        PathResult pr = global_->plan(pos, g, radius);
+        if (pr.status != PathStatus::kOk) pr.path = resamplePath({pos, g}, 0.1);
+        paths_[st.id] = {g, pr.path, pr.status};
+        res.reference_changed = true;
+      }
+      ref = paths_[st.id].path;
+      res.reference_status = paths_[st.id].status;
+    } else {
+      // Unknown goal: constant-velocity prediction (CoHAN's const_vel mode).
+      const Eigen::Vector2d v(st.velocity.vx_m_s, st.velocity.vy_m_s);
+      const Eigen::Vector2d dir =
+          v.norm() > 1e-3 ? Eigen::Vector2d(v.normalized()) : headingVector(st.pose.theta_rad);
+      ref = resamplePath({pos, pos + dir * nominal * kConstVelHorizon_s}, 0.1);
+      res.reference_changed = true;
+    }
+    if ((ref.back() - pos).norm() < cfg.xy_goal_tolerance_m) ref = {pos};
+    const auto proj = projectOntoPath(ref, pos);
+    const double from_m = proj ? proj->arc_length_m : 0.0;
+    const double len_m = nominal * other_T_s * (1.0 + kOtherLengthMargin);
+    const Path2 local = ref.size() >= 2 ? subPath(ref, from_m, len_m) : ref;
+    const bool end_is_goal = from_m + len_m >= pathLength(ref) - 1e-6;
+    const Pose2 end{local.back().x(), local.back().y(),
+                    pathHeadingAtEnd(local, st.pose.theta_rad)};
+    TimedElasticBand band;
+    bool have = false;
+    auto mem = bands_.find(st.id);
+    if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2 &&
+        !res.reference_changed) {
+      TimedElasticBand warm = mem->second.band;
+      warm.pruneToStart(st.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
+      if (warm.size() >= 2 &&
+          (warm.pose(1).position() - pos).norm() < cfg.warm_start_reset_dist_m &&
+          (warm.pose(warm.size() - 1).position() - end.position()).norm() <
+              cfg.warm_start_reset_dist_m) {
+        warm.setEnd(end);
+        band = std::move(warm);
+        have = true;
+      }
+    }
+    if (!have) band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad);
+    res.reference_path = ref;
+    out.others.push_back(res);
+    work.push_back({&o, std::move(band), end_is_goal, nominal, radius});
+  }
+
+  if (at_goal) {
+    // Anticipated bands as initialised (nothing to negotiate with a standing agent).
+    out.status = PlanStatus::kGoalReached;
+    out.agent_band = my_band.toBand();
+    for (std::size_t i = 0; i < work.size(); ++i) out.others[i].band = work[i].band.toBand();
+    bands_.erase(me.id);
+    return out;
+  }
+
+  // --- symmetry break on a cold start: an exactly head-on pair has no lateral gradient ---
+  if (cold_start && cfg.symmetry_break_offset_m > 0.0 && my_band.size() > 2) {
+    for (const auto& w : work) {
+      const auto pairs = pairByTime(my_band, w.band);
+      double best = std::numeric_limits<double>::infinity();
+      std::size_t bi = 0;
+      Eigen::Vector2d other_at_best(0.0, 0.0);
+      for (std::size_t i = 0; i < pairs.size(); ++i) {
+        if (!pairs[i]) continue;
+        const double s = pairs[i]->fraction;
+        const Eigen::Vector2d q = (1.0 - s) * w.band.pose(pairs[i]->segment).position() +
+                                  s * w.band.pose(pairs[i]->segment + 1).position();
+        const double d = (my_band.pose(i).position() - q).norm();
+        if (d < best) {
+          best = d, bi = i, other_at_best = q;
+        }
+      }
+      const double needed = my_radius + w.radius_m + cfg.min_agent_robot_dist_m;
+      if (!(best < needed) || bi == 0 || bi + 1 >= my_band.size()) continue;
+      const Pose2 pm = my_band.pose(bi);
+      const Eigen::Vector2d h = headingVector(pm.theta_rad);
+      const double lateral = cross2(h, other_at_best - pm.position());
+      if (std::abs(lateral) > kHeadOnLateral_m) continue;
+      // Side with more room at the meeting point; a tie goes to the right (keep right).
+      const Eigen::Vector2d left(-h.y(), h.x());
+      const double room_l = map_->ray(pm.position(), left, 10.0).distance_m;
+      const double room_r = map_->ray(pm.position(), -left, 10.0).distance_m;
+      const double side = room_l > room_r + 0.1 ? 1.0 : -1.0;
+      const auto t = my_band.times_s();
+      const double sigma_s = std::max(1.0, 0.3 * t[bi]);
+      for (std::size_t i = 1; i + 1 < my_band.size(); ++i) {
+        const double z = (t[i] - t[bi]) / sigma_s;
+        const double off = side * cfg.symmetry_break_offset_m * std::exp(-0.5 * z * z);
+        Pose2 p = my_band.pose(i);
+        p.x_m += off * left.x();
+        p.y_m += off * left.y();
+        my_band.setPose(i, p);
+      }
+      break;  // one offset suffices; the optimiser does the rest
+    }
+  }
+
+  // --- joint optimisation ---
+  std::vector<BandAgent> agents;
+  agents.reserve(1 + work.size());
+  {
+    BandAgent a;
+    a.id = me.id;
+    a.is_robot = me.kind == AgentKind::kRobot;
+    a.band = &my_band;
+    a.weights = cfg.planning_weights;
+    a.limits = makeMotionLimits(my_kin, a.weights, cfg.penalty_epsilon, 0.0);
+    a.radius_m = my_radius;
+    a.start_velocity_body = toBodyFrame(me.velocity, me.pose.theta_rad);
+    a.end_is_goal = my_end_is_goal;
+    a.reference = &out.agent_path;
+    agents.push_back(a);
+  }
+  for (std::size_t i = 0; i < work.size(); ++i) {
+    const AgentState& st = work[i].in->state;
+    BandAgent a;
+    a.id = st.id;
+    a.is_robot = st.kind == AgentKind::kRobot;
+    a.band = &work[i].band;
+    a.weights = cfg.other_weights;
+    a.limits = makeMotionLimits(cfg.kinematics(st.kind), a.weights, cfg.penalty_epsilon,
+                                work[i].nominal_m_s);
+    a.radius_m = work[i].radius_m;
+    a.start_velocity_body = toBodyFrame(st.velocity, st.pose.theta_rad);
+    a.end_is_goal = work[i].end_is_goal;
+    a.reference = &out.others[i].reference_path;
+    agents.push_back(a);
+  }
+  const OptimizeStats stats =
+      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s);
+  out.iterations = stats.iterations;
+  out.final_cost = stats.final_cost;
+  out.solver_time_s = stats.solver_time_s;
+  out.budget_exhausted = stats.budget_exhausted;
+  out.term_costs = stats.terms;
+
+  // --- outputs and warm-start memory ---
+  out.agent_band = my_band.toBand();
+  out.command_body = bandCommand(my_band, my_kin);
+  bands_[me.id] = {my_band, req.stamp_s};
+  for (std::size_t i = 0; i < work.size(); ++i) {
+    out.others[i].band = work[i].band.toBand();
+    bands_[work[i].in->state.id] = {work[i].band, req.stamp_s};
+  }
+  out.status = PlanStatus::kOk;
+  return out;
+}
+
+}  // namespace coopnav

@@ -34,10 +34,7 @@ Eigen::AlignedBox2d GridDistanceField::bounds() const {
 }
 
 bool GridDistanceField::isObstacle(int i, int j) const {
-  if (!grid_.contains(i, j)) return false;
-  const CellState s = grid_.at(i, j);
-  return s == CellState::kOccupied ||
-         (s == CellState::kUnknown && unknown_ == UnknownPolicy::kObstacle);
+  return grid_.contains(i, j) && obstacle_[grid_.linearIndex(i, j)] != 0;
 }
 
 CellIndex GridDistanceField::nearestObstacleCell(int i, int j) const {
@@ -56,18 +53,33 @@ void GridDistanceField::computeEdt() {
   nearest_.assign(grid_.size(), -1);
   if (grid_.empty()) return;
 
+  obstacle_.resize(grid_.size());
+  const bool unknown_is_obstacle = unknown_ == UnknownPolicy::kObstacle;
+  for (std::size_t k = 0; k < grid_.size(); ++k) {
+    const CellState s = grid_.cells()[k];
+    obstacle_[k] = s == CellState::kOccupied || (s == CellState::kUnknown && unknown_is_obstacle);
+  }
+
+  // Pass 1, row by row (cache-friendly): nearest obstacle row in the same column, from below
+  // then from above.
+  const std::size_t stride = static_cast<std::size_t>(w);
   std::vector<std::int32_t> col_row(grid_.size(), -1);
-  for (int i = 0; i < w; ++i) {
-    int last = -1;
-    for (int j = 0; j < h; ++j) {
-      if (isObstacle(i, j)) last = j;
-      col_row[grid_.linearIndex(i, j)] = last;
+  for (int j = 0; j < h; ++j) {
+    const std::size_t row = static_cast<std::size_t>(j) * stride;
+    for (int i = 0; i < w; ++i) {
+      if (obstacle_[row + i]) {
+        col_row[row + i] = j;
+      } else if (j > 0) {
+        col_row[row + i] = col_row[row - stride + i];
+      }
     }
-    last = -1;
-    for (int j = h - 1; j >= 0; --j) {
-      if (isObstacle(i, j)) last = j;
-      std::int32_t& r = col_row[grid_.linearIndex(i, j)];
-      if (last >= 0 && (r < 0 || last - j < j - r)) r = last;
+  }
+  for (int j = h - 2; j >= 0; --j) {
+    const std::size_t row = static_cast<std::size_t>(j) * stride;
+    for (int i = 0; i < w; ++i) {
+      const std::int32_t above = col_row[row + stride + i];
+      std::int32_t& r = col_row[row + i];
+      if (above > j && (r < 0 || above - j < j - r)) r = above;
     }
   }
 
@@ -331,22 +343,24 @@ DistanceResult GridDistanceField::ray(const Eigen::Vector2d& p, const Eigen::Vec
   constexpr double kInf = std::numeric_limits<double>::infinity();
   int i = c.x();
   int j = c.y();
-  const auto crossing = [](int cell, int step, double g0, double d0) {
+  const double inv_dx = 1.0 / d.x();  // inf when d.x() == 0, unused then
+  const double inv_dy = 1.0 / d.y();
+  const auto crossing = [](int cell, int step, double g0, double inv_d0) {
     if (step == 0) return kInf;
-    return (static_cast<double>(step > 0 ? cell + 1 : cell) - g0) / d0;
+    return (static_cast<double>(step > 0 ? cell + 1 : cell) - g0) * inv_d0;
   };
-  double tx = crossing(i, step_i, g.x(), d.x());
-  double ty = crossing(j, step_j, g.y(), d.y());
+  double tx = crossing(i, step_i, g.x(), inv_dx);
+  double ty = crossing(j, step_j, g.y(), inv_dy);
   while (true) {
     double t = 0.0;
     if (tx < ty) {
       t = tx;
       i += step_i;
-      tx = crossing(i, step_i, g.x(), d.x());
+      tx = crossing(i, step_i, g.x(), inv_dx);
     } else {
       t = ty;
       j += step_j;
-      ty = crossing(j, step_j, g.y(), d.y());
+      ty = crossing(j, step_j, g.y(), inv_dy);
     }
     if (t > t_max_cells) {
       DistanceResult r = statusOnly(DistanceStatus::kNotFound);

@@ -24,7 +24,8 @@ const char* toString(DistanceStatus s);
 struct DistanceResult {
   DistanceStatus status{DistanceStatus::kInvalidQuery};
   /// [m] from the query point to the nearest obstacle surface; RAY: free length along the ray.
-  /// Meaningful for kOk and kInObstacle (0); for RAY also kNotFound (= max range).
+  /// Meaningful for kOk and kInObstacle (0); for SIDE kNotFound = max range; for RAY kNotFound =
+  /// free length travelled: the max range, or less when the ray leaves the map first.
   double distance_m{0.0};
   /// World-frame point on the obstacle found (RAY: hit point). Meaningful for kOk.
   Eigen::Vector2d obstacle{0.0, 0.0};

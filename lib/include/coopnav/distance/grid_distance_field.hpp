@@ -32,7 +32,7 @@ enum class UnknownPolicy : std::uint8_t {
 
 /// Immutable distance field over an OccupancyGrid2. Build: Felzenszwalb & Huttenlocher, "Distance
 /// Transforms of Sampled Functions", Theory of Computing 8 (2012), doi:10.4086/toc.2012.v008a019,
-/// extended to carry the nearest obstacle cell; 8 B/cell. SIDE: branch-and-bound over a k-d tree
+/// extended to carry the nearest obstacle cell; 9 B/cell. SIDE: branch-and-bound over a k-d tree
 /// of boundary obstacle cells. RAY: Amanatides & Woo, "A Fast Voxel Traversal Algorithm for Ray
 /// Tracing", Eurographics 1987. All queries are const and thread-safe.
 class GridDistanceField final : public DistanceMap {
@@ -92,9 +92,10 @@ class GridDistanceField final : public DistanceMap {
 
   OccupancyGrid2 grid_;
   UnknownPolicy unknown_;
-  std::vector<std::int32_t> sq_dist_;  // [cells^2], -1 = no obstacle anywhere
-  std::vector<std::int32_t> nearest_;  // linear index of the nearest obstacle cell, -1 = none
-  std::vector<CellIndex> boundary_;    // boundary obstacle cells, in k-d tree order
+  std::vector<std::uint8_t> obstacle_;  // 1 = obstacle under the unknown policy
+  std::vector<std::int32_t> sq_dist_;   // [cells^2], -1 = no obstacle anywhere
+  std::vector<std::int32_t> nearest_;   // linear index of the nearest obstacle cell, -1 = none
+  std::vector<CellIndex> boundary_;     // boundary obstacle cells, in k-d tree order
   std::vector<KdNode> kd_;
 };
 

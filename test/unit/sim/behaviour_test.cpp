@@ -275,3 +275,34 @@ TEST(Determinism, NoNoiseMeansSeedDoesNotMatter) {
 
 }  // namespace
 }  // namespace coopnav::sim
+
+#include "coopnav/sim/band_human_adapter.hpp"
+
+namespace coopnav::sim {
+namespace {
+
+// Smoke test of the planner-backed facilitating mode: the adapter builds a request for the human
+// with the robot as the other agent and returns a finite world-frame velocity or nothing.
+TEST(FacilitatingHuman, DualBandAdapterPlansForTheHuman) {
+  auto map = std::make_shared<test::CorridorMap>(0.0, 6.0);
+  WorldSpec w;
+  w.robot.start = {0.0, 3.0, 0.0};
+  w.robot.goal = {20.0, 3.0, 0.0};
+  HumanSpec h;
+  h.start = {12.0, 3.0, M_PI};
+  h.goal = {0.5, 3.0, M_PI};
+  h.behaviour.type = BehaviourType::kFacilitating;
+  h.behaviour.facilitating.planner = "band";
+  w.humans.push_back(h);
+  Simulation sim(w, map.get(), dualBandAdapterFactory(BandPlannerConfig{}, map));
+  const StepResult r = sim.step({0.5, 0.0, 0.0});
+  const AgentState& human = r.agents[1];
+  EXPECT_TRUE(std::isfinite(human.velocity.vx_m_s));
+  EXPECT_TRUE(std::isfinite(human.velocity.vy_m_s));
+  EXPECT_LE(std::hypot(human.velocity.vx_m_s, human.velocity.vy_m_s), 2.0);
+  std::printf("band adapter: mode %s, v = (%.3f, %.3f)\n", sim.behaviourStatus()[0].mode.c_str(),
+              human.velocity.vx_m_s, human.velocity.vy_m_s);
+}
+
+}  // namespace
+}  // namespace coopnav::sim

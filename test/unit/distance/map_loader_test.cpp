@@ -178,6 +178,37 @@ TEST(MapLoaderTest, BtRoundTripIsExactWhenCornersAreKnown) {
   }
 }
 
+TEST(MapLoaderTest, BtHeightBandSelectsTheSlab) {
+  TempDir tmp;
+  // Given a 3-D tree (0.1 m): free floor layer at z 0.05, a table top at z 0.75 over x [0.5, 0.7)
+  octomap::OcTree tree(0.1);
+  for (int i = 0; i < 10; ++i) {
+    tree.updateNode(octomap::point3d(i * 0.1f + 0.05f, 0.05f, 0.05f), false);
+    if (i == 5 || i == 6) tree.updateNode(octomap::point3d(i * 0.1f + 0.05f, 0.05f, 0.75f), true);
+  }
+  writeBt(tree, tmp.dir() + "/t.bt");
+  MapLoadOptions options;
+  options.bt_origin_m = Eigen::Vector2d(10.0, 20.0);
+  // When projected at floor height, everything is free
+  const LoadedMap floor = loadMap(tmp.dir() + "/t.bt", options);
+  EXPECT_EQ(floor.grid.width(), 10);
+  EXPECT_EQ(floor.grid.count(CellState::kFree), 10u);
+  EXPECT_NEAR(floor.grid.origin_m().x(), 10.0, 1e-12);
+  // When the band includes the table top, its two cells are occupied
+  options.bt_z_max_m = 1.0;
+  const LoadedMap table = loadMap(tmp.dir() + "/t.bt", options);
+  EXPECT_EQ(table.grid.count(CellState::kOccupied), 2u);
+  EXPECT_EQ(table.grid.at(5, 0), CellState::kOccupied);
+  EXPECT_EQ(table.grid.at(4, 0), CellState::kFree);
+  // When the band holds no voxel, or is empty, the error says so
+  options.bt_z_min_m = 2.0;
+  options.bt_z_max_m = 3.0;
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/t.bt", options); }),
+              AllOf(HasSubstr("t.bt"), HasSubstr("no known voxel in the height band [2, 3]")));
+  options.bt_z_max_m = 1.0;
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/t.bt", options); }), HasSubstr("is empty"));
+}
+
 TEST(MapLoaderTest, WallsMapIsFourConnectedAndBoxesFill) {
   const YAML::Node node = YAML::Load(R"(
 resolution_m: 0.1

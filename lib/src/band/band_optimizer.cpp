@@ -34,7 +34,7 @@ enum Term : int {
   kNumTerms
 };
 constexpr const char* kTermNames[kNumTerms] = {
-    "velocity",  "acceleration", "time_optimal",   "via_point",         "obstacle",
+    "velocity",   "acceleration",       "time_optimal",      "via_point",         "obstacle",
     "kinematics", "agent_robot_safety", "relative_velocity", "agent_agent_safety"};
 
 /// Pairs whose time-paired distance stays above this margin beyond the safety distance get no
@@ -132,14 +132,12 @@ class ProblemBuilder {
     const double sw_obst = sq(w.obstacle * obst_mult_);
     const bool via = a.reference != nullptr && a.reference->size() >= 2 && w.viapoint > 0.0;
     for (std::size_t i = 1; i + 1 < n; ++i) {
-      add(kObstacle,
-          new ObstacleCost(&map_, sw_obst, cfg_.min_obstacle_dist_m, a.radius_m, eps),
+      add(kObstacle, new ObstacleCost(&map_, sw_obst, cfg_.min_obstacle_dist_m, a.radius_m, eps),
           {b.poseData(i)});
       if (via) {
         const auto proj = projectOntoPath(*a.reference, b.pose(i).position());
         if (!proj) continue;
-        const Eigen::Vector2d d =
-            (*a.reference)[proj->segment + 1] - (*a.reference)[proj->segment];
+        const Eigen::Vector2d d = (*a.reference)[proj->segment + 1] - (*a.reference)[proj->segment];
         if (d.norm() < 1e-9) continue;
         const Eigen::Vector2d normal(-d.y() / d.norm(), d.x() / d.norm());
         add(kViaPoint,
@@ -161,9 +159,8 @@ class ProblemBuilder {
     if (ia != 0 && minPairedDistance(a, b) > radii + min_dist + kPairPrefilterMargin_m) return;
     // The safety distance is an obstacle that moves: like TEB's dynamic obstacles it gets the
     // outer-loop weight multiplier, so that the penalty's residual violation shrinks.
-    const double sw_safety =
-        sq(obst_mult_ *
-           (robot_pair ? cfg_.weight_agent_robot_safety : cfg_.weight_agent_agent_safety));
+    const double sw_safety = sq(obst_mult_ * (robot_pair ? cfg_.weight_agent_robot_safety
+                                                         : cfg_.weight_agent_agent_safety));
     bool safety_on = true;
     if (cfg_.safety_activation_dist_m > 0.0) {
       safety_on = (a.pose(0).position() - b.pose(0).position()).norm() - radii <
@@ -184,8 +181,8 @@ class ProblemBuilder {
       }
       if (robot_pair && sw_rel > 0.0 && i + 1 < a.size()) {
         add(kRelativeVelocity,
-            autodiff<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(new RelativeVelocityCost(
-                sw_rel, cfg_.rel_vel_cost_threshold, s, A.is_robot, eps)),
+            autodiff<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(
+                new RelativeVelocityCost(sw_rel, cfg_.rel_vel_cost_threshold, s, A.is_robot, eps)),
             {a.poseData(i), a.poseData(i + 1), a.dtData(i), b.poseData(j), b.poseData(j + 1),
              b.dtData(j)});
       }
@@ -264,8 +261,8 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
                             double time_budget_s) {
   OptimizeStats stats;
   if (agents.empty()) return stats;
-  const int total_iter = max_iterations > 0 ? max_iterations
-                                            : cfg.no_inner_iterations * cfg.no_outer_iterations;
+  const int total_iter =
+      max_iterations > 0 ? max_iterations : cfg.no_inner_iterations * cfg.no_outer_iterations;
   double remaining_s = time_budget_s > 0.0 ? time_budget_s : 0.0;
   double multiplier = 1.0;
   for (int outer = 0; outer < cfg.no_outer_iterations; ++outer) {
@@ -293,7 +290,7 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
     opt.jacobi_scaling = false;
     opt.min_lm_diagonal = 1.0;
     opt.max_lm_diagonal = 1.0;
-    opt.initial_trust_region_radius = getenv("TR") ? atof(getenv("TR")) : 1.0;
+    opt.initial_trust_region_radius = 1.0;
     opt.num_threads = 1;
     opt.max_num_iterations = std::min(cfg.no_inner_iterations, left);
     opt.logging_type = ceres::SILENT;
@@ -302,13 +299,13 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
     ceres::Solver::Summary sum;
     ceres::Solve(opt, &pb.problem(), &sum);
     if (outer == 0) stats.initial_cost = sum.initial_cost;
-    stats.iterations += sum.num_successful_steps + sum.num_unsuccessful_steps;
+    // summary.iterations holds iteration 0 (the initial evaluation) plus every LM step.
+    stats.iterations += std::max(0, static_cast<int>(sum.iterations.size()) - 1);
     stats.solver_time_s += sum.total_time_in_seconds;
     remaining_s -= sum.total_time_in_seconds;
     stats.outer_iterations = outer + 1;
     for (auto& a : agents) a.band->normalize(cfg.dt_min_s);
-    const bool last = outer + 1 == cfg.no_outer_iterations ||
-                      stats.iterations >= total_iter ||
+    const bool last = outer + 1 == cfg.no_outer_iterations || stats.iterations >= total_iter ||
                       (time_budget_s > 0.0 && remaining_s <= 0.0);
     if (last) {
       stats.final_cost = evaluateTerms(pb, &stats.terms);

@@ -22,13 +22,19 @@ constexpr double kConstVelHorizon_s = 10.0;
 
 PlanStatus fromPathStatus(PathStatus s) {
   switch (s) {
-    case PathStatus::kOk: return PlanStatus::kOk;
-    case PathStatus::kInvalidInput: return PlanStatus::kInvalidInput;
+    case PathStatus::kOk:
+      return PlanStatus::kOk;
+    case PathStatus::kInvalidInput:
+      return PlanStatus::kInvalidInput;
     case PathStatus::kStartOutsideMap:
-    case PathStatus::kGoalOutsideMap: return PlanStatus::kOutsideMap;
-    case PathStatus::kStartInObstacle: return PlanStatus::kStartInObstacle;
-    case PathStatus::kGoalInObstacle: return PlanStatus::kGoalInObstacle;
-    case PathStatus::kNoPath: return PlanStatus::kNoPath;
+    case PathStatus::kGoalOutsideMap:
+      return PlanStatus::kOutsideMap;
+    case PathStatus::kStartInObstacle:
+      return PlanStatus::kStartInObstacle;
+    case PathStatus::kGoalInObstacle:
+      return PlanStatus::kGoalInObstacle;
+    case PathStatus::kNoPath:
+      return PlanStatus::kNoPath;
   }
   return PlanStatus::kNoPath;
 }
@@ -46,14 +52,22 @@ double pathHeadingAtEnd(const Path2& p, double fallback) {
 
 const char* toString(PlanStatus s) {
   switch (s) {
-    case PlanStatus::kOk: return "ok";
-    case PlanStatus::kGoalReached: return "goal_reached";
-    case PlanStatus::kInvalidInput: return "invalid_input";
-    case PlanStatus::kInvalidConfig: return "invalid_config";
-    case PlanStatus::kOutsideMap: return "outside_map";
-    case PlanStatus::kStartInObstacle: return "start_in_obstacle";
-    case PlanStatus::kGoalInObstacle: return "goal_in_obstacle";
-    case PlanStatus::kNoPath: return "no_path";
+    case PlanStatus::kOk:
+      return "ok";
+    case PlanStatus::kGoalReached:
+      return "goal_reached";
+    case PlanStatus::kInvalidInput:
+      return "invalid_input";
+    case PlanStatus::kInvalidConfig:
+      return "invalid_config";
+    case PlanStatus::kOutsideMap:
+      return "outside_map";
+    case PlanStatus::kStartInObstacle:
+      return "start_in_obstacle";
+    case PlanStatus::kGoalInObstacle:
+      return "goal_in_obstacle";
+    case PlanStatus::kNoPath:
+      return "no_path";
   }
   return "unknown";
 }
@@ -124,15 +138,16 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
   bool my_end_is_goal = true;
   bool cold_start = true;
   if (at_goal) {
-    my_band = TimedElasticBand::fromPath(me.pose, {my_pos}, my_kin.max_vel_x_m_s, cfg.dt_ref_s);
+    my_band = TimedElasticBand::single(me.pose);
   } else {
     const auto proj = projectOntoPath(my_path, my_pos);
     const double from_m = proj ? proj->arc_length_m : 0.0;
     const Path2 local = subPath(my_path, from_m, cfg.max_plan_length_m);
     my_end_is_goal = from_m + cfg.max_plan_length_m >= pathLength(my_path) - 1e-6;
-    const double end_th = my_end_is_goal && !cfg.free_goal_heading && std::isfinite(req.goal.theta_rad)
-                              ? req.goal.theta_rad
-                              : pathHeadingAtEnd(local, me.pose.theta_rad);
+    const double end_th =
+        my_end_is_goal && !cfg.free_goal_heading && std::isfinite(req.goal.theta_rad)
+            ? req.goal.theta_rad
+            : pathHeadingAtEnd(local, me.pose.theta_rad);
     const Pose2 end{local.back().x(), local.back().y(), end_th};
     auto mem = bands_.find(me.id);
     if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2) {
@@ -149,8 +164,12 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       }
     }
     if (cold_start) {
+      TimedElasticBand::SpeedProfile prof;
+      prof.start_speed_m_s = speedOf(me.velocity);
+      prof.acc_m_s2 = my_kin.acc_lim_x_m_s2;
+      prof.stop_at_end = my_end_is_goal;
       my_band = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
-                                           end_th);
+                                           end_th, prof);
     }
   }
   out.agent_path = my_path;
@@ -177,8 +196,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     }
     const AgentKinematics& k = cfg.kinematics(st.kind);
     const double radius = st.radius_m > 0.0 ? st.radius_m : k.radius_m;
-    const double nominal = std::min(std::max(k.min_nominal_vel_m_s, speedOf(st.velocity)),
-                                    k.max_vel_x_m_s);
+    const double nominal =
+        std::min(std::max(k.min_nominal_vel_m_s, speedOf(st.velocity)), k.max_vel_x_m_s);
     const Eigen::Vector2d pos = st.pose.position();
     OtherAgentResult res;
     res.id = st.id;
@@ -215,8 +234,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     const double len_m = nominal * other_T_s * (1.0 + kOtherLengthMargin);
     const Path2 local = ref.size() >= 2 ? subPath(ref, from_m, len_m) : ref;
     const bool end_is_goal = from_m + len_m >= pathLength(ref) - 1e-6;
-    const Pose2 end{local.back().x(), local.back().y(),
-                    pathHeadingAtEnd(local, st.pose.theta_rad)};
+    const Pose2 end{local.back().x(), local.back().y(), pathHeadingAtEnd(local, st.pose.theta_rad)};
     TimedElasticBand band;
     bool have = false;
     auto mem = bands_.find(st.id);
@@ -233,7 +251,13 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
         have = true;
       }
     }
-    if (!have) band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad);
+    if (!have) {
+      TimedElasticBand::SpeedProfile prof;
+      prof.start_speed_m_s = speedOf(st.velocity);
+      prof.acc_m_s2 = k.acc_lim_x_m_s2;
+      prof.stop_at_end = end_is_goal;
+      band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad, prof);
+    }
     res.reference_path = ref;
     out.others.push_back(res);
     work.push_back({&o, std::move(band), end_is_goal, nominal, radius});
@@ -249,7 +273,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
   }
 
   // --- symmetry break on a cold start: an exactly head-on pair has no lateral gradient ---
-  if (cold_start && cfg.symmetry_break_offset_m > 0.0 && my_band.size() > 2) {
+  if (cold_start && my_band.size() > 2) {
     for (const auto& w : work) {
       const auto pairs = pairByTime(my_band, w.band);
       double best = std::numeric_limits<double>::infinity();
@@ -269,18 +293,41 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       if (!(best < needed) || bi == 0 || bi + 1 >= my_band.size()) continue;
       const Pose2 pm = my_band.pose(bi);
       const Eigen::Vector2d h = headingVector(pm.theta_rad);
-      const double lateral = cross2(h, other_at_best - pm.position());
-      if (std::abs(lateral) > kHeadOnLateral_m) continue;
-      // Side with more room at the meeting point; a tie goes to the right (keep right).
       const Eigen::Vector2d left(-h.y(), h.x());
+      const double lateral = cross2(h, other_at_best - pm.position());
+      // Side away from the other; for a dead-on meeting the side with more room, a tie going
+      // to the right (keep right).
+      double side = lateral > 0.0 ? -1.0 : 1.0;
       const double room_l = map_->ray(pm.position(), left, 10.0).distance_m;
       const double room_r = map_->ray(pm.position(), -left, 10.0).distance_m;
-      const double side = room_l > room_r + 0.1 ? 1.0 : -1.0;
+      if (std::abs(lateral) <= kHeadOnLateral_m) side = room_l > room_r + 0.1 ? 1.0 : -1.0;
+      // Amplitude: the planning agent is the one expected to make room ("minimal human
+      // contribution"), so start it where the safety distance holds, within the free room.
+      double amp = cfg.symmetry_break_offset_m;
+      if (cfg.init_planning_band_aside) {
+        amp = std::max(amp, needed + cfg.penalty_epsilon + 0.05 - std::abs(lateral));
+      }
+      const double room = (side > 0.0 ? room_l : room_r) - my_radius - cfg.min_obstacle_dist_m;
+      amp = std::clamp(amp, 0.0, std::max(room, 0.0));
       const auto t = my_band.times_s();
-      const double sigma_s = std::max(1.0, 0.3 * t[bi]);
+      // Smoothstep ramps (3u² − 2u³, peak lateral acceleration 6·amp/T²) long enough for the
+      // lateral acceleration limit, full offset from half-way to the meeting until 1 s after
+      // it: the optimiser usually slows the planning agent (relative-velocity term), which
+      // moves the meeting earlier along its path than this constant-speed guess predicts.
+      const double a_lat = my_kin.holonomic ? my_kin.acc_lim_y_m_s2 : my_kin.acc_lim_theta_rad_s2;
+      const double ramp_s = std::sqrt(6.0 * amp / std::max(a_lat, 1e-3));
+      const double t_end = t.back();
+      const double up_s = std::clamp(ramp_s, 1.0, std::max(1.0, 0.8 * t[bi]));
+      const double t_hi = std::max(t[bi] + 1.0, up_s);
+      const double down_s = std::clamp(t_end - t_hi, 0.5, ramp_s);
+      auto smooth = [](double u) {
+        u = std::clamp(u, 0.0, 1.0);
+        return u * u * (3.0 - 2.0 * u);
+      };
       for (std::size_t i = 1; i + 1 < my_band.size(); ++i) {
-        const double z = (t[i] - t[bi]) / sigma_s;
-        const double off = side * cfg.symmetry_break_offset_m * std::exp(-0.5 * z * z);
+        const double w_up = smooth(t[i] / up_s);
+        const double w_down = 1.0 - smooth((t[i] - t_hi) / down_s);
+        const double off = side * amp * std::min(w_up, w_down);
         Pose2 p = my_band.pose(i);
         p.x_m += off * left.x();
         p.y_m += off * left.y();

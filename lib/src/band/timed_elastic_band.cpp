@@ -17,9 +17,15 @@ std::array<double, 3> lerpPose(const std::array<double, 3>& a, const std::array<
 
 }  // namespace
 
-TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& path,
-                                            double speed_m_s, double dt_ref_s,
+TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& path, double speed_m_s,
+                                            double dt_ref_s,
                                             std::optional<double> end_heading_rad) {
+  return fromPath(start, path, speed_m_s, dt_ref_s, end_heading_rad, SpeedProfile{});
+}
+
+TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& path, double speed_m_s,
+                                            double dt_ref_s, std::optional<double> end_heading_rad,
+                                            const SpeedProfile& profile) {
   TimedElasticBand band;
   const double spacing_m = speed_m_s * dt_ref_s;
   band.poses_.push_back({start.x_m, start.y_m, start.theta_rad});
@@ -40,6 +46,20 @@ TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& pat
     return std::atan2(d.y(), d.x());
   };
   const int n_inner = std::max(0, static_cast<int>(std::ceil(total_m / spacing_m)) - 1);
+  // Speed at arc length s: cruise, limited by acceleration from the start speed and (when
+  // stopping) by deceleration to the end; a floor keeps ΔT finite at a standstill end.
+  auto speedAt = [&](double s_m) {
+    if (profile.acc_m_s2 <= 0.0) return speed_m_s;
+    const double v0 = std::max(profile.start_speed_m_s, 0.0);
+    double v = std::min(speed_m_s, std::sqrt(v0 * v0 + 2.0 * profile.acc_m_s2 * s_m));
+    if (profile.stop_at_end) {
+      v = std::min(v, std::sqrt(2.0 * profile.acc_m_s2 * std::max(total_m - s_m, 0.0)));
+    }
+    return std::max(v, 0.1 * speed_m_s);
+  };
+  auto segmentTime = [&](double s0_m, double s1_m) {
+    return (s1_m - s0_m) / (0.5 * (speedAt(s0_m) + speedAt(s1_m)));
+  };
   std::size_t seg = 0;
   double seg_start_m = 0.0;
   double prev_s_m = 0.0;
@@ -53,7 +73,7 @@ TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& pat
     const double f = len > 0.0 ? std::clamp((s_m - seg_start_m) / len, 0.0, 1.0) : 0.0;
     const Eigen::Vector2d p = pts[seg] + f * (pts[seg + 1] - pts[seg]);
     band.poses_.push_back({p.x(), p.y(), headingOf(seg)});
-    band.dts_.push_back(std::max((s_m - prev_s_m) / speed_m_s, 1e-3));
+    band.dts_.push_back(std::max(segmentTime(prev_s_m, s_m), 1e-3));
     prev_s_m = s_m;
   }
   const Eigen::Vector2d end = pts.back();
@@ -64,8 +84,15 @@ TimedElasticBand TimedElasticBand::fromPath(const Pose2& start, const Path2& pat
     end_th = headingOf(pts.size() - 2);
   }
   band.poses_.push_back({end.x(), end.y(), end_th});
-  band.dts_.push_back(std::max((total_m - prev_s_m) / speed_m_s, dt_ref_s));
+  band.dts_.push_back(total_m > prev_s_m ? std::max(segmentTime(prev_s_m, total_m), 1e-3)
+                                         : dt_ref_s);
   return band;
+}
+
+TimedElasticBand TimedElasticBand::single(const Pose2& pose) {
+  TimedElasticBand b;
+  b.poses_.push_back({pose.x_m, pose.y_m, pose.theta_rad});
+  return b;
 }
 
 double TimedElasticBand::duration_s() const {
@@ -101,8 +128,8 @@ Pose2 TimedElasticBand::poseAt(double t_s) const {
   return {p[0], p[1], p[2]};
 }
 
-void TimedElasticBand::insertAfter(std::size_t i, const std::array<double, 3>& p,
-                                   double dt_before, double dt_after) {
+void TimedElasticBand::insertAfter(std::size_t i, const std::array<double, 3>& p, double dt_before,
+                                   double dt_after) {
   poses_.insert(poses_.begin() + static_cast<std::ptrdiff_t>(i + 1), p);
   dts_[i] = dt_before;
   dts_.insert(dts_.begin() + static_cast<std::ptrdiff_t>(i + 1), dt_after);
@@ -130,8 +157,8 @@ void TimedElasticBand::autoResize(double dt_ref_s, double dt_hysteresis_s, int m
         dts_[i] = sub;
         i += static_cast<std::size_t>(n_new);
         changed = true;
-      } else if (dt < dt_ref_s - dt_hysteresis_s &&
-                 static_cast<int>(poses_.size()) > std::max(min_samples, 2)) {
+      } else if (dt<dt_ref_s - dt_hysteresis_s&& static_cast<int>(poses_.size())> std::max(
+                     min_samples, 2)) {
         if (i + 1 < dts_.size()) {
           // Remove pose i + 1; its two ΔT merge.
           if (dt + dts_[i + 1] > 1.5 * dt_ref_s) continue;

@@ -9,13 +9,20 @@ namespace coopnav {
 
 const char* toString(PathStatus s) {
   switch (s) {
-    case PathStatus::kOk: return "ok";
-    case PathStatus::kInvalidInput: return "invalid_input";
-    case PathStatus::kStartOutsideMap: return "start_outside_map";
-    case PathStatus::kGoalOutsideMap: return "goal_outside_map";
-    case PathStatus::kStartInObstacle: return "start_in_obstacle";
-    case PathStatus::kGoalInObstacle: return "goal_in_obstacle";
-    case PathStatus::kNoPath: return "no_path";
+    case PathStatus::kOk:
+      return "ok";
+    case PathStatus::kInvalidInput:
+      return "invalid_input";
+    case PathStatus::kStartOutsideMap:
+      return "start_outside_map";
+    case PathStatus::kGoalOutsideMap:
+      return "goal_outside_map";
+    case PathStatus::kStartInObstacle:
+      return "start_in_obstacle";
+    case PathStatus::kGoalInObstacle:
+      return "goal_in_obstacle";
+    case PathStatus::kNoPath:
+      return "no_path";
   }
   return "unknown";
 }
@@ -91,8 +98,8 @@ GridPathPlanner::GridPathPlanner(std::shared_ptr<const DistanceMap> map, Options
 }
 
 Eigen::Vector2d GridPathPlanner::center(int ix, int iy) const {
-  return origin_ + Eigen::Vector2d((ix + 0.5) * options_.resolution_m,
-                                   (iy + 0.5) * options_.resolution_m);
+  return origin_ +
+         Eigen::Vector2d((ix + 0.5) * options_.resolution_m, (iy + 0.5) * options_.resolution_m);
 }
 
 bool GridPathPlanner::toCell(const Eigen::Vector2d& p, Cell* c) const {

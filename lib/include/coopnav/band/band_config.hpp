@@ -14,10 +14,10 @@ namespace coopnav {
 
 /// Kinematic limits of one agent kind. Body frame: x forward, y left.
 struct AgentKinematics {
-  bool holonomic{true};               ///< false: differential drive (vy = 0, non-holonomic term)
-  double max_vel_x_m_s{0.7};          ///< forward speed limit
+  bool holonomic{true};       ///< false: differential drive (vy = 0, non-holonomic term)
+  double max_vel_x_m_s{0.7};  ///< forward speed limit
   double max_vel_x_backwards_m_s{0.4};
-  double max_vel_y_m_s{0.7};          ///< lateral speed limit (holonomic only)
+  double max_vel_y_m_s{0.7};  ///< lateral speed limit (holonomic only)
   double max_vel_theta_rad_s{1.2};
   double acc_lim_x_m_s2{0.3};
   double acc_lim_y_m_s2{0.3};
@@ -128,6 +128,10 @@ struct BandPlannerConfig {
   /// Lateral offset given to the planning band at a predicted head-on meeting, to break the
   /// exact symmetry (notes §9: no lateral gradient, 1/|d| blow-up) [m].
   double symmetry_break_offset_m{0.3};
+  /// On a cold start, place the planning band aside by the full safety separation at the
+  /// predicted meeting (within the free room): the optimum under "minimal human contribution"
+  /// lies there, and LM from the centre line ends in a local minimum where both bands bend.
+  bool init_planning_band_aside{true};
 
   // --- goal / command ---
   double xy_goal_tolerance_m{0.2};

@@ -25,8 +25,8 @@ struct BandAgent {
   band_costs::MotionLimits limits;  ///< limits with √weights filled in (makeMotionLimits)
   BandWeights weights;
   double radius_m{0.3};
-  Velocity2 start_velocity_body;  ///< measured velocity at the first pose, body frame
-  bool end_is_goal{false};        ///< standstill at the last pose (goal-acceleration term)
+  Velocity2 start_velocity_body;    ///< measured velocity at the first pose, body frame
+  bool end_is_goal{false};          ///< standstill at the last pose (goal-acceleration term)
   const Path2* reference{nullptr};  ///< via-point path (nullptr: none)
 };
 
@@ -41,9 +41,9 @@ struct TermCost {
 };
 
 struct OptimizeStats {
-  int iterations{0};          ///< LM iterations over all outer loops
+  int iterations{0};  ///< LM iterations over all outer loops
   int outer_iterations{0};
-  double initial_cost{0.0};   ///< at the first outer iteration
+  double initial_cost{0.0};  ///< at the first outer iteration
   double final_cost{0.0};
   double solver_time_s{0.0};  ///< as Ceres measured it
   bool budget_exhausted{false};
@@ -55,8 +55,7 @@ struct OptimizeStats {
 /// iterations, <= 0: config inner × outer) and time_budget_s (Ceres' solver time, <= 0: none).
 /// Bands with < 2 poses are left untouched.
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
-                            const BandPlannerConfig& cfg, int max_iterations,
-                            double time_budget_s);
+                            const BandPlannerConfig& cfg, int max_iterations, double time_budget_s);
 
 /// Time pairing helper: for each pose time of band a, the segment and fraction of band b at the
 /// same time (nullopt past b's end). Exposed for tests and the crossing read-out.

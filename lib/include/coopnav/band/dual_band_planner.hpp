@@ -46,10 +46,10 @@ struct PlanRequest {
 
 enum class PlanStatus : std::int8_t {
   kOk = 0,
-  kGoalReached = 1,     ///< within xy_goal_tolerance: zero command, band = current pose
-  kInvalidInput = 2,    ///< non-finite agent pose or goal position
-  kInvalidConfig = 3,   ///< config.validate() failed (see DualBandPlanner::configErrors())
-  kOutsideMap = 4,      ///< agent or goal outside the map
+  kGoalReached = 1,    ///< within xy_goal_tolerance: zero command, band = current pose
+  kInvalidInput = 2,   ///< non-finite agent pose or goal position
+  kInvalidConfig = 3,  ///< config.validate() failed (see DualBandPlanner::configErrors())
+  kOutsideMap = 4,     ///< agent or goal outside the map
   kStartInObstacle = 5,
   kGoalInObstacle = 6,
   kNoPath = 7,
@@ -69,11 +69,11 @@ struct OtherAgentResult {
 
 struct PlanResult {
   PlanStatus status{PlanStatus::kInvalidInput};
-  Band agent_band;             ///< time from request.stamp_s
-  Path2 agent_path;            ///< the global path the band follows
-  std::vector<OtherAgentResult> others;  ///< same order as the valid request.others
+  Band agent_band;                        ///< time from request.stamp_s
+  Path2 agent_path;                       ///< the global path the band follows
+  std::vector<OtherAgentResult> others;   ///< same order as the valid request.others
   std::vector<std::int32_t> skipped_ids;  ///< others with non-finite state, ignored
-  Velocity2 command_body;      ///< BODY frame: vx forward, vy left, ω; zero unless kOk
+  Velocity2 command_body;                 ///< BODY frame: vx forward, vy left, ω; zero unless kOk
   int iterations{0};
   double final_cost{0.0};
   double solver_time_s{0.0};
@@ -111,8 +111,8 @@ class DualBandPlanner {
   std::vector<BandPlannerConfig::Error> config_errors_;
   std::shared_ptr<const DistanceMap> map_;
   std::unique_ptr<GridPathPlanner> global_;
-  std::map<std::int32_t, Memory> bands_;     ///< warm start per agent id
-  std::map<std::int32_t, CachedPath> paths_; ///< global / reference path per agent id
+  std::map<std::int32_t, Memory> bands_;      ///< warm start per agent id
+  std::map<std::int32_t, CachedPath> paths_;  ///< global / reference path per agent id
 };
 
 }  // namespace coopnav

@@ -33,6 +33,20 @@ class TimedElasticBand {
                                    double dt_ref_s,
                                    std::optional<double> end_heading_rad = std::nullopt);
 
+  /// Acceleration-limited speed profile for fromPath: speed ramps from start_speed_m_s to the
+  /// cruise speed and, if stop_at_end, down to 0 at the path end (ΔT from the profile).
+  struct SpeedProfile {
+    double start_speed_m_s{0.0};
+    double acc_m_s2{0.0};  ///< <= 0: constant cruise speed
+    bool stop_at_end{false};
+  };
+  static TimedElasticBand fromPath(const Pose2& start, const Path2& path, double speed_m_s,
+                                   double dt_ref_s, std::optional<double> end_heading_rad,
+                                   const SpeedProfile& profile);
+
+  /// A band of one pose (an agent standing at its goal).
+  static TimedElasticBand single(const Pose2& pose);
+
   std::size_t size() const { return poses_.size(); }
   bool empty() const { return poses_.empty(); }
   Pose2 pose(std::size_t i) const { return {poses_[i][0], poses_[i][1], poses_[i][2]}; }

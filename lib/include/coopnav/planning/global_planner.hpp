@@ -17,7 +17,7 @@ namespace coopnav {
 
 enum class PathStatus : std::int8_t {
   kOk = 0,
-  kInvalidInput = 1,    ///< non-finite point or non-positive radius
+  kInvalidInput = 1,  ///< non-finite point or non-positive radius
   kStartOutsideMap = 2,
   kGoalOutsideMap = 3,
   kStartInObstacle = 4,  ///< start inside an obstacle (or with less than half the radius free)
@@ -36,11 +36,11 @@ struct PathResult {
 class GridPathPlanner {
  public:
   struct Options {
-    double resolution_m{0.1};       ///< grid cell size (>= the map's resolution)
-    double clearance_pref_m{0.5};   ///< clearance beyond the radius below which steps cost more
-    double clearance_weight{2.0};   ///< step cost × (1 + w · shortfall / pref); 0: pure shortest
-    bool shortcut{true};            ///< line-of-sight shortcutting
-    double sample_spacing_m{0.1};   ///< spacing of the returned points
+    double resolution_m{0.1};      ///< grid cell size (>= the map's resolution)
+    double clearance_pref_m{0.5};  ///< clearance beyond the radius below which steps cost more
+    double clearance_weight{2.0};  ///< step cost × (1 + w · shortfall / pref); 0: pure shortest
+    bool shortcut{true};           ///< line-of-sight shortcutting
+    double sample_spacing_m{0.1};  ///< spacing of the returned points
   };
 
   /// Samples the map's clearance once on the grid (the map is immutable).

@@ -14,8 +14,8 @@ void accelerationResiduals(const MotionLimits& lim, const SegmentVelocity<T>& v1
   const T ax = (v2.vx - v1.vx) / dt_sum;
   const T ay = (v2.vy - v1.vy) / dt_sum;
   const T al = (v2.omega - v1.omega) / dt_sum;
-  r[0] = lim.sqrt_w_acc_x *
-         penaltyInterval(ax, -lim.acc_lim_x_m_s2, lim.acc_lim_x_m_s2, lim.epsilon);
+  r[0] =
+      lim.sqrt_w_acc_x * penaltyInterval(ax, -lim.acc_lim_x_m_s2, lim.acc_lim_x_m_s2, lim.epsilon);
   r[1] = lim.holonomic ? T(lim.sqrt_w_acc_y * penaltyInterval(ay, -lim.acc_lim_y_m_s2,
                                                               lim.acc_lim_y_m_s2, lim.epsilon))
                        : T(0.0);
@@ -28,8 +28,7 @@ struct AccelerationCost {
   static constexpr int kResiduals = 3;
   explicit AccelerationCost(const MotionLimits& lim) : lim_(lim) {}
   template <typename T>
-  bool operator()(const T* p0, const T* p1, const T* p2, const T* dt0, const T* dt1,
-                  T* r) const {
+  bool operator()(const T* p0, const T* p1, const T* p2, const T* dt0, const T* dt1, T* r) const {
     const auto v1 = segmentVelocity(p0, p1, dt0[0], lim_.holonomic);
     const auto v2 = segmentVelocity(p1, p2, dt1[0], lim_.holonomic);
     accelerationResiduals(lim_, v1, v2, T(0.5) * (dt0[0] + dt1[0]), r);

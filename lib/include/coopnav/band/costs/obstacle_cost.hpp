@@ -17,12 +17,11 @@ namespace coopnav::band_costs {
 
 class ObstacleCost final : public ceres::SizedCostFunction<1, 3> {
  public:
-  ObstacleCost(const DistanceMap* map, double sqrt_weight, double min_clearance_m,
-               double radius_m, double epsilon)
+  ObstacleCost(const DistanceMap* map, double sqrt_weight, double min_clearance_m, double radius_m,
+               double epsilon)
       : map_(map), sw_(sqrt_weight), min_(min_clearance_m), radius_(radius_m), eps_(epsilon) {}
 
-  bool Evaluate(double const* const* params, double* residuals,
-                double** jacobians) const override {
+  bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
     const Eigen::Vector2d p(params[0][0], params[0][1]);
     const DistanceResult res = map_->nearest(p);
     const double limit = min_ + eps_;

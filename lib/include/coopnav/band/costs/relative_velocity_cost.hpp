@@ -19,8 +19,8 @@ struct RelativeVelocityCost {
                        double epsilon)
       : sw_(sqrt_weight), thr_(threshold), s_(fraction), robot_is_a_(robot_is_a), eps_(epsilon) {}
   template <typename T>
-  bool operator()(const T* a0, const T* a1, const T* dta, const T* b0, const T* b1,
-                  const T* dtb, T* r) const {
+  bool operator()(const T* a0, const T* a1, const T* dta, const T* b0, const T* b1, const T* dtb,
+                  T* r) const {
     const T pax = a0[0], pay = a0[1];
     const T pbx = (1.0 - s_) * b0[0] + s_ * b1[0];
     const T pby = (1.0 - s_) * b0[1] + s_ * b1[1];

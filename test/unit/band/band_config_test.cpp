@@ -1,0 +1,41 @@
+#include "coopnav/band/band_config.hpp"
+
+#include <gtest/gtest.h>
+
+namespace coopnav {
+namespace {
+
+TEST(BandPlannerConfigTest, DefaultsAreCohanSimValuesAndValid) {
+  const BandPlannerConfig c;
+  EXPECT_TRUE(c.validate().empty());
+  EXPECT_DOUBLE_EQ(c.dt_ref_s, 0.125);
+  EXPECT_DOUBLE_EQ(c.dt_hysteresis_s, 0.0125);
+  EXPECT_DOUBLE_EQ(c.robot.max_vel_x_m_s, 0.7);
+  EXPECT_DOUBLE_EQ(c.human.max_vel_x_m_s, 1.3);
+  EXPECT_DOUBLE_EQ(c.min_agent_robot_dist_m, 0.6);
+  // Minimal human contribution: the anticipated band is held to its path 10x harder.
+  EXPECT_DOUBLE_EQ(c.other_weights.viapoint, 10.0 * c.planning_weights.viapoint);
+  EXPECT_DOUBLE_EQ(c.other_weights.optimaltime, 3.0);
+}
+
+TEST(BandPlannerConfigTest, ValidateListsEveryErrorWithKeyValueAndRange) {
+  BandPlannerConfig c;
+  c.dt_ref_s = 0.0;
+  c.human.acc_lim_x_m_s2 = -1.0;
+  c.other_weights.viapoint = std::nan("");
+  const auto errors = c.validate();
+  ASSERT_GE(errors.size(), 3u);
+  EXPECT_EQ(errors[0].key, "dt_ref_s");
+  EXPECT_EQ(errors[0].value, 0.0);
+  EXPECT_EQ(errors[0].allowed, "(0, 2]");
+  bool acc = false, via = false;
+  for (const auto& e : errors) {
+    acc |= e.key == "human.acc_lim_x_m_s2";
+    via |= e.key == "other_weights.viapoint";
+  }
+  EXPECT_TRUE(acc);
+  EXPECT_TRUE(via);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -122,7 +122,9 @@ bool GridPathPlanner::segmentClear(const Eigen::Vector2d& a, const Eigen::Vector
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * options_.resolution_m))));
   for (int k = 0; k <= n; ++k) {
-    if (clearanceAt(a + (b - a) * (static_cast<double>(k) / n)) < min_clear) return false;
+    const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / n);
+    if ((p - a).norm() < options_.resolution_m) continue;
+    if (clearanceAt(p) < min_clear) return false;
   }
   return true;
 }
@@ -253,7 +255,9 @@ PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vect
     std::size_t i = 0;
     while (i + 1 < cells.size()) {
       std::size_t best = i + 1;
-      double min_c = clear[i];
+      // The sight line's own start may sit closer to a wall (the agent's start): only the
+      // cells it reaches set the bar, and segmentClear skips the first cell.
+      double min_c = std::numeric_limits<double>::max();
       int misses = 0;  // bounded search: a long run of blocked sights ends it
       constexpr int kMaxMisses = 40;
       for (std::size_t j = i + 1; j < cells.size() && misses < kMaxMisses; ++j) {

@@ -56,7 +56,7 @@ struct ModeMachineOptions {
   double dock_reached_tolerance_m{0.15};
   double goal_tolerance_m{0.2};
   double human_passed_margin_m{0.3};  ///< robot this far behind the human along its heading
-  double human_far_m{4.0};            ///< or the human this far away (and not approaching)
+  double human_far_m{5.0};            ///< or the human this far away
   double hold_timeout_s{30.0};        ///< CoHAN's backoff timeout
   DockOptions dock{};
 };

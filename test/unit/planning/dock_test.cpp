@@ -1,0 +1,124 @@
+#include "coopnav/planning/dock.hpp"
+
+#include <gtest/gtest.h>
+
+#include "../band/analytic_map.hpp"
+
+namespace coopnav {
+namespace {
+
+using test::BoxMap;
+
+// 2.25 m corridor along x, y 0.45 .. 2.70 (open.pgm's narrow corridor).
+std::shared_ptr<BoxMap> narrow() { return BoxMap::corridor(0.0, 30.0, 0.45, 2.70); }
+
+TEST(DockTest, DocksOnTheSideAwayFromTheHumanWithClearance) {
+  auto map = narrow();
+  const Pose2 robot{10.0, 1.575, 0.0};
+  // Human ahead and slightly to the robot's left → dock right (low y).
+  const Pose2 human{14.0, 1.9, M_PI};
+  const DockOptions o;
+  const DockResult d = findDockPose(*map, robot, human, o);
+  ASSERT_EQ(d.status, DockStatus::kOk);
+  EXPECT_EQ(d.side, Side::kRight);
+  EXPECT_LT(d.pose.y_m, robot.y_m);
+  EXPECT_GE(map->nearest(d.pose.position()).distance_m, o.robot_radius_m + o.margin_m - 1e-6);
+  EXPECT_NEAR(d.pose.y_m, 0.45 + o.robot_radius_m + o.margin_m, 0.02);
+  EXPECT_LE(std::abs(d.pose.x_m - robot.x_m), o.max_ahead_m + 1e-9);
+}
+
+TEST(DockTest, HumanOnTheRightGivesLeftDock) {
+  auto map = narrow();
+  const DockResult d = findDockPose(*map, {10.0, 1.575, 0.0}, {14.0, 1.2, M_PI});
+  ASSERT_EQ(d.status, DockStatus::kOk);
+  EXPECT_EQ(d.side, Side::kLeft);
+  EXPECT_GT(d.pose.y_m, 1.575);
+}
+
+TEST(DockTest, DeadAheadKeepsRight) {
+  auto map = narrow();
+  const DockResult d = findDockPose(*map, {10.0, 1.575, 0.0}, {14.0, 1.575, M_PI});
+  ASSERT_EQ(d.status, DockStatus::kOk);
+  EXPECT_EQ(d.side, Side::kRight);
+}
+
+TEST(DockTest, NoWallInRange) {
+  auto map = BoxMap::corridor(0.0, 30.0, 0.0, 30.0);
+  DockOptions o;
+  o.search_range_m = 2.0;
+  EXPECT_EQ(findDockPose(*map, {15.0, 15.0, 0.0}, {18.0, 15.5, M_PI}, o).status,
+            DockStatus::kNoWall);
+}
+
+TEST(DockModeMachineTest, NavigateDockHoldResumeGoal) {
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in;
+  in.stamp_s = 0.0;
+  in.robot = {10.0, 1.575, 0.0};
+  in.goal = {25.0, 1.575, 0.0};
+  in.has_human = true;
+  in.human = {13.0, 1.9, M_PI};
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kNavigate);
+  in.dock_requested = true;
+  in.stamp_s = 0.1;
+  ModeOutput out = dut.update(*map, in);
+  ASSERT_EQ(out.mode, RobotMode::kDocking);
+  EXPECT_TRUE(out.changed);
+  EXPECT_LT(out.active_goal.y_m, 1.0);
+  in.dock_requested = false;
+  // Reaches the dock pose → holding, zero velocity.
+  in.robot = out.active_goal;
+  in.stamp_s = 2.0;
+  out = dut.update(*map, in);
+  EXPECT_EQ(out.mode, RobotMode::kHolding);
+  EXPECT_TRUE(out.hold_still);
+  // Human still ahead → keep holding.
+  in.human = {11.0, 1.9, M_PI};
+  in.stamp_s = 4.0;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kHolding);
+  // Human has passed (robot behind it along its heading) → resuming, then navigate to goal.
+  in.human = {9.0, 1.9, M_PI};
+  in.stamp_s = 5.0;
+  out = dut.update(*map, in);
+  EXPECT_EQ(out.mode, RobotMode::kResuming);
+  EXPECT_EQ(out.active_goal, in.goal);
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kNavigate);
+  in.robot = {25.05, 1.6, 0.0};
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kGoalReached);
+}
+
+TEST(DockModeMachineTest, HoldTimesOutAndFailedDockIsReported) {
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in;
+  in.robot = {10.0, 1.575, 0.0};
+  in.goal = {25.0, 1.575, 0.0};
+  in.has_human = true;
+  in.human = {12.0, 1.9, M_PI};
+  in.dock_requested = true;
+  ModeOutput out = dut.update(*map, in);
+  ASSERT_EQ(out.mode, RobotMode::kDocking);
+  in.dock_requested = false;
+  in.robot = out.active_goal;
+  in.stamp_s = 1.0;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kHolding);
+  in.stamp_s = 40.0;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kResuming);
+
+  auto open = BoxMap::corridor(0.0, 30.0, 0.0, 30.0);
+  ModeMachineOptions o;
+  o.dock.search_range_m = 1.0;
+  DockModeMachine dut2(o);
+  ModeInput in2 = in;
+  in2.robot = {15.0, 15.0, 0.0};
+  in2.human = {17.0, 15.5, M_PI};
+  in2.dock_requested = true;
+  out = dut2.update(*open, in2);
+  EXPECT_EQ(out.mode, RobotMode::kNavigate);
+  ASSERT_TRUE(out.dock_failure.has_value());
+  EXPECT_EQ(*out.dock_failure, DockStatus::kNoWall);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -1,0 +1,127 @@
+/// @file Benchmark of the dual-band planner: solve time per cycle for the head-on case in the
+/// wide corridor of open.pgm with CoHAN 2.0's sim settings, as a fraction of a 100 ms budget,
+/// and the 1 robot + 5 humans case as a ratio to 1 human. Closed loop: every 0.1 s the agents
+/// advance along their planned bands and the planner runs again warm-started, as band_source
+/// does at 10 Hz. Ends with RESULT lines.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/map_loader.hpp"
+#include "coopnav/band/dual_band_planner.hpp"
+#include "coopnav/distance/grid_distance_field.hpp"
+
+namespace {
+
+using namespace coopnav;  // NOLINT
+
+constexpr double kBudget_s = 0.1;  // CoHAN 2.0 controller rate 10 Hz
+constexpr double kCycle_s = 0.1;
+constexpr int kCycles = 60;
+constexpr int kRepeats = 3;
+
+Eigen::Vector2d positionAt(const Band& b, double t) {
+  if (b.poses.size() < 2 || t <= 0.0) return b.poses.front().pose.position();
+  for (std::size_t i = 0; i + 1 < b.poses.size(); ++i) {
+    const auto& p0 = b.poses[i];
+    const auto& p1 = b.poses[i + 1];
+    if (t <= p1.t_s) {
+      const double s = (t - p0.t_s) / std::max(p1.t_s - p0.t_s, 1e-9);
+      return (1.0 - s) * p0.pose.position() + s * p1.pose.position();
+    }
+  }
+  return b.poses.back().pose.position();
+}
+
+void advance(AgentState* s, const Band& b) {
+  const Eigen::Vector2d p = positionAt(b, kCycle_s);
+  const Eigen::Vector2d v = (p - s->pose.position()) / kCycle_s;
+  s->pose.x_m = p.x();
+  s->pose.y_m = p.y();
+  if (s->kind == AgentKind::kHuman && v.norm() > 0.1) s->pose.theta_rad = std::atan2(v.y(), v.x());
+  s->velocity = {v.x(), v.y(), 0.0};
+}
+
+struct Stats {
+  double p50_s{0.0};
+  double p99_s{0.0};
+  std::size_t robot_poses{0};
+  std::size_t human_poses{0};
+};
+
+Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans) {
+  std::vector<double> times;
+  std::size_t robot_poses = 0, human_poses = 0;
+  for (int rep = 0; rep < kRepeats; ++rep) {
+    DualBandPlanner planner(BandPlannerConfig{}, map);
+    PlanRequest req;
+    req.stamp_s = 0.0;
+    req.agent.id = 0;
+    req.agent.kind = AgentKind::kRobot;
+    req.agent.pose = {6.5, 6.5, 0.0};
+    req.agent.velocity = {0.7, 0.0, 0.0};
+    req.agent.radius_m = 0.34;
+    req.goal = {20.5, 6.5, 0.0};
+    req.time_budget_s = kBudget_s;
+    const double ys[5] = {6.5, 5.0, 8.0, 4.2, 8.8};
+    const double xs[5] = {20.5, 19.5, 19.0, 18.0, 17.5};
+    for (int h = 0; h < n_humans; ++h) {
+      OtherAgentInput o;
+      o.state.id = h + 1;
+      o.state.kind = AgentKind::kHuman;
+      o.state.pose = {xs[h], ys[h], M_PI};
+      o.state.velocity = {-1.0, 0.0, 0.0};
+      o.state.radius_m = 0.3;
+      o.goal = {6.5, ys[h], M_PI};
+      req.others.push_back(o);
+    }
+    for (int c = 0; c < kCycles; ++c) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const PlanResult r = planner.plan(req);
+      const auto t1 = std::chrono::steady_clock::now();
+      if (r.status != PlanStatus::kOk) break;
+      times.push_back(std::chrono::duration<double>(t1 - t0).count());
+      if (c == 0 && rep == 0) {
+        robot_poses = r.agent_band.poses.size();
+        human_poses = r.others.empty() ? 0 : r.others[0].band.poses.size();
+      }
+      advance(&req.agent, r.agent_band);
+      for (std::size_t h = 0; h < r.others.size(); ++h)
+        advance(&req.others[h].state, r.others[h].band);
+      req.stamp_s += kCycle_s;
+    }
+  }
+  std::sort(times.begin(), times.end());
+  Stats s;
+  if (times.empty()) return s;
+  s.p50_s = times[times.size() / 2];
+  s.p99_s = times[std::min(times.size() - 1, static_cast<std::size_t>(0.99 * times.size()))];
+  s.robot_poses = robot_poses;
+  s.human_poses = human_poses;
+  return s;
+}
+
+}  // namespace
+
+int main() {
+  const std::string yaml = std::string(COOPNAV_SOURCE_DIR) + "/config/maps/open.yaml";
+  LoadedMap loaded = loadMap(yaml);
+  auto map = std::make_shared<GridDistanceField>(std::move(loaded.grid));
+  // Warm-up: the global planner samples the map's clearance once per planner instance.
+  run(map, 1);
+  const Stats one = run(map, 1);
+  const Stats five = run(map, 5);
+  std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, kRepeats,
+              kBudget_s * 1e3);
+  std::printf("1 human : first cycle %zu robot + %zu human poses; p50 %.2f ms p99 %.2f ms\n",
+              one.robot_poses, one.human_poses, one.p50_s * 1e3, one.p99_s * 1e3);
+  std::printf("5 humans: p50 %.2f ms p99 %.2f ms (p50 ratio %.2f, p99 ratio %.2f)\n",
+              five.p50_s * 1e3, five.p99_s * 1e3, five.p50_s / one.p50_s, five.p99_s / one.p99_s);
+  std::printf("RESULT band_p99_budget_fraction %.4f\n", one.p99_s / kBudget_s);
+  std::printf("RESULT band_5humans_vs_1 %.3f\n", five.p50_s / one.p50_s);
+  return 0;
+}

@@ -4,7 +4,11 @@ add_library(coopnav_warnings INTERFACE)
 target_compile_options(coopnav_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                                                   -Wnon-virtual-dtor -Wno-unused-parameter)
 if(COOPNAV_WERROR)
-  target_compile_options(coopnav_warnings INTERFACE -Werror)
+  # GCC 12 reports maybe-uninitialized inside lcm-gen's inlined decode code (the hash local is
+  # only read after a checked decode), which -isystem does not silence once inlined into our
+  # code; keep it a warning so a real one is still seen, but not a build break.
+  target_compile_options(coopnav_warnings INTERFACE -Werror
+                                                    $<$<CXX_COMPILER_ID:GNU>:-Wno-error=maybe-uninitialized>)
 endif()
 if(COOPNAV_SANITIZE)
   target_compile_options(coopnav_warnings INTERFACE -fsanitize=${COOPNAV_SANITIZE}

@@ -23,7 +23,7 @@ ObstacleDistanceServerNode::ObstacleDistanceServerNode(const Config& config, Run
     opts.bt_z_min_m = config_.bt_z_min_m;
     opts.bt_z_max_m = config_.bt_z_max_m;
     map = loadMap(config_.map_file, opts);
-    if (!config_.write_bt_path.empty()) writeBt(*map.octree, config_.write_bt_path);
+    if (!config_.write_bt_path.empty()) writeBt(*map.tree, config_.write_bt_path);
   } catch (const MapLoadError& e) {
     throw StartupError(e.what());
   }
@@ -34,7 +34,7 @@ ObstacleDistanceServerNode::ObstacleDistanceServerNode(const Config& config, Run
                              std::to_string(g.height()) + " @ " +
                              std::to_string(g.resolution_m()) + " m";
   log().info("obstacle_distance_server: {}, {} occupied cells, octree {} leaves", detail,
-             g.count(CellState::kOccupied), map.octree ? map.octree->getNumLeafNodes() : 0);
+             g.count(CellState::kOccupied), map.tree ? map.tree->getNumLeafNodes() : 0);
   runtime_.setRunning(detail);
   // Unlimited queue: a request/reply server must never drop a queued request silently.
   runtime_.subscribe<distance_request_t>(

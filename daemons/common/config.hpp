@@ -175,9 +175,14 @@ std::vector<std::string> validateConfig(Config& config, const std::string& where
   return r.errors();
 }
 
-/// Loads `path` (empty = defaults only) into a Config; throws ConfigError listing every problem.
+/// Applies command-line overrides "a.b=value" (value parsed as YAML) onto `root`; throws
+/// ConfigError for a malformed one. Validation of the result is the loader's.
+void applyOverrides(YAML::Node& root, const std::vector<std::string>& overrides);
+
+/// Loads `path` (empty = defaults only) into a Config, then `overrides` ("key=value", dotted keys
+/// for nested structs); throws ConfigError listing every problem.
 template <class Config>
-Config loadConfig(const std::string& path) {
+Config loadConfig(const std::string& path, const std::vector<std::string>& overrides = {}) {
   Config config;
   YAML::Node root;
   if (!path.empty()) {
@@ -189,6 +194,10 @@ Config loadConfig(const std::string& path) {
       throw ConfigError(path + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
                         ": " + e.msg);
     }
+  }
+  if (!overrides.empty()) {
+    if (!root.IsDefined() || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+    applyOverrides(root, overrides);
   }
   ConfigReader r(root, path.empty() ? std::string("defaults") : path);
   config.visit(r);

@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <utility>
 #include <string>
+#include <vector>
 
 #include "common/config.hpp"
 #include "common/log.hpp"
@@ -29,6 +30,7 @@ struct CommonOptions {
   std::string lcm_url;
   std::string log_level{"info"};
   bool print_config{false};
+  std::vector<std::string> overrides;  ///< --set key=value, applied over the config file
 };
 
 /// Adds the common options to `app` (a daemon may add its own before calling runDaemon).
@@ -69,7 +71,7 @@ int runDaemon(int argc, char** argv, const std::string& name, const std::string&
   }
   typename Node::Config config;
   try {
-    config = loadConfig<typename Node::Config>(opts.config_path);
+    config = loadConfig<typename Node::Config>(opts.config_path, opts.overrides);
   } catch (const ConfigError& e) {
     log().critical("{}: bad config:\n{}", name, e.what());
     return kExitUsage;

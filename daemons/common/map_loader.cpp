@@ -239,8 +239,13 @@ LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
   if (node["image"]) return fromGrid(loadRosMap(node, base_dir, where), options, where);
   if (node["walls"] || node["boxes"])
     return fromGrid(rasteriseWallsMap(node, where), options, where);
+  // A scenario file: its `map:` (a file or walls) is the map, so every daemon of a run can be
+  // pointed at the scenario itself and is sure to load what the simulator loads.
+  if (node["map"] && node["map"].IsMap())
+    return loadMapFromNode(node["map"], base_dir, options, where + ": map");
   fail(where,
-       "neither a ROS map (key 'image') nor a walls map (keys 'walls', 'boxes')" + lineOf(node));
+       "neither a ROS map (key 'image'), a walls map (keys 'walls', 'boxes') nor a scenario "
+       "(key 'map')" + lineOf(node));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 ///  - ROS map_server YAML (`image:` key) + PGM (P2 or P5), trinary mode; see loadRosMap().
 ///  - OctoMap binary `.bt`: the leaves in a height band projected to a 2-D grid.
 ///  - A walls map (`walls:` / `boxes:` keys), rasterised 4-connected; see rasteriseWallsMap().
+///  - A scenario file (`map:` key): its map, whichever of the above it is.
 /// Every failure throws MapLoadError naming the file and the key / line / value at fault.
 
 #include <octomap/OcTree.h>

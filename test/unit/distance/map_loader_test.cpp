@@ -247,6 +247,14 @@ boxes:
   std::ofstream(tmp.dir() + "/walls.yaml") << YAML::Dump(node);
   EXPECT_EQ(loadMap(tmp.dir() + "/walls.yaml").grid, g);
   EXPECT_EQ(loadMapFromNode(YAML::Load("{file: walls.yaml}"), tmp.dir()).grid, g);
+  // A scenario file is a map source too: its `map:` walls, or its `map: {file: ...}`.
+  YAML::Node scenario;
+  scenario["name"] = "s";
+  scenario["map"] = node;
+  std::ofstream(tmp.dir() + "/scenario.yaml") << YAML::Dump(scenario);
+  EXPECT_EQ(loadMap(tmp.dir() + "/scenario.yaml").grid, g);
+  std::ofstream(tmp.dir() + "/scenario_file.yaml") << "name: s\nmap: {file: walls.yaml}\n";
+  EXPECT_EQ(loadMap(tmp.dir() + "/scenario_file.yaml").grid, g);
 }
 
 TEST(MapLoaderTest, BadInputsGiveClearErrors) {

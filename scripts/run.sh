@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# The main job: runs the paper's experiment (§III). For each scenario it starts the daemons as
+# separate processes on a host-local LCM port of its own, runs the world simulator in lockstep,
+# records an LCM log, and prints the transcript (what the robot said and did, when, and why);
+# then the CM table beside the paper's Table I. Writes runs/<timestamp>/ and runs/latest.
+#
+#   scripts/run.sh [--out DIR] [--no-build] [scenario.yaml ...]
+#   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml)
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+
+out=""
+build=1
+scenarios=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --out) out="$2"; shift 2 ;;
+    --no-build) build=0; shift ;;
+    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
+    *) scenarios+=("$1"); shift ;;
+  esac
+done
+if [ "${#scenarios[@]}" -eq 0 ]; then
+  for s in open_facilitating open_minimal narrow_facilitating narrow_minimal; do
+    scenarios+=("$COOPNAV_ROOT/config/scenarios/$s.yaml")
+  done
+fi
+for s in "${scenarios[@]}"; do
+  [ -f "$s" ] || { echo "run.sh: no scenario file '$s'" >&2; exit 2; }
+done
+
+if [ "$build" -eq 1 ]; then
+  coopnav_install_deps
+  coopnav_build
+fi
+coopnav_ensure_multicast
+
+if [ -z "$out" ]; then
+  stamp="$(date -u +%Y%m%d-%H%M%S)"
+  out="$COOPNAV_ROOT/runs/$stamp"
+  mkdir -p "$out"
+  ln -sfn "$stamp" "$COOPNAV_ROOT/runs/latest"
+else
+  mkdir -p "$out"
+fi
+out="$(cd "$out" && pwd)"
+ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
+cfg="$COOPNAV_ROOT/config"
+# Port base: CI runs several suites at once; each scenario gets its own port from here.
+port="${COOPNAV_RUN_PORT_BASE:-7670}"
+
+pids=()
+stop_all() {
+  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  pids=()
+}
+trap stop_all EXIT
+trap 'stop_all; exit 130' INT TERM
+
+summaries=()
+failed=0
+for scenario in "${scenarios[@]}"; do
+  scenario="$(cd "$(dirname "$scenario")" && pwd)/$(basename "$scenario")"
+  name="$(basename "$scenario" .yaml)"
+  dir="$out/$name"
+  mkdir -p "$dir"
+  export LCM_DEFAULT_URL="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=4194304"
+  port=$((port + 1))
+  echo "== $name  ($scenario)"
+
+  lcm-logger -f -l "$LCM_DEFAULT_URL" "$dir/$name.lcm" >"$dir/lcm-logger.log" 2>&1 &
+  pids+=($!)
+  "$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
+    --set "map_file=$scenario" >"$dir/obstacle_distance_server.log" 2>&1 &
+  pids+=($!)
+  "$(coopnav_bin band_source)" -c "$cfg/band_source.yaml" --set "map_file=$scenario" \
+    >"$dir/band_source.log" 2>&1 &
+  pids+=($!)
+  for d in situation_assessor path_assessor dialogue_manager; do
+    "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" >"$dir/$d.log" 2>&1 &
+    pids+=($!)
+  done
+  if ! "$ctl" wait-ready obstacle_distance_server band_source situation_assessor path_assessor \
+    dialogue_manager --timeout-s 60; then
+    echo "run.sh: daemons did not come up for $name; see $dir/*.log" >&2
+    stop_all
+    failed=1
+    continue
+  fi
+  sleep 0.3  # the logger subscribes before the first step
+  start_s=$(date +%s.%N)
+  rc=0
+  "$(coopnav_bin world_sim)" -c "$cfg/world_sim.yaml" --set "scenario=$scenario" \
+    >"$dir/world_sim.log" 2>&1 || rc=$?
+  end_s=$(date +%s.%N)
+  sleep 0.3  # last messages reach the logger
+  stop_all
+  if [ "$rc" -ne 0 ]; then
+    echo "run.sh: world_sim failed (exit $rc) for $name; see $dir/world_sim.log" >&2
+    tail -5 "$dir/world_sim.log" >&2 || true
+    failed=1
+    continue
+  fi
+  echo "   wall time $(awk -v a="$start_s" -v b="$end_s" 'BEGIN{printf "%.1f", b-a}') s"
+  "$ctl" transcript "$dir/$name.lcm" --scenario "$name" | tee "$dir/transcript.txt"
+  "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json"
+  "$ctl" figures "$dir/$name.lcm" --scenario "$name" --out-dir "$dir"
+  summaries+=("$dir/summary.json")
+  echo
+done
+
+if [ "${#summaries[@]}" -gt 0 ]; then
+  "$ctl" merge-summaries "$out/summary.json" "${summaries[@]}"
+  "$ctl" cm-table "$out/summary.json" | tee "$out/cm_table.txt"
+  echo "run directory: $out (logs, transcripts, summary.json, figures *.svg)"
+fi
+exit "$failed"

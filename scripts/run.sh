@@ -65,6 +65,7 @@ for scenario in "${scenarios[@]}"; do
   name="$(basename "$scenario" .yaml)"
   dir="$out/$name"
   mkdir -p "$dir"
+  echo "$scenario" >"$dir/scenario.path"  # replay.sh finds the map through it
   export LCM_DEFAULT_URL="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=4194304"
   port=$((port + 1))
   echo "== $name  ($scenario)"

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Replays a recorded run into FRESH assessors and a fresh dialogue manager and prints their
+# transcript again. Only the world's side of the log is played (agent states, goals, bands,
+# reference paths, sim status) with lcm-logplayer, on a host-local port of its own; the replayed
+# daemons' outputs are recorded to OUT_DIR/replay.lcm. Their step gates (docs/lockstep.md) keep
+# the recorded ordering, so the transcript is the recorded one.
+#
+#   scripts/replay.sh LOG [--map MAP_OR_SCENARIO] [--speed S] [--out-dir DIR] [--no-build]
+#   MAP defaults to the scenario recorded next to the log by run.sh (scenario.path).
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+
+log="" map="" speed="4.0" outdir="" build=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --map) map="$2"; shift 2 ;;
+    --speed) speed="$2"; shift 2 ;;
+    --out-dir) outdir="$2"; shift 2 ;;
+    --no-build) build=0; shift ;;
+    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "replay.sh: unknown option $1" >&2; exit 2 ;;
+    *) log="$1"; shift ;;
+  esac
+done
+[ -n "$log" ] && [ -f "$log" ] || { echo "replay.sh: give a recorded .lcm log" >&2; exit 2; }
+log="$(cd "$(dirname "$log")" && pwd)/$(basename "$log")"
+if [ -z "$map" ] && [ -f "$(dirname "$log")/scenario.path" ]; then
+  map="$(cat "$(dirname "$log")/scenario.path")"
+fi
+[ -n "$map" ] && [ -f "$map" ] || { echo "replay.sh: no map; pass --map FILE" >&2; exit 2; }
+[ -n "$outdir" ] || outdir="$(mktemp -d)"
+mkdir -p "$outdir"
+
+if [ "$build" -eq 1 ]; then
+  coopnav_install_deps
+  coopnav_build
+fi
+coopnav_ensure_multicast
+export LCM_DEFAULT_URL="udpm://239.255.76.67:${COOPNAV_REPLAY_PORT:-7689}?ttl=0&recv_buf_size=4194304"
+ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
+cfg="$COOPNAV_ROOT/config"
+
+pids=()
+stop_all() {
+  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  pids=()
+}
+trap stop_all EXIT
+
+"$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
+  --set "map_file=$map" >"$outdir/obstacle_distance_server.log" 2>&1 &
+pids+=($!)
+for d in situation_assessor path_assessor dialogue_manager; do
+  "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" >"$outdir/$d.log" 2>&1 &
+  pids+=($!)
+done
+"$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
+  --timeout-s 60 >/dev/null
+lcm-logger -f -l "$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
+pids+=($!)
+sleep 0.5
+lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
+  -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log"
+sleep 1.0  # the last step's decisions reach the logger
+stop_all
+"$ctl" transcript "$outdir/replay.lcm"

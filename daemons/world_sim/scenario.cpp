@@ -386,6 +386,35 @@ void checkScenarioAgainstMap(const Scenario& sc, const DistanceMap& map) {
   }
 }
 
+LoadedMap loadScenarioMap(const Scenario& sc) {
+  // The loader reads YAML; rebuilding the validated section keeps one walls rasteriser for the
+  // distance server and the simulator, so both see the same cells.
+  YAML::Node node(YAML::NodeType::Map);
+  if (!sc.map.file.empty()) {
+    node["file"] = sc.map.file;
+  } else {
+    node["resolution_m"] = sc.map.resolution_m;
+    for (const WallSegment& w : sc.map.walls) {
+      YAML::Node n;
+      n["x0_m"] = w.x0_m;
+      n["y0_m"] = w.y0_m;
+      n["x1_m"] = w.x1_m;
+      n["y1_m"] = w.y1_m;
+      n["thickness_m"] = w.thickness_m;
+      node["walls"].push_back(n);
+    }
+    for (const BoxObstacle& b : sc.map.boxes) {
+      YAML::Node n;
+      n["min_x_m"] = b.min_x_m;
+      n["min_y_m"] = b.min_y_m;
+      n["max_x_m"] = b.max_x_m;
+      n["max_y_m"] = b.max_y_m;
+      node["boxes"].push_back(n);
+    }
+  }
+  return loadMapFromNode(node, ".", MapLoadOptions{}, sc.source + ": map");
+}
+
 sim::WorldSpec toWorldSpec(const Scenario& sc) {
   sim::WorldSpec w;
   w.seed = sc.seed;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/map_loader.hpp"
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/sim/simulation.hpp"
 
@@ -71,6 +72,9 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
 /// Checks the scenario against its loaded map: every start and goal (and via point) lies in free
 /// space with the agent's radius of clearance. Throws ScenarioError listing every offender.
 void checkScenarioAgainstMap(const Scenario& scenario, const DistanceMap& map);
+/// Loads the scenario's map section (its file, or its walls and boxes rasterised) with the
+/// daemons' map loader. Throws MapLoadError naming the file or "<scenario>: map".
+LoadedMap loadScenarioMap(const Scenario& scenario);
 /// The simulator's input for the scenario.
 sim::WorldSpec toWorldSpec(const Scenario& scenario);
 

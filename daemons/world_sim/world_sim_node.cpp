@@ -1,0 +1,348 @@
+#include "world_sim_node.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "common/daemon_main.hpp"
+#include "common/log.hpp"
+#include "common/map_loader.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/geometry/geometry.hpp"
+#include "coopnav/goals_t.hpp"
+#include "coopnav/sim/band_human_adapter.hpp"
+#include "coopnav/sim_status_t.hpp"
+#include "coopnav/situation_t.hpp"
+
+namespace coopnav {
+
+namespace {
+
+/// Longest stretch of stepping in one loop iteration when running as fast as possible, so that
+/// signals, status and incoming messages are still served.
+constexpr auto kFastSlice = std::chrono::milliseconds(10);
+/// Real time: most steps caught up in one iteration (a CPU that cannot keep up falls behind
+/// gracefully instead of freezing the loop).
+constexpr int kMaxCatchUpSteps = 100;
+
+std::string fmt(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+std::int8_t toSimStatusState(sim::SimStatus s) {
+  switch (s) {
+    case sim::SimStatus::kGoalsReached:
+      return sim_status_t::STATE_GOAL_REACHED;
+    case sim::SimStatus::kCollision:
+      return sim_status_t::STATE_COLLISION;
+    case sim::SimStatus::kTimeLimit:
+      return sim_status_t::STATE_TIME_LIMIT;
+    case sim::SimStatus::kRunning:
+      break;
+  }
+  return sim_status_t::STATE_RUNNING;
+}
+
+}  // namespace
+
+void WorldSimConfig::resolvePaths(const std::string& base_dir) {
+  scenario = resolvePath(base_dir, scenario);
+}
+
+WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
+    : config_(config), runtime_(runtime) {
+  try {
+    scenario_ = world_sim::loadScenario(config_.scenario);
+    LoadedMap map = world_sim::loadScenarioMap(scenario_);
+    // Unknown cells are walls for the simulator as for the distance server (open.pgm's pillar).
+    field_ = std::make_shared<GridDistanceField>(std::move(map.grid), UnknownPolicy::kObstacle);
+    world_sim::checkScenarioAgainstMap(scenario_, *field_);
+    sim_ =
+        std::make_unique<sim::Simulation>(world_sim::toWorldSpec(scenario_), field_.get(),
+                                          sim::dualBandAdapterFactory(BandPlannerConfig{}, field_));
+  } catch (const world_sim::ScenarioError& e) {
+    throw StartupError(e.what());
+  } catch (const MapLoadError& e) {
+    throw StartupError(config_.scenario + ": map: " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw StartupError(config_.scenario + ": " + e.what());
+  }
+  lockstep_ = config_.mode == "scenario" ? scenario_.lockstep.enabled : config_.mode == "lockstep";
+  real_time_factor_ =
+      config_.real_time_factor > 0.0 ? config_.real_time_factor : scenario_.rates.real_time_factor;
+  step_period_s_ = 1.0 / scenario_.rates.publish_hz;
+  agents_ = sim_->agents();
+
+  runtime_.subscribe<daemon_status_t>(
+      channels::kStatus, [this](const daemon_status_t& m, std::int64_t) { onStatus(m); });
+  runtime_.subscribe<velocity_command_t>(
+      channels::kRobotCmd, [this](const velocity_command_t& m, std::int64_t) { onCommand(m); });
+  runtime_.subscribe<utterance_t>(channels::kUtterance,
+                                  [this](const utterance_t& m, std::int64_t) { onUtterance(m); });
+  runtime_.subscribe<bands_t>(channels::kBands,
+                              [this](const bands_t& m, std::int64_t) { onBands(m); });
+
+  const auto& participants = scenario_.lockstep.participants;
+  if (lockstep_ && !participants.empty()) {
+    StepGateOptions opts;
+    for (const auto& p : participants) opts.requirements.push_back({p, 0});
+    opts.timeout = std::chrono::milliseconds(
+        static_cast<std::int64_t>(std::llround(scenario_.lockstep.step_timeout_s * 1000.0)));
+    opts.wait_for_unseen = true;  // every participant is required from step 0
+    gate_ = std::make_unique<StepGate>(runtime_, opts);
+  }
+  phase_since_ = std::chrono::steady_clock::now();
+  runtime_.addTimer(std::chrono::milliseconds(20), [this] { checkReady(); });
+  if (!lockstep_) {
+    runtime_.addTimer(std::chrono::milliseconds(1), [this] { tickRealTime(); });
+  } else if (!gate_) {
+    runtime_.addTimer(std::chrono::milliseconds(1), [this] { tickFast(); });
+  }
+
+  std::string who;
+  for (const auto& p : participants) who += (who.empty() ? "" : ", ") + p;
+  const std::string mode = lockstep_ ? "lockstep" : "real time x" + fmt(real_time_factor_);
+  log().info("world_sim: scenario '{}' ({}), {} human(s), {}, participants: {}", scenario_.name,
+             scenario_.source, scenario_.humans.size(), mode, who.empty() ? "none" : who);
+  runtime_.setRunning("scenario " + scenario_.name + ", " + mode +
+                      (lockstep_ && gate_ ? ", waiting for " + who : ""));
+}
+
+// ---- inputs
+
+void WorldSimNode::onStatus(const daemon_status_t& msg) {
+  if (phase_ != Phase::kWaitingReady || msg.name == runtime_.name()) return;
+  if (ready_.insert(msg.name).second) checkReady();
+}
+
+void WorldSimNode::onCommand(const velocity_command_t& msg) {
+  command_ = fromLcm(msg);  // throws RejectedMessage on a non-finite command
+}
+
+void WorldSimNode::onUtterance(const utterance_t& msg) {
+  if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION || msg.speech_act > utterance_t::ACT_THANK)
+    throw RejectedMessage("utterance with unknown speech_act " + std::to_string(msg.speech_act));
+  if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
+      msg.direction != situation_t::DIR_UNDEFINED)
+    throw RejectedMessage("utterance with unknown direction " + std::to_string(msg.direction));
+  const sim::HumanSpec* human = nullptr;
+  for (const auto& h : scenario_.humans)
+    if (h.id == msg.human_id) human = &h;
+  if (human == nullptr)
+    throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) +
+                         ", who is not in the scenario");
+  const bool ask = msg.speech_act == utterance_t::ACT_ASK_TO_MOVE ||
+                   msg.speech_act == utterance_t::ACT_ASK_TO_MOVE_MORE;
+  // Only a request to move changes a simulated human; information, docking and thanks do not.
+  if (!ask) return;
+  if (msg.direction == situation_t::DIR_UNDEFINED)
+    throw RejectedMessage("utterance asks human " + std::to_string(msg.human_id) +
+                          " to move without a side");
+  if (human->behaviour.type != sim::BehaviourType::kResponsive) {
+    log().debug("world_sim: human {} ({}) does not respond to requests", msg.human_id,
+                sim::toString(human->behaviour.type));
+    return;
+  }
+  PendingCue c;
+  c.cue.human_id = msg.human_id;
+  c.cue.side = msg.direction == situation_t::DIR_LEFT ? Side::kLeft : Side::kRight;
+  c.step = msg.step;
+  cues_.push_back(c);
+}
+
+void WorldSimNode::onBands(const bands_t& msg) {
+  BandsSnapshot b = fromLcm(msg);  // throws RejectedMessage
+  // A failed cycle tells nothing about where the robot goes: humans keep the last good band.
+  if (b.status != bands_t::STATUS_OK || b.robot.poses.size() < 2) return;
+  for (const auto& p : b.robot.poses)
+    if (!std::isfinite(p.t_s) || !isFinite(p.pose))
+      throw RejectedMessage("robot band with a non-finite pose");
+  band_ = std::move(b);
+}
+
+// ---- run
+
+void WorldSimNode::checkReady() {
+  if (phase_ != Phase::kWaitingReady) return;
+  const auto& participants =
+      lockstep_ ? scenario_.lockstep.participants : std::vector<std::string>{};
+  std::string missing;
+  for (const auto& p : participants)
+    if (!ready_.count(p)) missing += (missing.empty() ? "" : ", ") + p;
+  if (missing.empty()) {
+    start();
+    return;
+  }
+  const double waited_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_since_).count();
+  if (waited_s > config_.wait_ready_timeout_s) {
+    finish(sim_status_t::STATE_PARTICIPANT_TIMEOUT,
+           "participant(s) never sent a status within wait_ready_timeout_s = " +
+               fmt(config_.wait_ready_timeout_s) + " s: " + missing);
+  }
+}
+
+void WorldSimNode::start() {
+  phase_ = Phase::kRunning;
+  phase_since_ = std::chrono::steady_clock::now();
+  log().info("world_sim: running '{}'", scenario_.name);
+  publishStep();
+  if (gate_) submitCurrentStep();
+}
+
+void WorldSimNode::submitCurrentStep() {
+  gate_->submit(step_, [this](bool degraded, const std::string& missing) {
+    onStepAcknowledged(degraded, missing);
+  });
+}
+
+void WorldSimNode::onStepAcknowledged(bool degraded, const std::string& missing) {
+  if (phase_ != Phase::kRunning) return;
+  if (degraded) {
+    finish(sim_status_t::STATE_PARTICIPANT_TIMEOUT,
+           "no acknowledgement of step " + std::to_string(step_) + " within step_timeout_s = " +
+               fmt(scenario_.lockstep.step_timeout_s) + " s from: " + missing);
+    return;
+  }
+  if (advance()) submitCurrentStep();
+}
+
+void WorldSimNode::tickFast() {
+  if (phase_ != Phase::kRunning) return;
+  const auto until = std::chrono::steady_clock::now() + kFastSlice;
+  while (advance() && std::chrono::steady_clock::now() < until) {
+  }
+}
+
+void WorldSimNode::tickRealTime() {
+  if (phase_ != Phase::kRunning) return;
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_since_).count();
+  const auto due =
+      static_cast<std::int64_t>(std::floor(wall_s * real_time_factor_ / step_period_s_));
+  int n = 0;
+  while (step_ < due && n < kMaxCatchUpSteps && advance()) ++n;
+  if (step_ < due && phase_ == Phase::kRunning && !behind_logged_) {
+    behind_logged_ = true;
+    log().warn("world_sim: cannot keep up with real_time_factor {} ({} steps behind)",
+               real_time_factor_, due - step_);
+  }
+}
+
+void WorldSimNode::applyInputs() {
+  Velocity2 cmd{0.0, 0.0, 0.0};
+  if (command_) {
+    cmd = command_->body;
+    if (lockstep_ && command_->step != step_ && stale_commands_++ == 0) {
+      log().info("world_sim: step {}: latest robot command is of step {}; using it (logged once)",
+                 step_, command_->step);
+    }
+  }
+  const double now_s = sim_->time_s();
+  for (PendingCue& c : cues_) {
+    if (lockstep_ && c.step != step_)
+      log().info("world_sim: step {}: utterance of step {} to human {}", step_, c.step,
+                 c.cue.human_id);
+    c.cue.t_s = now_s;  // heard when the step it was decided on takes effect
+    log().info("world_sim: t = {} s: human {} asked to move {}", now_s, c.cue.human_id,
+               c.cue.side == Side::kLeft ? "left" : "right");
+    sim_->addCue(c.cue);
+  }
+  cues_.clear();
+  if (band_) {
+    sim_->setRobotBand(band_->robot, utimeToSeconds(band_->utime));
+    band_.reset();
+  }
+  last_command_ = cmd;
+}
+
+bool WorldSimNode::advance() {
+  if (phase_ != Phase::kRunning) return false;
+  applyInputs();
+  const double t_before_s = sim_->time_s();
+  const sim::StepResult r = sim_->step(last_command_);
+  ++step_;
+  agents_ = r.agents;
+  publishStep();
+  if (r.status != sim::SimStatus::kRunning) {
+    finish(toSimStatusState(r.status), endDetail(r));
+    return false;
+  }
+  // Once per simulated second (a whole second crossed during this step).
+  if (std::floor(r.t_s + 1e-9) > std::floor(t_before_s + 1e-9))
+    publishSimStatus(sim_status_t::STATE_RUNNING, "");
+  return true;
+}
+
+void WorldSimNode::publishStep() {
+  const std::int64_t utime = secondsToUtime(sim_->time_s());
+  GoalsSnapshot goals;
+  goals.utime = utime;
+  goals.goals.push_back({sim::kRobotId, AgentKind::kRobot, scenario_.robot.goal});
+  for (const auto& h : scenario_.humans) goals.goals.push_back({h.id, AgentKind::kHuman, h.goal});
+  runtime_.publish(channels::kGoals, toLcm(goals));
+
+  AgentStatesSnapshot s;
+  s.utime = utime;
+  s.step = lockstep_ ? step_ : -1;
+  s.robot = agents_.front();
+  s.humans.assign(agents_.begin() + 1, agents_.end());
+  runtime_.publish(channels::kAgentStates, toLcm(s));
+  runtime_.noteLogicTime(utime);
+}
+
+void WorldSimNode::publishSimStatus(std::int8_t state, const std::string& detail) {
+  const sim::SimSummary& sum = sim_->summary();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  sim_status_t m;
+  m.utime = secondsToUtime(sim_->time_s());
+  m.step = step_;
+  m.state = state;
+  m.scenario = scenario_.name;
+  m.min_clearance_m =
+      std::isfinite(sum.min_robot_human_clearance_m) ? sum.min_robot_human_clearance_m : kNaN;
+  m.robot_time_to_goal_s = sum.robot_goal_time_s >= 0.0 ? sum.robot_goal_time_s : kNaN;
+  m.detail = detail;
+  runtime_.publish(channels::kSimStatus, m);
+}
+
+void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
+  phase_ = Phase::kEnded;
+  publishSimStatus(state, detail);
+  if (state == sim_status_t::STATE_PARTICIPANT_TIMEOUT) {
+    runtime_.setDegraded(detail);
+  } else {
+    runtime_.setRunning("ended: " + detail);
+  }
+  log().info("world_sim: '{}' ended at t = {} s (step {}): {}", scenario_.name, sim_->time_s(),
+             step_, detail);
+  if (config_.exit_at_end) runtime_.requestStop();
+}
+
+std::string WorldSimNode::endDetail(const sim::StepResult& r) const {
+  const sim::SimSummary& sum = sim_->summary();
+  switch (r.status) {
+    case sim::SimStatus::kCollision:
+      for (const sim::SimEvent& e : r.events) {
+        if (e.kind != sim::SimEvent::Kind::kCollision || e.agent_id != sim::kRobotId) continue;
+        return "robot collided with " +
+               (e.other_id == sim::kWallId ? std::string("a wall")
+                                           : "human " + std::to_string(e.other_id)) +
+               " at t = " + fmt(e.t_s) + " s";
+      }
+      return "robot collision";
+    case sim::SimStatus::kGoalsReached:
+      return "robot reached its goal at t = " + fmt(sum.robot_goal_time_s) +
+             " s and every human its own";
+    case sim::SimStatus::kTimeLimit:
+      return "time limit of " + fmt(scenario_.time_limit_s) + " s reached" +
+             (sum.robot_goal_time_s >= 0.0 ? "" : " before the robot reached its goal");
+    case sim::SimStatus::kRunning:
+      break;
+  }
+  return "";
+}
+
+}  // namespace coopnav

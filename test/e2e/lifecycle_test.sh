@@ -16,8 +16,14 @@ args_for() {
   esac
 }
 
-for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
-  world_sim; do
+# Every daemon of the source tree (a folder of daemons/ with a CMakeLists.txt, but common/).
+daemons=()
+for dir in "$src"/daemons/*/; do
+  d="$(basename "$dir")"
+  [ "$d" != common ] && [ -f "$dir/CMakeLists.txt" ] && daemons+=("$d")
+done
+[ "${#daemons[@]}" -gt 0 ] || { echo "FAIL: no daemons found under $src/daemons"; exit 1; }
+for d in "${daemons[@]}"; do
   exe="$build/daemons/$d/coopnav_$d"
   [ -x "$exe" ] || { echo "FAIL $d: $exe not built"; fail=1; continue; }
   "$exe" --help >/dev/null || { echo "FAIL $d: --help"; fail=1; }

@@ -1,14 +1,16 @@
-// Scenario files: a complete file loads into the struct; each kind of mistake gives one clear
-// message naming the file, the key, the value and what is allowed.
-
-#include "../../../daemons/world_sim/scenario.cpp"  // the daemon has no library target yet
+// Scenario files of world_sim (daemons/world_sim/scenario.{hpp,cpp}, in the world_sim_node
+// library, hence a node-tier test although it opens no LCM): a complete file loads into the
+// struct; each kind of mistake gives one clear message naming the file, the key, the value and
+// what is allowed.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "corridor_map.hpp"
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "scenario.hpp"
 
 namespace coopnav::world_sim {
 namespace {
@@ -87,7 +89,8 @@ TEST(Scenario, ValidFileLoadsWithDefaultsForOmittedKeys) {
   const sim::WorldSpec w = toWorldSpec(sc);
   EXPECT_DOUBLE_EQ(w.settings.physics_dt_s, 0.025);
   EXPECT_EQ(w.settings.substeps_per_step, 4);
-  test::CorridorMap map(0.1, 5.9);
+  // The walls of the file, rasterised as the daemon does (free for y in (0.1, 5.9)).
+  const GridDistanceField map(loadScenarioMap(sc).grid);
   EXPECT_NO_THROW(checkScenarioAgainstMap(sc, map));
   sim::Simulation simulation(w, &map);  // a loaded scenario is a valid world
   EXPECT_EQ(simulation.agents().size(), 3u);
@@ -156,7 +159,7 @@ TEST(Scenario, StartInsideAWallIsRejectedAgainstTheMap) {
   Scenario sc = parseScenario(kValid, "walls.yaml", ".");
   sc.humans[1].start.y_m = 0.05;  // inside the lower wall
   sc.robot.goal.y_m = 5.7;        // free but closer to the wall than the robot's radius
-  test::CorridorMap map(0.1, 5.9);
+  const GridDistanceField map(loadScenarioMap(sc).grid);
   try {
     checkScenarioAgainstMap(sc, map);
     FAIL() << "no error";

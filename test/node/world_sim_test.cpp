@@ -1,0 +1,377 @@
+// The world_sim daemon as a process on this executable's own udpm port. The test plays the one
+// lockstep participant of the scenario ("fake_planner"): it reports a status, then answers each
+// step's agent states with a velocity command and an acknowledgement, as band_source would.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <lcm/lcm-cpp.hpp>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/channels.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "coopnav/goals_t.hpp"
+#include "coopnav/sim_status_t.hpp"
+#include "coopnav/situation_t.hpp"
+#include "coopnav/step_ack_t.hpp"
+#include "coopnav/utterance_t.hpp"
+#include "coopnav/velocity_command_t.hpp"
+#include "test_util.hpp"
+
+namespace coopnav {
+namespace {
+
+using namespace std::chrono_literals;
+using test::ChildProcess;
+using test::daemonPath;
+using test::testLcmUrl;
+
+constexpr const char* kParticipant = "fake_planner";
+
+std::string scenarioPath(const std::string& name) {
+  return std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/" + name;
+}
+
+/// Listens to what world_sim publishes and plays its participant.
+class Harness {
+ public:
+  Harness() : lcm_(testLcmUrl()) {
+    EXPECT_TRUE(lcm_.good());
+    lcm_.subscribe(channels::kAgentStates, &Harness::onStates, this);
+    lcm_.subscribe(channels::kSimStatus, &Harness::onSimStatus, this);
+    lcm_.subscribe(channels::kStatus, &Harness::onStatus, this);
+    lcm_.subscribe(channels::kGoals, &Harness::onGoals, this);
+  }
+
+  void spin(std::chrono::milliseconds d) {
+    const auto end = std::chrono::steady_clock::now() + d;
+    while (std::chrono::steady_clock::now() < end) lcm_.handleTimeout(2);
+  }
+  bool spinUntil(const std::function<bool()>& pred, std::chrono::milliseconds timeout) {
+    return test::waitFor(pred, timeout, [this] { lcm_.handleTimeout(2); });
+  }
+
+  void sendStatus(const std::string& name) {
+    daemon_status_t s{};
+    s.utime = 0;
+    s.name = name;
+    s.pid = 1;
+    s.state = daemon_status_t::STATE_RUNNING;
+    s.last_logic_utime = -1;
+    s.cycle_p50_ms = s.cycle_max_ms = 0.0;
+    lcm_.publish(channels::kStatus, &s);
+  }
+  void sendCommand(std::int64_t step, std::int64_t utime, double vx, double omega) {
+    velocity_command_t c{};
+    c.utime = utime;
+    c.step = step;
+    c.vx_m_s = vx;
+    c.vy_m_s = 0.0;
+    c.omega_rad_s = omega;
+    c.mode = velocity_command_t::MODE_NAVIGATING;
+    lcm_.publish(channels::kRobotCmd, &c);
+  }
+  void sendAck(std::int64_t step, std::int64_t utime) {
+    step_ack_t a{};
+    a.utime = utime;
+    a.step = step;
+    a.participant = kParticipant;
+    lcm_.publish(channels::kStepAck, &a);
+  }
+  void sendAskToMove(std::int64_t step, std::int64_t utime, std::int32_t human_id,
+                     std::int8_t dir) {
+    utterance_t u{};
+    u.utime = utime;
+    u.step = step;
+    u.human_id = human_id;
+    u.speech_act = utterance_t::ACT_ASK_TO_MOVE;
+    u.direction = dir;
+    u.round = 1;
+    u.t_cross_s = 5.0;
+    u.text = "Could you move aside?";
+    lcm_.publish(channels::kUtterance, &u);
+  }
+
+  bool worldSimReady() const { return world_sim_status_ > 0; }
+  const std::vector<agent_states_t>& states() const { return states_; }
+  const std::vector<std::string>& stateBytes() const { return state_bytes_; }
+  const std::vector<sim_status_t>& simStatus() const { return sim_status_; }
+  std::size_t goals() const { return goals_; }
+  /// The final SIM_STATUS, or nullptr while the run goes on.
+  const sim_status_t* final() const {
+    for (const auto& s : sim_status_)
+      if (s.state != sim_status_t::STATE_RUNNING) return &s;
+    return nullptr;
+  }
+
+ private:
+  void onStates(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    agent_states_t m;
+    ASSERT_EQ(m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)),
+              static_cast<int>(rbuf->data_size));
+    states_.push_back(m);
+    state_bytes_.emplace_back(static_cast<const char*>(rbuf->data), rbuf->data_size);
+  }
+  void onSimStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    sim_status_t m;
+    ASSERT_GT(m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)), 0);
+    sim_status_.push_back(m);
+  }
+  void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    daemon_status_t m;
+    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0 && m.name == "world_sim")
+      ++world_sim_status_;
+  }
+  void onGoals(const lcm::ReceiveBuffer*, const std::string&) { ++goals_; }
+
+  lcm::LCM lcm_;
+  std::vector<agent_states_t> states_;
+  std::vector<std::string> state_bytes_;
+  std::vector<sim_status_t> sim_status_;
+  int world_sim_status_{0};
+  std::size_t goals_{0};
+};
+
+std::vector<std::string> daemonArgs(const std::string& scenario,
+                                    const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> a = {"--lcm-url", testLcmUrl(), "--log-level",
+                                "warn",      "--set",      "scenario=" + scenarioPath(scenario)};
+  a.insert(a.end(), extra.begin(), extra.end());
+  return a;
+}
+
+struct Participant {
+  /// Command for step k (body frame vx, omega).
+  std::function<std::pair<double, double>(std::int64_t)> command = [](std::int64_t) {
+    return std::make_pair(0.5, 0.0);
+  };
+  /// Called before the command of step k is sent (e.g. to send utterances).
+  std::function<void(Harness&, const agent_states_t&)> before_command;
+  /// Steps at which the participant waits before acknowledging, checking nothing advances.
+  std::vector<std::int64_t> hold_at_steps;
+  bool ack{true};
+};
+
+struct RunOutcome {
+  int exit_code{-1};
+  bool advanced_without_ack{false};
+};
+
+/// Runs world_sim on `scenario` with the test as its participant until the final SIM_STATUS.
+RunOutcome runWithParticipant(Harness& h, const std::string& scenario, const Participant& p,
+                              const std::vector<std::string>& extra = {}) {
+  RunOutcome out;
+  ChildProcess sim(daemonPath("world_sim"), daemonArgs(scenario, extra));
+  EXPECT_TRUE(h.spinUntil([&] { return h.worldSimReady(); }, 10s)) << "world_sim never started";
+  // Report until step 0 arrives: a status sent before world_sim subscribed is lost.
+  EXPECT_TRUE(h.spinUntil(
+      [&] {
+        if (!h.states().empty()) return true;
+        h.sendStatus(kParticipant);
+        h.spin(50ms);
+        return !h.states().empty();
+      },
+      10s))
+      << "no step 0";
+  std::size_t handled = 0;
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  while (h.final() == nullptr && std::chrono::steady_clock::now() < deadline) {
+    h.spin(1ms);
+    while (p.ack && handled < h.states().size() && h.final() == nullptr) {
+      const agent_states_t s = h.states()[handled++];
+      for (std::int64_t k : p.hold_at_steps) {
+        if (k != s.step) continue;
+        const std::size_t before = h.states().size();
+        h.spin(300ms);
+        if (h.states().size() != before) out.advanced_without_ack = true;
+      }
+      if (p.before_command) p.before_command(h, s);
+      const auto [vx, omega] = p.command(s.step);
+      h.sendCommand(s.step, s.utime, vx, omega);
+      h.sendAck(s.step, s.utime);
+    }
+  }
+  EXPECT_NE(h.final(), nullptr) << "no final SIM_STATUS";
+  out.exit_code = sim.waitExit(10s);
+  return out;
+}
+
+TEST(WorldSimNode, LockstepAdvancesOnlyOnAcksAndDrivesTheRobotByItsCommands) {
+  Harness h;
+  Participant p;
+  p.hold_at_steps = {0, 10};
+  const RunOutcome r = runWithParticipant(h, "tiny_lockstep.yaml", p);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_FALSE(r.advanced_without_ack) << "a step was published before its predecessor's ack";
+
+  const auto& st = h.states();
+  ASSERT_GT(st.size(), 20u);
+  EXPECT_GE(h.goals(), st.size());  // GOALS with every step
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_EQ(st[k].step, static_cast<std::int64_t>(k));
+    EXPECT_EQ(st[k].utime, static_cast<std::int64_t>(k) * 100000);  // 10 Hz, from t = 0
+    ASSERT_EQ(st[k].num_humans, 1);
+    EXPECT_EQ(st[k].robot.id, 0);
+    EXPECT_NEAR(st[k].robot.y_m, 1.5, 1e-9);  // straight: omega 0
+    if (k > 0) EXPECT_GE(st[k].robot.x_m, st[k - 1].robot.x_m);
+  }
+  EXPECT_DOUBLE_EQ(st[0].robot.x_m, 1.0);
+  // The command of step 0 is applied over step 0 -> 1: 2 physics steps at 0.8 m/s^2.
+  EXPECT_NEAR(st[1].robot.x_m, 1.0 + 0.05 * 0.04 + 0.05 * 0.08, 1e-9);
+  EXPECT_NEAR(st[20].robot.vx_m_s, 0.5, 1e-9);  // reached the commanded speed
+
+  const sim_status_t* fin = h.final();
+  ASSERT_NE(fin, nullptr);
+  EXPECT_EQ(fin->state, sim_status_t::STATE_GOAL_REACHED) << fin->detail;
+  EXPECT_EQ(fin->scenario, "tiny_lockstep");
+  EXPECT_EQ(fin->step, st.back().step);
+  EXPECT_EQ(fin->utime, st.back().utime);
+  // 0.625 s to reach 0.5 m/s (0.156 m), then 2.544 m at 0.5 m/s: 5.71 s.
+  EXPECT_NEAR(fin->robot_time_to_goal_s, 5.71, 0.1);
+  EXPECT_GT(fin->min_clearance_m, 0.5);
+  // One RUNNING status per simulated second before the final one.
+  std::size_t running = 0;
+  for (const auto& s : h.simStatus())
+    if (s.state == sim_status_t::STATE_RUNNING) {
+      EXPECT_EQ(s.utime % 1000000, 0) << s.utime;
+      ++running;
+    }
+  EXPECT_EQ(running, static_cast<std::size_t>(st.back().utime / 1000000));
+}
+
+TEST(WorldSimNode, SameScenarioTwiceGivesByteIdenticalAgentStates) {
+  Participant p;
+  p.command = [](std::int64_t k) {
+    return std::make_pair(0.3 + 0.2 * std::sin(0.3 * static_cast<double>(k)),
+                          0.1 * std::cos(0.2 * static_cast<double>(k)));
+  };
+  std::vector<std::string> runs[2];
+  for (auto& bytes : runs) {
+    Harness h;
+    EXPECT_EQ(runWithParticipant(h, "tiny_lockstep.yaml", p).exit_code, 0);
+    bytes = h.stateBytes();
+  }
+  ASSERT_GT(runs[0].size(), 20u);
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  for (std::size_t k = 0; k < runs[0].size(); ++k) EXPECT_EQ(runs[0][k], runs[1][k]) << k;
+}
+
+TEST(WorldSimNode, ParticipantThatNeverAcksEndsTheRunNamingIt) {
+  Harness h;
+  Participant p;
+  p.ack = false;
+  const RunOutcome r = runWithParticipant(h, "tiny_lockstep.yaml", p);
+  EXPECT_EQ(r.exit_code, 0);
+  ASSERT_NE(h.final(), nullptr);
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_PARTICIPANT_TIMEOUT);
+  EXPECT_NE(h.final()->detail.find(kParticipant), std::string::npos) << h.final()->detail;
+  EXPECT_EQ(h.states().size(), 1u);  // step 0 only
+}
+
+TEST(WorldSimNode, ParticipantThatNeverReportsFailsTheStartNamingIt) {
+  Harness h;
+  ChildProcess sim(daemonPath("world_sim"),
+                   daemonArgs("tiny_lockstep.yaml", {"--set", "wait_ready_timeout_s=0.5"}));
+  ASSERT_TRUE(h.spinUntil([&] { return h.final() != nullptr; }, 10s));
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_PARTICIPANT_TIMEOUT);
+  EXPECT_NE(h.final()->detail.find(kParticipant), std::string::npos) << h.final()->detail;
+  EXPECT_NE(h.final()->detail.find("never"), std::string::npos) << h.final()->detail;
+  EXPECT_TRUE(h.states().empty());
+  EXPECT_EQ(sim.waitExit(5s), 0);
+}
+
+/// Runs the daemon on a file and returns (exit code, stdout + stderr).
+std::pair<int, std::string> runCapture(const std::string& scenario) {
+  std::string cmd = daemonPath("world_sim") + " --lcm-url '" + testLcmUrl() + "' --set scenario='" +
+                    scenarioPath(scenario) + "' 2>&1";
+  FILE* f = ::popen(cmd.c_str(), "r");
+  std::string out;
+  if (f == nullptr) return {-1, out};
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, f)) out += buf;
+  const int st = ::pclose(f);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+TEST(WorldSimNode, BadScenarioFilesExitWithCode3AndNameTheProblem) {
+  const std::map<std::string, std::vector<std::string>> cases = {
+      {"bad_missing_key.yaml", {"'robot.goal'", "missing"}},
+      {"bad_start_in_wall.yaml", {"'humans[0].start'", "not in free space"}},
+      {"bad_unknown_behaviour.yaml", {"'humans[0].behaviour'", "teleport", "social_force"}},
+      {"bad_negative_speed.yaml", {"'humans[0].speed_m_s'", "-0.5", "[0, 3]"}},
+  };
+  for (const auto& [file, expect] : cases) {
+    SCOPED_TRACE(file);
+    const auto [rc, out] = runCapture(file);
+    EXPECT_EQ(rc, 3) << out;
+    EXPECT_NE(out.find(file), std::string::npos) << out;
+    for (const auto& s : expect) EXPECT_NE(out.find(s), std::string::npos) << out;
+  }
+  // A missing scenario key is a config error (2), a missing file a scenario error (3).
+  const auto [rc, out] = runCapture("absent.yaml");
+  EXPECT_EQ(rc, 3) << out;
+  EXPECT_NE(out.find("absent.yaml"), std::string::npos) << out;
+}
+
+TEST(WorldSimNode, SigtermExitsCleanlyWithinOneSecond) {
+  {  // waiting for its participants
+    Harness h;
+    ChildProcess sim(daemonPath("world_sim"), daemonArgs("tiny_lockstep.yaml"));
+    ASSERT_TRUE(h.spinUntil([&] { return h.worldSimReady(); }, 10s));
+    sim.signal(SIGTERM);
+    EXPECT_EQ(sim.waitExit(1s), 0);
+  }
+  {  // running in real time: free-running steps (-1), 0.1 s apart in simulated time
+    Harness h;
+    ChildProcess sim(daemonPath("world_sim"),
+                     daemonArgs("tiny_lockstep.yaml",
+                                {"--set", "mode=real_time", "--set", "real_time_factor=2"}));
+    ASSERT_TRUE(h.spinUntil([&] { return h.states().size() >= 3; }, 10s));
+    sim.signal(SIGTERM);
+    EXPECT_EQ(sim.waitExit(1s), 0);
+    const auto& st = h.states();
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      EXPECT_EQ(st[k].step, -1);
+      if (k > 0) EXPECT_EQ(st[k].utime - st[k - 1].utime, 100000);
+    }
+  }
+}
+
+TEST(WorldSimNode, AskToMoveMakesAResponsiveHumanYieldToTheAskedSide) {
+  // Human 1 walks -x on y = 3; its left is -y. Cued at step 5, it yields; uncued it keeps its line
+  // (the robot is still far: a minimal human has not reacted yet at the end).
+  double final_y[2] = {0.0, 0.0};
+  for (int cued = 0; cued < 2; ++cued) {
+    SCOPED_TRACE(cued);
+    Harness h;
+    Participant p;
+    if (cued) {
+      p.before_command = [](Harness& hh, const agent_states_t& s) {
+        if (s.step == 5) hh.sendAskToMove(s.step, s.utime, 1, situation_t::DIR_LEFT);
+      };
+    }
+    EXPECT_EQ(runWithParticipant(h, "tiny_responsive.yaml", p).exit_code, 0);
+    ASSERT_FALSE(h.states().empty());
+    ASSERT_NE(h.final(), nullptr);
+    EXPECT_EQ(h.final()->state, sim_status_t::STATE_TIME_LIMIT) << h.final()->detail;
+    final_y[cued] = h.states().back().humans[0].y_m;
+    if (cued) {
+      // Nothing before the cue is heard plus the reaction time (0.5 s + 0.8 s).
+      for (const auto& s : h.states())
+        if (s.utime <= 1300000) EXPECT_NEAR(s.humans[0].y_m, 3.0, 1e-9) << s.step;
+    }
+  }
+  EXPECT_NEAR(final_y[0], 3.0, 0.05);
+  EXPECT_LT(final_y[1], 3.0 - 0.5);
+}
+
+}  // namespace
+}  // namespace coopnav

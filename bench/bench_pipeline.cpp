@@ -1,0 +1,193 @@
+// bench_pipeline: the whole system as real processes (distance server, band source, both
+// assessors, dialogue manager, world simulator in lockstep) over the paper's four scenarios.
+// Prints, in one run: suite wall time over simulated time, and the latency from a band message
+// published to the dialogue manager's decision for that step (its step acknowledgement, which
+// it sends after publishing whatever it decided), p50 / p99, beside a bare LCM echo measured in
+// the same run. Ends with RESULT lines.
+#include <lcm/lcm-cpp.hpp>
+#include <signal.h>
+#include <sys/wait.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coopnav/bands_t.hpp"
+#include "coopnav/channels.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "coopnav/sim_status_t.hpp"
+#include "coopnav/step_ack_t.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+const std::string kBuild = COOPNAV_BINARY_DIR;
+const std::string kSource = COOPNAV_SOURCE_DIR;
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (FILE* f = std::freopen(log_path.c_str(), "w", stderr)) (void)f;
+    if (FILE* f = std::freopen("/dev/null", "w", stdout)) (void)f;
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+std::string exe(const std::string& d) { return kBuild + "/daemons/" + d + "/coopnav_" + d; }
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+struct Observer {
+  std::map<std::int64_t, Clock::time_point> band_at;  // step -> band received
+  std::vector<double> latency_ms;
+  std::map<std::string, bool> ready;
+  bool done{false};
+  double sim_end_s{0.0};
+  int final_state{-1};
+
+  std::size_t band_bytes{0};
+  void onBands(const lcm::ReceiveBuffer* rb, const std::string&, const coopnav::bands_t* m) {
+    band_at[m->step] = Clock::now();
+    band_bytes = std::max<std::size_t>(band_bytes, rb->data_size);
+  }
+  void onAck(const lcm::ReceiveBuffer*, const std::string&, const coopnav::step_ack_t* m) {
+    if (m->participant != "dialogue_manager") return;
+    auto it = band_at.find(m->step);
+    if (it == band_at.end()) return;
+    latency_ms.push_back(
+        std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
+    band_at.erase(it);
+  }
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const coopnav::daemon_status_t* m) {
+    ready[m->name] = true;
+  }
+  void onSim(const lcm::ReceiveBuffer*, const std::string&, const coopnav::sim_status_t* m) {
+    if (m->state != coopnav::sim_status_t::STATE_RUNNING) {
+      done = true;
+      final_state = m->state;
+      sim_end_s = static_cast<double>(m->utime) * 1e-6;
+    }
+  }
+};
+
+// Bare echo round trip [ms] of a bands-sized payload on the same URL, for scale.
+std::vector<double> echoRoundTrips(const std::string& url, std::size_t bytes, int n) {
+  const pid_t echo = ::fork();
+  if (echo == 0) {
+    lcm::LCM l(url);
+    struct E {
+      lcm::LCM* l;
+      void on(const lcm::ReceiveBuffer* rb, const std::string&) {
+        l->publish("BENCH_ECHO_REP", rb->data, rb->data_size);
+      }
+    } e{&l};
+    l.subscribe("BENCH_ECHO_REQ", &E::on, &e);
+    while (true) l.handleTimeout(1000);
+  }
+  lcm::LCM lcm(url);
+  struct H {
+    bool got{false};
+    void on(const lcm::ReceiveBuffer*, const std::string&) { got = true; }
+  } h;
+  lcm.subscribe("BENCH_ECHO_REP", &H::on, &h);
+  std::vector<std::uint8_t> payload(bytes, 0x5a);
+  std::vector<double> ms;
+  for (int i = 0; i < n + 20; ++i) {
+    h.got = false;
+    const auto t0 = Clock::now();
+    lcm.publish("BENCH_ECHO_REQ", payload.data(), static_cast<unsigned>(payload.size()));
+    while (!h.got && lcm.handleTimeout(1000) > 0) {
+    }
+    if (h.got && i >= 20)
+      ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  ::kill(echo, SIGKILL);
+  int st = 0;
+  ::waitpid(echo, &st, 0);
+  return ms;
+}
+
+}  // namespace
+
+int main() {
+  const std::vector<std::string> scenarios{"open_facilitating", "open_minimal",
+                                           "narrow_facilitating", "narrow_minimal"};
+  const std::string log_dir = kBuild + "/bench_pipeline_logs";
+  ::mkdir(log_dir.c_str(), 0755);
+  double wall_total_s = 0.0, sim_total_s = 0.0;
+  std::vector<double> all_latency_ms;
+  std::size_t band_bytes = 0;
+  int port = 7971;
+  for (const auto& name : scenarios) {
+    const std::string url =
+        "udpm://239.255.76.67:" + std::to_string(port++) + "?ttl=0&recv_buf_size=4194304";
+    const std::string scenario = kSource + "/config/scenarios/" + name + ".yaml";
+    const std::string cfg = kSource + "/config/";
+    std::vector<pid_t> pids;
+    pids.push_back(spawn({exe("obstacle_distance_server"), "-c",
+                          cfg + "obstacle_distance_server.yaml", "--lcm-url", url, "--set",
+                          "map_file=" + scenario},
+                         log_dir + "/" + name + "_server.log"));
+    pids.push_back(spawn({exe("band_source"), "-c", cfg + "band_source.yaml", "--lcm-url", url,
+                          "--set", "map_file=" + scenario},
+                         log_dir + "/" + name + "_band_source.log"));
+    for (const char* d : {"situation_assessor", "path_assessor", "dialogue_manager"})
+      pids.push_back(spawn({exe(d), "-c", cfg + d + ".yaml", "--lcm-url", url},
+                           log_dir + "/" + name + "_" + d + ".log"));
+
+    lcm::LCM lcm(url);
+    Observer obs;
+    lcm.subscribe(coopnav::channels::kBands, &Observer::onBands, &obs);
+    lcm.subscribe(coopnav::channels::kStepAck, &Observer::onAck, &obs);
+    lcm.subscribe(coopnav::channels::kStatus, &Observer::onStatus, &obs);
+    lcm.subscribe(coopnav::channels::kSimStatus, &Observer::onSim, &obs);
+    const auto ready_deadline = Clock::now() + std::chrono::seconds(60);
+    while (obs.ready.size() < 5 && Clock::now() < ready_deadline) lcm.handleTimeout(100);
+
+    const auto t0 = Clock::now();
+    const pid_t sim = spawn({exe("world_sim"), "-c", cfg + "world_sim.yaml", "--lcm-url", url,
+                             "--set", "scenario=" + scenario},
+                            log_dir + "/" + name + "_world_sim.log");
+    const auto deadline = t0 + std::chrono::minutes(10);
+    while (!obs.done && Clock::now() < deadline) lcm.handleTimeout(100);
+    const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    int st = 0;
+    ::waitpid(sim, &st, 0);
+    for (pid_t p : pids) ::kill(p, SIGTERM);
+    for (pid_t p : pids) ::waitpid(p, &st, 0);
+    std::printf("%-20s sim %.1f s in %.2f s wall (final state %d), %zu band->decision samples\n",
+                name.c_str(), obs.sim_end_s, wall_s, obs.final_state, obs.latency_ms.size());
+    wall_total_s += wall_s;
+    sim_total_s += obs.sim_end_s;
+    all_latency_ms.insert(all_latency_ms.end(), obs.latency_ms.begin(), obs.latency_ms.end());
+    band_bytes = std::max(band_bytes, obs.band_bytes);
+  }
+  if (band_bytes == 0) band_bytes = 4096;
+  const auto echo = echoRoundTrips("udpm://239.255.76.67:7979?ttl=0", band_bytes, 500);
+  const double p50 = percentile(all_latency_ms, 0.5), p99 = percentile(all_latency_ms, 0.99);
+  const double e50 = percentile(echo, 0.5), e99 = percentile(echo, 0.99);
+  std::printf("suite: %.1f s simulated in %.1f s wall -> wall/sim %.4f (target <= 0.1)\n",
+              sim_total_s, wall_total_s, wall_total_s / sim_total_s);
+  std::printf("band -> decision: p50 %.2f ms, p99 %.2f ms over %zu steps; bare LCM echo of %zu "
+              "bytes: p50 %.3f ms, p99 %.3f ms (ratio p50 %.1f)\n",
+              p50, p99, all_latency_ms.size(), band_bytes, e50, e99, p50 / e50);
+  std::printf("RESULT suite_wall_over_sim %.4f\n", wall_total_s / sim_total_s);
+  std::printf("RESULT decision_latency_p50_ms %.3f\n", p50);
+  std::printf("RESULT decision_latency_p99_ms %.3f\n", p99);
+  return 0;
+}

@@ -1,0 +1,421 @@
+#include "band_source_node.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "common/daemon_main.hpp"
+#include "common/log.hpp"
+#include "common/map_loader.hpp"
+#include "coopnav/bands_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
+#include "coopnav/velocity_command_t.hpp"
+
+namespace coopnav {
+namespace {
+
+/// Cycles between two planning-time log lines.
+constexpr std::size_t kPlanStatsEvery = 100;
+/// Cap of the whole-run planning-time record (the exit summary); ~1 h at 20 Hz.
+constexpr std::size_t kPlanStatsKeep = 100000;
+/// Free-running: a message this fraction of a period early still starts a cycle, so that a
+/// publisher at exactly control_hz with a little jitter is not halved.
+constexpr double kThrottleSlack = 0.05;
+/// Below this speed a human's heading is its pose's, not its direction of motion [m/s].
+constexpr double kWalkingSpeed_m_s = 0.1;
+
+std::int8_t bandsStatus(PlanStatus s) {
+  switch (s) {
+    case PlanStatus::kOk:
+      return bands_t::STATUS_OK;
+    case PlanStatus::kGoalReached:
+      return bands_t::STATUS_GOAL_REACHED;
+    case PlanStatus::kNoPath:
+    case PlanStatus::kGoalInObstacle:
+      return bands_t::STATUS_NO_PATH;
+    case PlanStatus::kInvalidConfig:
+      return bands_t::STATUS_SOLVER_FAILED;
+    case PlanStatus::kInvalidInput:
+    case PlanStatus::kOutsideMap:
+    case PlanStatus::kStartInObstacle:
+      return bands_t::STATUS_INVALID_INPUT;
+  }
+  return bands_t::STATUS_SOLVER_FAILED;
+}
+
+std::int8_t commandMode(RobotMode m) {
+  switch (m) {
+    case RobotMode::kNavigate:
+      return velocity_command_t::MODE_NAVIGATING;
+    case RobotMode::kDocking:
+      return velocity_command_t::MODE_DOCKING;
+    case RobotMode::kHolding:
+      return velocity_command_t::MODE_HOLDING;
+    case RobotMode::kResuming:
+      return velocity_command_t::MODE_RESUMING;
+    case RobotMode::kGoalReached:
+      return velocity_command_t::MODE_GOAL_REACHED;
+  }
+  return velocity_command_t::MODE_STOPPED;
+}
+
+/// Position and heading of motion (the mode machine judges "passed" along where the human goes).
+Pose2 motionPose(const AgentState& h) {
+  Pose2 p = h.pose;
+  const double vx = h.velocity.vx_m_s, vy = h.velocity.vy_m_s;
+  if (std::hypot(vx, vy) > kWalkingSpeed_m_s) p.theta_rad = std::atan2(vy, vx);
+  return p;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+std::string idList(const std::set<std::int32_t>& ids) {
+  std::string s;
+  for (const auto id : ids) s += (s.empty() ? "" : ",") + std::to_string(id);
+  return s;
+}
+
+}  // namespace
+
+void BandSourceConfig::resolvePaths(const std::string& base_dir) {
+  map_file = resolvePath(base_dir, map_file);
+}
+
+BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
+    : config_(config), runtime_(runtime) {
+  LoadedMap map;
+  try {
+    MapLoadOptions opts;
+    opts.bt_z_min_m = config_.bt_z_min_m;
+    opts.bt_z_max_m = config_.bt_z_max_m;
+    map = loadMap(config_.map_file, opts);
+  } catch (const MapLoadError& e) {
+    throw StartupError(e.what());
+  }
+  map_ = std::make_shared<GridDistanceField>(std::move(map.grid), config_.unknown_is_obstacle
+                                                                      ? UnknownPolicy::kObstacle
+                                                                      : UnknownPolicy::kFree);
+  const BandPlannerConfig& pc = config_.planner.config;
+  planner_ = std::make_unique<DualBandPlanner>(pc, map_);
+  if (!planner_->configErrors().empty()) {
+    const auto& e = planner_->configErrors().front();
+    throw ConfigError("planner." + e.key + " = " + std::to_string(e.value) +
+                      " is outside the allowed range " + e.allowed);
+  }
+  ModeMachineOptions mo = config_.dock.options;
+  mo.goal_tolerance_m = pc.xy_goal_tolerance_m;
+  mo.dock_reached_tolerance_m = pc.xy_goal_tolerance_m;
+  mo.dock.robot_radius_m = pc.robot.radius_m;
+  modes_ = DockModeMachine(mo);
+
+  StepGateOptions gate;
+  gate.requirements = {{kDialogueParticipant, -1}};
+  gate.timeout = std::chrono::milliseconds(
+      static_cast<std::int64_t>(std::llround(config_.step_gate_timeout_s * 1e3)));
+  gate_ = std::make_unique<StepGate>(runtime_, gate);
+
+  const auto& g = map_->grid();
+  detail_ = "map " + config_.map_file + " " + std::to_string(g.width()) + "x" +
+            std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) + " m";
+  log().info("band_source: {}; {} LM iterations per cycle, free-running at most {} Hz", detail_,
+             config_.max_iterations > 0 ? config_.max_iterations
+                                        : pc.no_inner_iterations * pc.no_outer_iterations,
+             config_.control_hz);
+  runtime_.setRunning(detail_);
+
+  // Queue capacity 0 (unlimited): in lockstep every step must be answered, in order.
+  runtime_.subscribe<agent_states_t>(
+      channels::kAgentStates, [this](const agent_states_t& m, std::int64_t) { onAgentStates(m); },
+      0);
+  runtime_.subscribe<goals_t>(
+      channels::kGoals, [this](const goals_t& m, std::int64_t) { onGoals(m); }, 0);
+  runtime_.subscribe<robot_action_t>(
+      channels::kRobotAction, [this](const robot_action_t& m, std::int64_t) { onRobotAction(m); },
+      0);
+}
+
+BandSourceNode::~BandSourceNode() {
+  if (all_plan_ms_.empty()) return;
+  log().info(
+      "band_source: {} planning cycles, planning time p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms",
+      cycles_, percentile(all_plan_ms_, 0.5), percentile(all_plan_ms_, 0.99),
+      *std::max_element(all_plan_ms_.begin(), all_plan_ms_.end()));
+}
+
+void BandSourceNode::ackInOrder(std::int64_t utime, std::int64_t step) {
+  if (step < 0) return;
+  gate_->submit(step,
+                [this, utime, step](bool, const std::string&) { runtime_.ackStep(utime, step); });
+}
+
+void BandSourceNode::onAgentStates(const agent_states_t& msg) {
+  AgentStatesSnapshot s;
+  try {
+    s = fromLcm(msg);
+    for (const auto& h : s.humans)
+      if (h.id == s.robot.id)
+        throw RejectedMessage("human id " + std::to_string(h.id) + " is the robot's id");
+  } catch (const RejectedMessage&) {
+    ackInOrder(msg.utime, msg.step);
+    throw;
+  }
+  if (s.step >= 0) {
+    if (s.step <= last_step_) {
+      ackInOrder(s.utime, s.step);
+      throw DroppedMessage("agent states step " + std::to_string(s.step) + " after step " +
+                           std::to_string(last_step_));
+    }
+    last_step_ = s.step;
+  }
+  if (last_utime_ && s.utime < *last_utime_) {
+    ackInOrder(s.utime, s.step);
+    throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
+                         std::to_string(*last_utime_));
+  }
+  last_utime_ = s.utime;
+  runtime_.noteLogicTime(s.utime);
+  if (s.step < 0) {
+    // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
+    const double period_us = 1e6 / config_.control_hz;
+    if (last_cycle_utime_ &&
+        static_cast<double>(s.utime - *last_cycle_utime_) < period_us * (1.0 - kThrottleSlack))
+      return;
+    last_cycle_utime_ = s.utime;
+  }
+  gate_->submit(s.step, [this, s](bool degraded, const std::string& missing) {
+    cycle(s, degraded, missing);
+  });
+}
+
+void BandSourceNode::onGoals(const goals_t& msg) {
+  goals_ = fromLcm(msg);  // full state: replaces the previous goals
+}
+
+void BandSourceNode::onRobotAction(const robot_action_t& msg) {
+  if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME)
+    throw RejectedMessage("unknown robot action " + std::to_string(msg.action));
+  log().info("band_source: robot action {} for human {} at step {} ({})",
+             msg.action == robot_action_t::ACTION_DOCK ? "DOCK" : "RESUME", msg.human_id, msg.step,
+             msg.reason);
+  actions_.push_back({msg.action, msg.human_id, msg.step});
+}
+
+void BandSourceNode::cycle(const AgentStatesSnapshot& s, bool degraded,
+                           const std::string& missing) {
+  try {
+    plan(s);
+  } catch (const std::exception& e) {
+    // A bug or an unforeseen input: never take the daemon down, never leave a step unanswered.
+    runtime_.countRejected();
+    log().error("band_source: step {} (utime {}) failed: {}", s.step, s.utime, e.what());
+  }
+  if (degraded) {
+    runtime_.setDegraded("step " + std::to_string(s.step) + " planned without " + missing);
+  } else {
+    runtime_.setRunning(detail_);
+  }
+  runtime_.ackStep(s.utime, s.step);
+}
+
+void BandSourceNode::plan(const AgentStatesSnapshot& s) {
+  const double stamp_s = utimeToSeconds(s.utime);
+
+  // --- goals: the robot's (kind ROBOT; its own id preferred) and the humans' ---
+  std::optional<Pose2> robot_goal;
+  std::map<std::int32_t, Pose2> human_goals;
+  if (goals_) {
+    for (const auto& g : goals_->goals) {
+      if (g.kind == AgentKind::kRobot) {
+        if (!robot_goal || g.agent_id == s.robot.id) robot_goal = g.pose;
+      } else {
+        human_goals[g.agent_id] = g.pose;
+      }
+    }
+  }
+
+  // --- the dialogue's actions since the last cycle; the latest one wins ---
+  bool dock_req = false, resume_req = false;
+  std::int32_t dock_for = -1;
+  for (const auto& a : actions_) {
+    dock_req = a.action == robot_action_t::ACTION_DOCK;
+    resume_req = a.action == robot_action_t::ACTION_RESUME;
+    if (dock_req) dock_for = a.human_id;
+  }
+  actions_.clear();
+
+  // --- mode: navigate / dock / hold / resume ---
+  RobotMode mode = RobotMode::kNavigate;
+  Pose2 active_goal = s.robot.pose;
+  bool hold = false;
+  if (robot_goal) {
+    ModeInput in;
+    in.stamp_s = stamp_s;
+    in.robot = s.robot.pose;
+    in.goal = *robot_goal;
+    in.dock_requested = dock_req;
+    in.resume_requested = resume_req;
+    const std::optional<std::int32_t> hid =
+        dock_req ? std::optional<std::int32_t>(dock_for) : dock_human_id_;
+    const AgentState* human = hid ? s.human(*hid) : nullptr;
+    if (human) {
+      in.has_human = true;
+      in.human = motionPose(*human);
+    } else if (dock_req) {
+      log().warn("band_source: DOCK for human {} who is not in the agent states: ignored",
+                 dock_for);
+    }
+    const ModeOutput out = modes_.update(*map_, in);
+    if (out.dock_failure) {
+      log().warn("band_source: DOCK for human {} impossible at step {}: {}", dock_for, s.step,
+                 *out.dock_failure == DockStatus::kNoWall
+                     ? "no wall on the side away from the human"
+                     : "no reachable dock pose");
+    }
+    if (out.mode == RobotMode::kDocking || out.mode == RobotMode::kHolding) {
+      if (out.changed && out.mode == RobotMode::kDocking) dock_human_id_ = dock_for;
+    } else {
+      dock_human_id_.reset();
+    }
+    if (out.changed) {
+      log().info("band_source: mode {} at step {} (utime {})", toString(out.mode), s.step, s.utime);
+    }
+    mode = out.mode;
+    active_goal = out.active_goal;
+    hold = out.hold_still;
+  } else if (dock_req || resume_req) {
+    log().warn("band_source: robot action ignored: the robot has no goal");
+  }
+
+  // --- plan ---
+  PlanRequest req;
+  req.stamp_s = stamp_s;
+  req.agent = s.robot;
+  req.goal = active_goal;
+  req.max_iterations = config_.max_iterations;
+  req.time_budget_s = s.step < 0 ? config_.free_running_time_budget_s : 0.0;
+  std::set<std::int32_t> with_goal, without_goal;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& h : s.humans) {
+    OtherAgentInput o;
+    o.state = h;
+    const auto it = human_goals.find(h.id);
+    if (it != human_goals.end()) {
+      o.goal = it->second;
+      with_goal.insert(h.id);
+    } else {
+      o.goal = {kNaN, kNaN, kNaN};  // unknown: the planner predicts constant velocity
+      without_goal.insert(h.id);
+    }
+    req.others.push_back(o);
+  }
+  if (without_goal != humans_without_goal_) {
+    humans_without_goal_ = without_goal;
+    if (!without_goal.empty()) {
+      log().info(
+          "band_source: humans without a goal (constant-velocity band, no reference path): {}",
+          idList(without_goal));
+    }
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const PlanResult r = planner_->plan(req);
+  const double plan_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  notePlanTime(plan_ms);
+  ++cycles_;
+  if (r.status != PlanStatus::kOk && r.status != PlanStatus::kGoalReached) {
+    log().warn("band_source: step {} (utime {}): planner {}", s.step, s.utime, toString(r.status));
+  }
+  log().debug("band_source: step {} {} mode {} {} iterations, cost {:.3g}, {:.2f} ms", s.step,
+              toString(r.status), toString(mode), r.iterations, r.final_cost, plan_ms);
+
+  // --- outputs, in the lockstep order: reference paths, bands, command ---
+  publishReferencePaths(s, r, with_goal);
+
+  const bool idle = !robot_goal;
+  const bool usable = r.status == PlanStatus::kOk || r.status == PlanStatus::kGoalReached;
+  std::int8_t cmd_mode = velocity_command_t::MODE_IDLE;
+  if (!idle) cmd_mode = usable ? commandMode(mode) : velocity_command_t::MODE_STOPPED;
+
+  BandsSnapshot b;
+  b.utime = s.utime;
+  b.step = s.step;
+  b.status = bandsStatus(r.status);
+  b.robot_mode = cmd_mode;
+  b.iterations = r.iterations;
+  b.final_cost = r.final_cost;
+  b.solve_time_ms = r.solver_time_s * 1e3;
+  b.robot_id = s.robot.id;
+  b.robot = r.agent_band;
+  for (const auto& o : r.others) b.humans.emplace_back(o.id, o.band);
+  runtime_.publish(channels::kBands, toLcm(b));
+
+  VelocityCommand c;
+  c.utime = s.utime;
+  c.step = s.step;
+  c.mode = cmd_mode;
+  if (r.status == PlanStatus::kOk && !hold && !idle) c.body = r.command_body;
+  runtime_.publish(channels::kRobotCmd, toLcm(c));
+}
+
+void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const PlanResult& r,
+                                           const std::set<std::int32_t>& with_goal) {
+  bool changed = false;
+  // Forget humans who left, or whose goal became unknown (their path is no longer a reference).
+  for (auto it = refs_.begin(); it != refs_.end();) {
+    if (!with_goal.count(it->first)) {
+      it = refs_.erase(it);
+      changed = true;
+    } else {
+      ++it;
+    }
+  }
+  for (const auto& o : r.others) {
+    if (!with_goal.count(o.id) || o.reference_path.size() < 2) continue;
+    auto it = refs_.find(o.id);
+    if (it == refs_.end()) {
+      refs_[o.id] = {o.reference_path, 1};
+      changed = true;
+    } else if (it->second.path != o.reference_path) {
+      it->second.path = o.reference_path;
+      ++it->second.revision;
+      changed = true;
+    }
+  }
+  const bool due =
+      config_.reference_paths_republish_s > 0.0 && last_refs_utime_ &&
+      utimeToSeconds(s.utime - *last_refs_utime_) >= config_.reference_paths_republish_s;
+  if (!changed && !due) return;
+  ReferencePaths out;
+  out.utime = s.utime;
+  out.step = s.step;
+  for (const auto& [id, ref] : refs_) {
+    ReferencePaths::Entry e;
+    e.agent_id = id;
+    e.revision = ref.revision;
+    e.path = ref.path;
+    out.paths.push_back(std::move(e));
+  }
+  runtime_.publish(channels::kReferencePaths, toLcm(out));
+  last_refs_utime_ = s.utime;
+}
+
+void BandSourceNode::notePlanTime(double ms) {
+  plan_ms_.push_back(ms);
+  if (all_plan_ms_.size() < kPlanStatsKeep) all_plan_ms_.push_back(ms);
+  if (plan_ms_.size() >= kPlanStatsEvery) {
+    log().info(
+        "band_source: planning time over {} cycles: p50 {:.2f} ms, p99 {:.2f} ms, max "
+        "{:.2f} ms",
+        plan_ms_.size(), percentile(plan_ms_, 0.5), percentile(plan_ms_, 0.99),
+        *std::max_element(plan_ms_.begin(), plan_ms_.end()));
+    plan_ms_.clear();
+  }
+}
+
+}  // namespace coopnav

@@ -1,0 +1,139 @@
+#pragma once
+/// @file Band source: the CoHAN-style dual-band planner (lib/band) behind LCM. From the agent
+/// states, the goals and the dialogue's robot actions it plans, each control cycle, the robot's
+/// band and one anticipated band per human, the humans' reference paths and the robot's velocity
+/// command; a DOCK action sends the robot to a wall-side pose until the human has passed.
+/// Lockstep: one agent-states step = one control cycle, acknowledged after its outputs.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/band_config_yaml.hpp"
+#include "common/config.hpp"
+#include "common/conversions.hpp"
+#include "common/runtime.hpp"
+#include "common/step_gate.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/band/dual_band_planner.hpp"
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/goals_t.hpp"
+#include "coopnav/planning/dock.hpp"
+#include "coopnav/robot_action_t.hpp"
+
+namespace coopnav {
+
+struct BandSourceConfig {
+  /// Known map, the same file as the distance server's: ROS map_server YAML (+PGM), OctoMap .bt,
+  /// or a walls YAML. Relative to the config file.
+  std::string map_file{"maps/open.yaml"};
+  /// Unknown cells count as obstacles (open.pgm's pillar interior is unknown).
+  bool unknown_is_obstacle{true};
+  /// Height band [m] of a .bt map projected to 2-D.
+  double bt_z_min_m{0.05};
+  double bt_z_max_m{2.0};
+  /// Free-running only: at most this many cycles per second of message time (CoHAN: 10 Hz). In
+  /// lockstep every step is a cycle; the simulator's publish_hz sets the rate.
+  double control_hz{10.0};
+  /// Total LM iterations per cycle; 0 = planner.no_inner_iterations x no_outer_iterations.
+  /// The only solver budget in lockstep, so a run repeats to the last digit.
+  int max_iterations{0};
+  /// Free-running only: solver time budget per cycle [s], 0 = none (iterations only).
+  double free_running_time_budget_s{0.0};
+  /// Lockstep: how long a step waits for dialogue_manager's ack of the previous step before it is
+  /// planned without it [s] (liveness only).
+  double step_gate_timeout_s{2.0};
+  /// Reference paths are republished unchanged this often [s of message time] for late joiners;
+  /// 0 = only when a path changes.
+  double reference_paths_republish_s{1.0};
+  /// Dock / hold / resume.
+  ModeMachineOptionsYaml dock;
+  /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
+  BandPlannerConfigYaml planner;
+
+  template <class V>
+  void visit(V& v) {
+    v("map_file", map_file);
+    v("unknown_is_obstacle", unknown_is_obstacle);
+    v("bt_z_min_m", bt_z_min_m, Range{-100.0, 100.0});
+    v("bt_z_max_m", bt_z_max_m, Range{-100.0, 100.0});
+    v("control_hz", control_hz, Range{0.1, 1000.0});
+    v("max_iterations", max_iterations, Range{0, 10000});
+    v("free_running_time_budget_s", free_running_time_budget_s, Range{0.0, 10.0});
+    v("step_gate_timeout_s", step_gate_timeout_s, Range{0.01, 600.0});
+    v("reference_paths_republish_s", reference_paths_republish_s, Range{0.0, 3600.0});
+    v("dock", dock);
+    v("planner", planner);
+    v.require(bt_z_max_m > bt_z_min_m, "bt_z_max_m", "must be greater than bt_z_min_m");
+    v.require(!map_file.empty(), "map_file", "must name a map file");
+  }
+  void resolvePaths(const std::string& base_dir);
+};
+
+class BandSourceNode {
+ public:
+  using Config = BandSourceConfig;
+  /// The StepGate participant whose ack of step k-1 step k waits for (its robot actions).
+  static constexpr const char* kDialogueParticipant = "dialogue_manager";
+
+  /// Loads the map; throws StartupError naming the file and the problem.
+  BandSourceNode(const Config& config, Runtime& runtime);
+  /// Logs the planning-time summary.
+  ~BandSourceNode();
+  BandSourceNode(const BandSourceNode&) = delete;
+  BandSourceNode& operator=(const BandSourceNode&) = delete;
+
+  /// Planning cycles run so far (for tests).
+  std::int64_t cycles() const { return cycles_; }
+
+ private:
+  struct PendingAction {
+    std::int8_t action{0};
+    std::int32_t human_id{0};
+    std::int64_t step{-1};
+  };
+  struct RefPath {
+    Path2 path;
+    std::int32_t revision{0};
+  };
+
+  void onAgentStates(const agent_states_t& msg);
+  void onGoals(const goals_t& msg);
+  void onRobotAction(const robot_action_t& msg);
+  /// Queues an ack of `step` behind any queued work (a dropped input still completes its step).
+  void ackInOrder(std::int64_t utime, std::int64_t step);
+  /// One control cycle; never throws (it may run from the gate's timer).
+  void cycle(const AgentStatesSnapshot& states, bool degraded, const std::string& missing);
+  void plan(const AgentStatesSnapshot& states);
+  void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
+                             const std::set<std::int32_t>& with_goal);
+  void notePlanTime(double ms);
+
+  Config config_;
+  Runtime& runtime_;
+  std::shared_ptr<const GridDistanceField> map_;
+  std::unique_ptr<DualBandPlanner> planner_;
+  DockModeMachine modes_;
+  std::unique_ptr<StepGate> gate_;
+
+  std::optional<GoalsSnapshot> goals_;
+  std::vector<PendingAction> actions_;         ///< robot actions not yet applied
+  std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
+  std::int64_t last_step_{-1};                 ///< highest lockstep step received
+  std::optional<std::int64_t> last_utime_;     ///< latest agent-states utime accepted
+  std::optional<std::int64_t> last_cycle_utime_;  ///< free-running throttle
+  std::map<std::int32_t, RefPath> refs_;          ///< published reference path per human id
+  std::optional<std::int64_t> last_refs_utime_;
+  std::set<std::int32_t> humans_without_goal_;
+  std::string detail_;
+
+  std::int64_t cycles_{0};
+  std::vector<double> plan_ms_;  ///< wall time per planning call since the last summary
+  std::vector<double> all_plan_ms_;
+};
+
+}  // namespace coopnav

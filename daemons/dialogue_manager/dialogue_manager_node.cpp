@@ -1,0 +1,247 @@
+#include "dialogue_manager_node.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "common/log.hpp"
+#include "coopnav/path_assessor_control_t.hpp"
+#include "coopnav/robot_action_t.hpp"
+#include "coopnav/utterance_t.hpp"
+
+namespace coopnav {
+namespace {
+
+std::string formatTCross(std::optional<double> t_cross_s) {
+  return t_cross_s ? fmt::format("{:.2f} s", *t_cross_s) : std::string("-");
+}
+
+}  // namespace
+
+dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
+  dialogue::DecisionConfig c;
+  c.round1_t_cross_s = round1_t_cross_s;
+  c.round2_t_cross_s = round2_t_cross_s;
+  c.templates = templates;
+  return c;
+}
+
+DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
+    : config_(config),
+      decision_config_(config.decisionConfig()),
+      runtime_(runtime),
+      speech_(config.speech) {
+  StepGateOptions gate;
+  gate.requirements = {{kSituationAssessor, 0}, {kPathAssessor, 0}};
+  gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
+  gate_ = std::make_unique<StepGate>(runtime_, gate);
+  runtime_.subscribe<situation_t>(channels::kSituation,
+                                  [this](const situation_t& m, std::int64_t) { onSituation(m); });
+  runtime_.subscribe<path_assessment_t>(
+      channels::kPathAssessment,
+      [this](const path_assessment_t& m, std::int64_t) { onPathAssessment(m); });
+  runtime_.subscribe<agent_states_t>(
+      channels::kAgentStates, [this](const agent_states_t& m, std::int64_t) { onAgentStates(m); });
+  runtime_.subscribe<step_ack_t>(channels::kStepAck,
+                                 [this](const step_ack_t& a, std::int64_t) { onStepAck(a); });
+  if (config_.speech.enabled) runtime_.addTimer(std::chrono::milliseconds(50), [this] {
+    speech_.poll();
+  });
+  runtime_.setRunning(speech_.usable() ? "speech on" : "");
+}
+
+const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) const {
+  auto it = humans_.find(id);
+  return it == humans_.end() ? nullptr : &it->second.decision;
+}
+
+// ---- input ----
+
+template <class Fill>
+void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, Fill fill) {
+  if (step < -1) throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
+  const bool is_new = steps_.find(step) == steps_.end();
+  // A step already acted on (its bucket is gone) that is older than the newest one seen goes
+  // backwards; the newest one itself may still receive late inputs (they run as a repeat of it).
+  if (is_new && step >= 0 && step < newest_step_)
+    throw RejectedMessage("step " + std::to_string(step) + " goes backwards (newest " +
+                          std::to_string(newest_step_) + ")");
+  StepInputs& bucket = steps_[step];
+  if (bucket.utime < 0) bucket.utime = utime;
+  if (step > newest_step_) newest_step_ = step;
+  try {
+    fill(bucket);
+  } catch (...) {
+    if (is_new) submit(step);  // rejected, but the step is still acknowledged
+    throw;
+  }
+  if (is_new) submit(step);
+}
+
+void DialogueManagerNode::onSituation(const situation_t& msg) {
+  file(msg.step, msg.utime, [&](StepInputs& b) {
+    SituationForDecision s = situationForDecision(msg);
+    b.situations[s.stamp.human_id] = std::move(s);
+  });
+}
+
+void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
+  file(msg.step, msg.utime, [&](StepInputs& b) {
+    PathForDecision p = pathForDecision(msg);
+    b.paths[p.stamp.human_id] = std::move(p);
+  });
+}
+
+void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
+  file(msg.step, msg.utime, [&](StepInputs& b) { b.agents = fromLcm(msg); });
+}
+
+void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
+  // An upstream ack of a step we have no input for (no humans this step, or inputs lost) still
+  // needs a work item, or the step would never be acknowledged downstream.
+  if (ack.participant != kSituationAssessor && ack.participant != kPathAssessor) return;
+  if (ack.step < 0 || ack.step <= newest_step_ || steps_.count(ack.step)) return;
+  newest_step_ = ack.step;
+  steps_[ack.step].utime = ack.utime;
+  submit(ack.step);
+}
+
+void DialogueManagerNode::submit(std::int64_t step) {
+  gate_->submit(step, [this, step](bool degraded, const std::string& missing) {
+    runStep(step, degraded, missing);
+  });
+}
+
+// ---- one step ----
+
+void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::string& missing) {
+  auto it = steps_.find(step);
+  if (it == steps_.end()) return;  // cannot happen: one work item per bucket
+  StepInputs in = std::move(it->second);
+  steps_.erase(it);
+  if (degraded) {
+    degraded_ = true;
+    runtime_.setDegraded("step " + std::to_string(step) + " ran without " + missing);
+  } else if (degraded_ && step >= 0) {
+    degraded_ = false;
+    runtime_.setRunning(speech_.usable() ? "speech on" : "");
+  }
+  try {
+    process(step, in);
+  } catch (const std::exception& e) {
+    // A bug, never input (inputs were validated when filed): say so, and still acknowledge.
+    runtime_.countRejected();
+    log().error("dialogue_manager: step {} failed: {}", step, e.what());
+  }
+  runtime_.noteLogicTime(in.utime);
+  runtime_.ackStep(in.utime, step);
+  // Speech only after everything of the step is out: it must never delay a message.
+  for (const auto& s : speech_pending_) speech_.say(s.text, s.wav_stem);
+  speech_pending_.clear();
+}
+
+void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
+  // 1. Where the agents are: crossed detection and presence, for every human in the scene.
+  std::set<std::int32_t> crossed_now;
+  if (in.agents) {
+    const AgentStatesSnapshot& a = *in.agents;
+    latest_agents_utime_ = std::max(latest_agents_utime_, a.utime);
+    for (const auto& h : a.humans) {
+      Tracked& t = tracked_[h.id];
+      const bool was = t.crossed.crossed;
+      t.crossed = dialogue::updateCrossed(t.crossed, h.pose, a.robot.pose.position(),
+                                          config_.crossed_hysteresis_m);
+      t.last_seen_utime = a.utime;
+      if (!was && t.crossed.crossed) crossed_now.insert(h.id);
+    }
+  }
+  // 2. The latest path assessment of each human, read before the decisions of this step.
+  for (const auto& [id, p] : in.paths) latest_path_[id] = p.snapshot;
+
+  // 3. Decisions, humans in id order (deterministic output order).
+  std::set<std::int32_t> ids;
+  for (const auto& [id, s] : in.situations) ids.insert(id);
+  for (std::int32_t id : crossed_now)
+    if (humans_.count(id)) ids.insert(id);
+  for (std::int32_t id : ids) {
+    auto sit = in.situations.find(id);
+    if (sit != in.situations.end()) {
+      decide(step, id, sit->second.stamp, sit->second.snapshot);
+    } else {
+      // Crossed on this step's agent states, no situation for it: round 3 on the last one.
+      const DialogueStamp stamp{in.agents->utime, step, id};
+      decide(step, id, stamp, humans_.at(id).last_situation);
+    }
+  }
+
+  // 4. Humans that left the scene end their interaction (stop the recorder, resume a dock).
+  if (in.agents) {
+    for (auto& [id, h] : humans_) {
+      if (h.decision.ended()) continue;
+      const Tracked& t = tracked_[id];
+      const double absent_s = t.last_seen_utime < 0
+                                  ? 0.0
+                                  : utimeToSeconds(latest_agents_utime_ - t.last_seen_utime);
+      if (absent_s <= config_.human_gone_s) continue;
+      const std::string why = fmt::format("human {} absent from the agent states for {:.1f} s", id,
+                                          absent_s);
+      const DialogueStamp stamp{in.agents->utime, step, id};
+      emit(stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why), std::nullopt);
+    }
+  }
+}
+
+void DialogueManagerNode::decide(std::int64_t step, std::int32_t id, const DialogueStamp& stamp,
+                                 const dialogue::SituationSnapshot& situation) {
+  auto hit = humans_.find(id);
+  if (hit == humans_.end()) {
+    hit = humans_.emplace(id, Human(decision_config_)).first;
+    log().info("dialogue_manager: human {} seen first at step {} (t_cross {})", id, step,
+               formatTCross(situation.t_cross_s));
+  }
+  Human& h = hit->second;
+  h.last_situation = situation;
+  dialogue::DecisionInput in;
+  in.t_s = utimeToSeconds(stamp.utime);
+  in.situation = situation;
+  auto p = latest_path_.find(id);
+  if (p != latest_path_.end()) in.path = p->second;
+  auto t = tracked_.find(id);
+  in.crossed = t != tracked_.end() && t->second.crossed.crossed;
+  emit(stamp, h.decision.step(in), situation.t_cross_s);
+}
+
+// ---- output ----
+
+void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
+                               std::optional<double> t_cross_s) {
+  std::string why;
+  for (const auto& r : out.rounds) {
+    log().info("dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
+               stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
+               r.reason.empty() ? "" : "; ", r.reason);
+    if (why.empty())
+      why = (r.round > 0 ? "round " + std::to_string(r.round) + ": " : std::string()) + r.branch +
+            (r.reason.empty() ? "" : " (" + r.reason + ")");
+  }
+  // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
+  for (const auto& u : out.utterances) {
+    const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
+    runtime_.publish(channels::kUtterance, toLcm(stamp, u, t));
+    log().info("dialogue_manager: to human {}: \"{}\" ({}, round {})", stamp.human_id, u.text,
+               dialogue::toString(u.act), u.round);
+    speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id,
+                                                   u.round, dialogue::toString(u.act))});
+  }
+  for (const auto a : out.robot_actions) {
+    runtime_.publish(channels::kRobotAction, toLcm(stamp, a, why));
+    log().info("dialogue_manager: robot action {} for human {}", dialogue::toString(a),
+               stamp.human_id);
+  }
+  for (const auto c : out.recorder_commands) {
+    runtime_.publish(channels::kPathAssessorControl, toLcm(stamp, c, why));
+    log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
+                stamp.human_id);
+  }
+}
+
+}  // namespace coopnav

@@ -1,0 +1,9 @@
+#include "common/daemon_main.hpp"
+#include "path_assessor_node.hpp"
+
+int main(int argc, char** argv) {
+  return coopnav::runDaemon<coopnav::PathAssessorNode>(
+      argc, argv, "path_assessor",
+      "Human path assessor (paper §II-C): per human, the contribution array CA, its discounted "
+      "mean CM and IsContributing (COOPNAV_AGENT_STATES -> COOPNAV_PATH_ASSESSMENT).");
+}

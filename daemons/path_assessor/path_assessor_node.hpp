@@ -1,0 +1,79 @@
+#pragma once
+/// @file Human path assessor (paper §II-C): one PathRecorder per human, fed every agent-states
+/// message; publishes CA, CM and IsContributing per human per agent-states message, then
+/// acknowledges the step. Recording is started, stopped and reset by the dialogue manager's
+/// control messages; in lockstep the work of step k waits for the dialogue manager's ack of
+/// step k-1, so the controls it issued at k-1 are applied first (docs/lockstep.md).
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "common/config.hpp"
+#include "common/conversions.hpp"
+#include "common/runtime.hpp"
+#include "common/step_gate.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/assessment/path_assessment.hpp"
+#include "coopnav/path_assessor_control_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
+
+namespace coopnav {
+
+struct PathAssessorNodeConfig {
+  // Defaults come from the lib struct so that there is one place for each.
+  double sample_period_s{assessment::PathAssessorConfig{}.sample_period_s};
+  double gamma{assessment::PathAssessorConfig{}.gamma};
+  double tau_m{assessment::PathAssessorConfig{}.tau_m};
+  double side_deadband_m{assessment::PathAssessorConfig{}.side_deadband_m};
+  double history_s{assessment::PathAssessorConfig{}.history_s};
+  /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
+  int gate_timeout_ms{2000};
+
+  template <class V>
+  void visit(V& v) {
+    v("sample_period_s", sample_period_s, Range{1e-3, 10.0});
+    v("gamma", gamma, Range{1e-6, 1.0});
+    v("tau_m", tau_m, Range{-10.0, 10.0});
+    v("side_deadband_m", side_deadband_m, Range{0.0, 5.0});
+    v("history_s", history_s, Range{0.0, 60.0});
+    v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
+  }
+
+  assessment::PathAssessorConfig recorderConfig() const;
+};
+
+class PathAssessorNode {
+ public:
+  using Config = PathAssessorNodeConfig;
+  PathAssessorNode(const Config& config, Runtime& runtime);
+
+  /// The recorder of a human, nullptr if that human was never seen (tests, diagnostics).
+  const assessment::PathRecorder* recorder(std::int32_t human_id) const;
+
+ private:
+  struct Human {
+    assessment::PathRecorder recorder;
+    std::optional<Path2> reference;  ///< latest reference path (used at the next START)
+    std::int32_t reference_revision{0};
+    bool seen_in_states{false};
+  };
+
+  void onAgentStates(const agent_states_t& msg);
+  void onReferencePaths(const reference_paths_t& msg);
+  void onControl(const path_assessor_control_t& msg);
+  void assess(const AgentStatesSnapshot& states);
+  Human& human(std::int32_t id);
+  /// [s] message time on the node's time base (utime of the first message seen), so the
+  /// recorder's grid arithmetic works on small numbers whatever the clock's epoch.
+  double seconds(std::int64_t utime);
+
+  Config config_;
+  Runtime& runtime_;
+  StepGate gate_;
+  std::map<std::int32_t, Human> humans_;
+  std::optional<std::int64_t> base_utime_;
+};
+
+}  // namespace coopnav

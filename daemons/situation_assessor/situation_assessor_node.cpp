@@ -1,0 +1,236 @@
+#include "situation_assessor_node.hpp"
+
+#include <utility>
+
+#include "common/conversions_assessment.hpp"
+#include "common/log.hpp"
+#include "coopnav/situation_t.hpp"
+
+namespace coopnav {
+namespace {
+
+const char* bandsStatusName(std::int8_t s) {
+  switch (s) {
+    case bands_t::STATUS_OK:
+      return "OK";
+    case bands_t::STATUS_NO_PATH:
+      return "NO_PATH";
+    case bands_t::STATUS_INVALID_INPUT:
+      return "INVALID_INPUT";
+    case bands_t::STATUS_SOLVER_FAILED:
+      return "SOLVER_FAILED";
+    case bands_t::STATUS_GOAL_REACHED:
+      return "GOAL_REACHED";
+    default:
+      return "unknown status";
+  }
+}
+
+void prependReason(std::string& reason, const std::string& what) {
+  if (what.empty()) return;
+  reason = reason.empty() ? what : what + "; " + reason;
+}
+
+}  // namespace
+
+assessment::SituationThresholds SituationAssessorConfig::thresholds() const {
+  assessment::SituationThresholds t;
+  t.tau_h_m = tau_h_m;
+  t.tau_oh_m = tau_oh_m;
+  t.tau_or_m = tau_or_m;
+  t.tau_hr_m = tau_hr_m;
+  t.coincident_tolerance_m = coincident_tolerance_m;
+  return t;
+}
+
+assessment::CrossingConfig SituationAssessorConfig::crossingConfig() const {
+  assessment::CrossingConfig c;
+  c.grid_dt_s = grid_dt_s;
+  c.dir_tolerance_m = dir_tolerance_m;
+  c.dir_lookahead_s = dir_lookahead_s;
+  return c;
+}
+
+SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runtime)
+    : config_(config),
+      runtime_(runtime),
+      thresholds_(config.thresholds()),
+      crossing_config_(config.crossingConfig()),
+      client_(runtime, "situation_assessor",
+              DistanceClient::Options{std::chrono::milliseconds(config.distance_timeout_ms),
+                                      config.distance_attempts}) {
+  runtime_.setRunning();
+  runtime_.subscribe<reference_paths_t>(
+      channels::kReferencePaths,
+      [this](const reference_paths_t& m, std::int64_t) { onReferencePaths(m); });
+  runtime_.subscribe<bands_t>(channels::kBands,
+                              [this](const bands_t& m, std::int64_t) { onBands(m); });
+}
+
+void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
+  const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
+  for (const auto& e : paths.paths) {
+    auto it = references_.find(e.agent_id);
+    if (it != references_.end() && e.revision < it->second.revision) {
+      if (paths.utime <= it->second.utime) {
+        log().debug("situation_assessor: ignoring stale reference path of human {} (revision {} "
+                    "< {})", e.agent_id, e.revision, it->second.revision);
+        continue;
+      }
+      // A newer message with a lower revision: the band source restarted.
+      log().info("situation_assessor: reference path revision of human {} went back from {} to "
+                 "{} (band source restarted?)", e.agent_id, it->second.revision, e.revision);
+    }
+    references_[e.agent_id] = Reference{e.revision, paths.utime, e.path};
+  }
+}
+
+void SituationAssessorNode::onBands(const bands_t& msg) {
+  Job job;
+  job.utime = msg.utime;
+  job.step = msg.step;
+  try {
+    job.bands = fromLcm(msg);
+  } catch (const RejectedMessage&) {
+    // Still acknowledged, in its turn, so that a lockstep run goes on (docs/lockstep.md).
+    enqueue(std::move(job));
+    throw;
+  }
+  enqueue(std::move(job));
+}
+
+void SituationAssessorNode::enqueue(Job job) {
+  const bool free_running = job.step < 0;
+  queue_.push_back(std::move(job));
+  if (free_running) {
+    // Free-running bands supersede each other: keep the newest waiting ones only. The head is
+    // never touched while its request is in flight.
+    std::size_t waiting = 0;
+    for (std::size_t i = busy_ ? 1 : 0; i < queue_.size(); ++i)
+      if (queue_[i].step < 0) ++waiting;
+    for (std::size_t i = busy_ ? 1 : 0;
+         waiting > static_cast<std::size_t>(config_.free_running_queue_max) &&
+         i + 1 < queue_.size();) {
+      if (queue_[i].step < 0) {
+        log().debug("situation_assessor: free-running bands of utime {} superseded, dropped",
+                    queue_[i].utime);
+        queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(i));
+        runtime_.countDropped();
+        --waiting;
+      } else {
+        ++i;
+      }
+    }
+  }
+  pump();
+}
+
+void SituationAssessorNode::pump() {
+  while (!busy_ && !queue_.empty()) {
+    Job& job = queue_.front();
+    if (!job.bands) {
+      runtime_.ackStep(job.utime, job.step);
+      queue_.pop_front();
+      continue;
+    }
+    runtime_.noteLogicTime(job.utime);
+    const BandsSnapshot& bands = *job.bands;
+    work_.clear();
+    std::vector<DistanceQuery> queries;
+    for (const auto& [id, band] : bands.humans) {
+      HumanWork w;
+      w.id = id;
+      if (bands.status != bands_t::STATUS_OK) {
+        w.crossing.status = assessment::CrossingStatus::kBadBands;
+        w.crossing.reason = std::string("bands status ") + bandsStatusName(bands.status) +
+                            ": the bands are not a plan";
+      } else {
+        // Paper §II-B: crossing info of this human band against the robot band.
+        w.crossing = assessment::computeCrossing(bands.robot, band, crossing_config_);
+      }
+      if (w.crossing.status == assessment::CrossingStatus::kOk) {
+        w.queries = assessment::halfPlaneQueries(w.crossing, thresholds_);
+        if (w.queries) {
+          w.first_query = static_cast<int>(queries.size());
+          DistanceQuery q;
+          q.kind = DistanceQueryKind::kSide;
+          q.max_range_m = config_.query_range_m;
+          q.point = w.queries->human.point;
+          q.vector = w.queries->human.normal;
+          queries.push_back(q);
+          q.point = w.queries->robot.point;
+          q.vector = w.queries->robot.normal;
+          queries.push_back(q);
+        } else {
+          w.extra_reason =
+              "CP_h and CP_r coincide and Dir is undefined: no side for the d_OH / d_OR "
+              "half-planes";
+        }
+      }
+      work_.push_back(std::move(w));
+    }
+    if (queries.empty()) {
+      finish(nullptr);
+      continue;
+    }
+    busy_ = true;
+    client_.query(queries, job.utime, [this](const DistanceClient::Outcome& o) {
+      finish(&o);
+      busy_ = false;
+      pump();
+    });
+  }
+}
+
+void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
+  const Job job = std::move(queue_.front());
+  queue_.pop_front();
+  if (outcome) {
+    if (!outcome->ok) {
+      runtime_.setDegraded("distance server: " + outcome->error);
+      log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", job.step,
+                 outcome->error);
+    } else {
+      runtime_.setRunning();
+    }
+  }
+  const BandsSnapshot& bands = *job.bands;
+  for (const HumanWork& w : work_) {
+    std::optional<double> d_oh_m;
+    std::optional<double> d_or_m;
+    std::string reason = w.extra_reason;
+    if (w.first_query >= 0 && outcome) {
+      if (outcome->ok) {
+        const DistanceResult& rh = outcome->results[static_cast<std::size_t>(w.first_query)];
+        const DistanceResult& rr = outcome->results[static_cast<std::size_t>(w.first_query) + 1];
+        d_oh_m = assessment::obstacleDistanceFrom(rh);
+        d_or_m = assessment::obstacleDistanceFrom(rr);
+        if (!d_oh_m) prependReason(reason, std::string("d_OH query: ") + toString(rh.status));
+        if (!d_or_m) {
+          const std::string r = std::string("d_OR query: ") + toString(rr.status);
+          reason = reason.empty() ? r : reason + "; " + r;
+        }
+      } else {
+        prependReason(reason, "distance server: " + outcome->error);
+      }
+    }
+    const auto ref = references_.find(w.id);
+    static const Path2 kNoPath;
+    const Path2& path = ref == references_.end() ? kNoPath : ref->second.path;
+    SituationRecord rec;
+    rec.utime = bands.utime;
+    rec.step = bands.step;
+    rec.human_id = w.id;
+    rec.crossing = w.crossing;
+    rec.has_reference = !path.empty();
+    rec.thresholds = thresholds_;
+    // Paper §II-B: d_h, d_OH, d_OR, d_HR and the three predicates.
+    rec.assessment = assessment::assessSituation(w.crossing, path, d_oh_m, d_or_m, thresholds_);
+    prependReason(rec.assessment.reason, reason);
+    runtime_.publish(channels::kSituation, toLcm(rec));
+  }
+  work_.clear();
+  runtime_.ackStep(job.utime, job.step);
+}
+
+}  // namespace coopnav

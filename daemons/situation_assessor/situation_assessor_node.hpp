@@ -1,0 +1,113 @@
+#pragma once
+/// @file Situation assessor (paper §II-B): for each bands message and each human band in it, the
+/// crossing info against the robot band, the two half-plane distance queries (one batched request
+/// to the obstacle distance server per bands message), and the three predicates; publishes one
+/// situation per human, then acknowledges the step. Bands messages are processed strictly in
+/// arrival order: while one waits for its distance answers the next ones queue behind it (the
+/// lockstep protocol needs the order; see docs/lockstep.md).
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/config.hpp"
+#include "common/conversions.hpp"
+#include "common/distance_client.hpp"
+#include "common/runtime.hpp"
+#include "coopnav/assessment/crossing.hpp"
+#include "coopnav/assessment/situation.hpp"
+#include "coopnav/bands_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
+
+namespace coopnav {
+
+struct SituationAssessorConfig {
+  // Defaults come from the lib structs so that there is one place for each.
+  double tau_h_m{assessment::SituationThresholds{}.tau_h_m};
+  double tau_oh_m{assessment::SituationThresholds{}.tau_oh_m};
+  double tau_or_m{assessment::SituationThresholds{}.tau_or_m};
+  double tau_hr_m{assessment::SituationThresholds{}.tau_hr_m};
+  double coincident_tolerance_m{assessment::SituationThresholds{}.coincident_tolerance_m};
+  double grid_dt_s{assessment::CrossingConfig{}.grid_dt_s};
+  double dir_tolerance_m{assessment::CrossingConfig{}.dir_tolerance_m};
+  double dir_lookahead_s{assessment::CrossingConfig{}.dir_lookahead_s};
+  /// [m] search range of the SIDE queries; an obstacle farther is "none" (+inf, not constrained).
+  double query_range_m{10.0};
+  /// [ms] wall time one distance request attempt may take (liveness only, never logic).
+  int distance_timeout_ms{50};
+  /// Attempts per bands message; the wait is bounded by distance_timeout_ms * distance_attempts.
+  int distance_attempts{3};
+  /// Free-running (step -1) bands messages waiting behind the one in progress beyond this are
+  /// superseded by newer ones and dropped; lockstep messages are never dropped.
+  int free_running_queue_max{2};
+
+  template <class V>
+  void visit(V& v) {
+    v("tau_h_m", tau_h_m, Range{0.0, 10.0});
+    v("tau_oh_m", tau_oh_m, Range{0.0, 10.0});
+    v("tau_or_m", tau_or_m, Range{0.0, 10.0});
+    v("tau_hr_m", tau_hr_m, Range{0.0, 10.0});
+    v("coincident_tolerance_m", coincident_tolerance_m, Range{1e-6, 1.0});
+    v("grid_dt_s", grid_dt_s, Range{1e-3, 1.0});
+    v("dir_tolerance_m", dir_tolerance_m, Range{0.0, 1.0});
+    v("dir_lookahead_s", dir_lookahead_s, Range{0.0, 30.0});
+    v("query_range_m", query_range_m, Range{0.1, 100.0});
+    v("distance_timeout_ms", distance_timeout_ms, Range{1, 5000});
+    v("distance_attempts", distance_attempts, Range{1, 10});
+    v("free_running_queue_max", free_running_queue_max, Range{0, 1000});
+  }
+
+  assessment::SituationThresholds thresholds() const;
+  assessment::CrossingConfig crossingConfig() const;
+};
+
+class SituationAssessorNode {
+ public:
+  using Config = SituationAssessorConfig;
+  SituationAssessorNode(const Config& config, Runtime& runtime);
+
+  /// Bands messages received and not yet published (the head may be waiting for distances).
+  std::size_t queued() const { return queue_.size(); }
+
+ private:
+  struct Job {
+    std::int64_t utime{0};
+    std::int64_t step{-1};
+    std::optional<BandsSnapshot> bands;  ///< nullopt: rejected message, only acknowledged
+  };
+  struct Reference {
+    std::int32_t revision{0};
+    std::int64_t utime{0};
+    Path2 path;
+  };
+  /// Per human of the job at the head of the queue, between the request and the answer.
+  struct HumanWork {
+    std::int32_t id{0};
+    assessment::CrossingInfo crossing;
+    std::optional<assessment::HalfPlaneQueries> queries;
+    int first_query{-1};  ///< index of the d_OH query in the batch (d_OR follows); -1 none
+    std::string extra_reason;
+  };
+
+  void onBands(const bands_t& msg);
+  void onReferencePaths(const reference_paths_t& msg);
+  void enqueue(Job job);
+  void pump();
+  void finish(const DistanceClient::Outcome* outcome);
+
+  Config config_;
+  Runtime& runtime_;
+  assessment::SituationThresholds thresholds_;
+  assessment::CrossingConfig crossing_config_;
+  DistanceClient client_;
+  std::map<std::int32_t, Reference> references_;
+  std::deque<Job> queue_;
+  bool busy_{false};  ///< the head of the queue waits for its distance answers
+  std::vector<HumanWork> work_;
+};
+
+}  // namespace coopnav

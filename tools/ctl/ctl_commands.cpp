@@ -1,6 +1,165 @@
 #include "ctl_commands.hpp"
 
+#include <filesystem>
+#include <iostream>
+
+#include "log_reader.hpp"
+#include "run_analysis.hpp"
+#include "summary.hpp"
+#include "svg_figures.hpp"
+#include "transcript.hpp"
+
 namespace coopnav {
-void addCtlCommands(CLI::App&) {}
-int runCtlCommands(CLI::App&, const std::string&) { return 2; }
+namespace {
+
+// CLI11 binds options to variables that must live until the command runs.
+struct LogCommandOptions {
+  CLI::App* transcript{nullptr};
+  CLI::App* summarize{nullptr};
+  CLI::App* merge{nullptr};
+  CLI::App* figures{nullptr};
+  CLI::App* cm_table{nullptr};
+  std::string log;
+  std::string scenario;
+  std::string out;
+  std::string out_dir;
+  bool merge_into_out{false};
+  bool no_sim_status{false};
+  bool no_unknown{false};
+  bool no_final_cm{false};
+  double sample_period_s{0.1};
+  std::vector<std::string> inputs;
+};
+
+LogCommandOptions& opts() {
+  static LogCommandOptions o;
+  return o;
+}
+
+// Reads the log; reports what was skipped on stderr (never on stdout, which must be the same
+// for the same message contents). Returns false when the log has no coopnav message at all.
+bool loadRun(const std::string& path, ctl::RunLog& run) {
+  run = ctl::readRunLog(path);
+  if (run.counts.anyCorruption())
+    std::cerr << "coopnav_ctl: " << path << ": skipped broken data: " << run.counts.describe()
+              << "\n";
+  if (run.counts.decoded == 0) {
+    std::cerr << "coopnav_ctl: " << path << ": no coopnav message decoded ("
+              << run.counts.describe() << ")\n";
+    return false;
+  }
+  return true;
+}
+
+std::string runName(const ctl::RunAnalysis& a, const std::string& log) {
+  if (!a.scenario.empty()) return a.scenario;
+  return std::filesystem::path(log).stem().string();
+}
+
+int transcriptCommand() {
+  const auto& o = opts();
+  ctl::RunLog run;
+  if (!loadRun(o.log, run)) return 1;
+  const auto analysis = ctl::analyseRun(run, o.scenario);
+  if (!o.scenario.empty() && analysis.final_status &&
+      run.sim_status[*analysis.final_status].scenario != o.scenario)
+    std::cerr << "coopnav_ctl: note: the log's sim status names scenario '"
+              << run.sim_status[*analysis.final_status].scenario << "', not '" << o.scenario
+              << "'\n";
+  ctl::TranscriptOptions topt;
+  topt.include_sim_status = !o.no_sim_status;
+  topt.include_unknown = !o.no_unknown;
+  topt.include_final_cm = !o.no_final_cm;
+  std::cout << ctl::formatTranscript(runName(analysis, o.log),
+                                     ctl::buildTranscript(run, analysis, topt));
+  return 0;
+}
+
+int summarizeCommand() {
+  const auto& o = opts();
+  ctl::RunLog run;
+  if (!loadRun(o.log, run)) return 1;
+  auto analysis = ctl::analyseRun(run, o.scenario);
+  analysis.scenario = runName(analysis, o.log);
+  const auto entry =
+      ctl::summarizeRun(run, analysis, std::filesystem::path(o.log).filename().string());
+  ctl::Json doc = ctl::summaryDocument({entry});
+  if (o.merge_into_out && std::filesystem::exists(o.out))
+    doc = ctl::mergeSummaries({ctl::readSummaryFile(o.out), doc});
+  ctl::writeTextFile(o.out, doc.dump());
+  return 0;
+}
+
+int mergeCommand() {
+  const auto& o = opts();
+  std::vector<ctl::Json> docs;
+  for (const auto& in : o.inputs) docs.push_back(ctl::readSummaryFile(in));
+  ctl::writeTextFile(o.out, ctl::mergeSummaries(docs).dump());
+  return 0;
+}
+
+int figuresCommand() {
+  const auto& o = opts();
+  ctl::RunLog run;
+  if (!loadRun(o.log, run)) return 1;
+  const auto analysis = ctl::analyseRun(run, o.scenario);
+  ctl::FigureOptions fopt;
+  fopt.sample_period_s = o.sample_period_s;
+  const auto paths = ctl::writeFigures(run, analysis, o.out_dir, runName(analysis, o.log), fopt);
+  std::cout << paths.trajectories << "\n" << paths.ca << "\n" << paths.cm_gamma << "\n";
+  return 0;
+}
+
+int cmTableCommand() {
+  std::cout << ctl::formatCmTable(ctl::readSummaryFile(opts().out));
+  return 0;
+}
+
+}  // namespace
+
+void addCtlCommands(CLI::App& app) {
+  auto& o = opts();
+  o.transcript = app.add_subcommand(
+      "transcript", "print what the robot said and did in a recorded run (deterministic text)");
+  o.transcript->add_option("log", o.log, "LCM log of one run (lcm-logger)")->required();
+  o.transcript->add_option("--scenario", o.scenario, "name in the header (default: from the log)");
+  o.transcript->add_flag("--no-sim-status", o.no_sim_status,
+                         "leave out the final simulator status (replays have none)");
+  o.transcript->add_flag("--no-unknown", o.no_unknown, "leave out situation-unknown notes");
+  o.transcript->add_flag("--no-final-cm", o.no_final_cm, "leave out the final CM lines");
+
+  o.summarize = app.add_subcommand("summarize", "write summary.json of a recorded run");
+  o.summarize->add_option("log", o.log, "LCM log of one run")->required();
+  o.summarize->add_option("--scenario", o.scenario, "scenario name (default: from the log)");
+  o.summarize->add_option("--out", o.out, "summary file to write")->required();
+  o.summarize->add_flag("--merge", o.merge_into_out,
+                        "merge into --out if it exists (replacing this scenario's entry)");
+
+  o.merge = app.add_subcommand("merge-summaries", "merge summary files into one");
+  o.merge->add_option("out", o.out, "summary file to write")->required();
+  o.merge->add_option("inputs", o.inputs, "summary files, later ones win per scenario")
+      ->required();
+
+  o.figures = app.add_subcommand("figures", "write SVG figures of a recorded run");
+  o.figures->add_option("log", o.log, "LCM log of one run")->required();
+  o.figures->add_option("--out-dir", o.out_dir, "directory for <name>_*.svg")->required();
+  o.figures->add_option("--scenario", o.scenario, "name of the files (default: from the log)");
+  o.figures->add_option("--sample-period-s", o.sample_period_s,
+                        "path assessor CA sampling period [s] (its sample_period_s)")
+      ->check(CLI::PositiveNumber);
+
+  o.cm_table = app.add_subcommand("cm-table", "print the CM table beside the paper's Table I");
+  o.cm_table->add_option("summary", o.out, "summary.json")->required();
+}
+
+int runCtlCommands(CLI::App&, const std::string&) {
+  auto& o = opts();
+  if (*o.transcript) return transcriptCommand();
+  if (*o.summarize) return summarizeCommand();
+  if (*o.merge) return mergeCommand();
+  if (*o.figures) return figuresCommand();
+  if (*o.cm_table) return cmTableCommand();
+  return 2;
+}
+
 }  // namespace coopnav

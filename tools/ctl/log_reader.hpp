@@ -1,0 +1,111 @@
+#pragma once
+/// @file Reading a recorded run (an lcm-logger file) into the decoded coopnav messages the log
+/// tools need. A log is untrusted input: events on foreign channels, payloads that do not decode
+/// as their channel's type, garbage between events and a cut-off last event are counted and
+/// skipped, never fatal.
+///
+/// The event framing (LCM log-file format: 28-byte big-endian header, channel, payload) is parsed
+/// here rather than by lcm::LogFile because Debian's LCM 1.3.1 reader asserts on a channel length
+/// >= 1000 (abort) and allocates any data length a corrupt header claims; this reader checks both
+/// against the file before trusting them, and resynchronises on the next sync word.
+
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/path_assessment_t.hpp"
+#include "coopnav/path_assessor_control_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
+#include "coopnav/robot_action_t.hpp"
+#include "coopnav/sim_status_t.hpp"
+#include "coopnav/situation_t.hpp"
+#include "coopnav/utterance_t.hpp"
+
+namespace coopnav::ctl {
+
+/// What reading a log met, for the user (stderr) and the summary.
+struct LogReadCounts {
+  std::int64_t events{0};           ///< well-framed events read
+  std::int64_t decoded{0};          ///< decoded as their channel's type and kept
+  std::int64_t not_needed{0};       ///< coopnav channels the tools do not use (bands, acks, ...)
+  std::int64_t unknown_channel{0};  ///< channels that are not coopnav's (LCM_SELF_TEST, ...)
+  std::int64_t undecodable{0};      ///< payload does not decode as its channel's type
+  std::int64_t bad_headers{0};      ///< headers with impossible lengths (skipped, resynchronised)
+  std::int64_t skipped_bytes{0};    ///< bytes passed over to find the next sync word
+  bool truncated{false};            ///< the file ends inside an event
+  std::map<std::string, std::int64_t> undecodable_by_channel;
+
+  /// True when anything was skipped for being broken (not for being foreign or unused).
+  bool anyCorruption() const {
+    return undecodable > 0 || bad_headers > 0 || skipped_bytes > 0 || truncated;
+  }
+  /// One line: "events 812, decoded 640, not needed 150, unknown channel 2, undecodable 1 ...".
+  std::string describe() const;
+};
+
+/// One framed event of a log file.
+struct RawEvent {
+  std::int64_t event_number{0};
+  std::int64_t timestamp_us{0};  ///< logger receive time (wall clock): never used for logic
+  std::string channel;
+  std::vector<std::uint8_t> data;
+};
+
+/// Streams the events of one log file. Throws std::runtime_error when the file cannot be opened.
+class LogEventReader {
+ public:
+  explicit LogEventReader(const std::string& path);
+  ~LogEventReader();
+  LogEventReader(const LogEventReader&) = delete;
+  LogEventReader& operator=(const LogEventReader&) = delete;
+
+  /// Next well-framed event; false at the end of the file.
+  bool next(RawEvent& out);
+  LogReadCounts& counts() { return counts_; }
+
+ private:
+  bool findSync();
+  std::FILE* file_{nullptr};
+  std::int64_t file_size_{0};
+  LogReadCounts counts_;
+};
+
+/// The coopnav messages of one run, each kind in log order, and the log order across kinds.
+struct RunLog {
+  enum class Kind : std::uint8_t {
+    kAgentStates,
+    kSituation,
+    kPathAssessment,
+    kUtterance,
+    kRobotAction,
+    kRecorderControl,
+    kSimStatus,
+    kReferencePaths,
+  };
+  struct Ref {
+    Kind kind;
+    std::size_t index;  ///< into the vector of that kind
+  };
+
+  std::vector<agent_states_t> agent_states;
+  std::vector<situation_t> situations;
+  std::vector<path_assessment_t> assessments;
+  std::vector<utterance_t> utterances;
+  std::vector<robot_action_t> actions;
+  std::vector<path_assessor_control_t> controls;
+  std::vector<sim_status_t> sim_status;
+  std::vector<reference_paths_t> reference_paths;
+  std::vector<Ref> order;
+  LogReadCounts counts;
+};
+
+/// Reads and decodes a whole log. Throws std::runtime_error when the file cannot be opened.
+RunLog readRunLog(const std::string& path);
+
+/// Decodes one event into `run` (or counts why not). Exposed for tests.
+void addEvent(const RawEvent& event, RunLog& run);
+
+}  // namespace coopnav::ctl

@@ -56,7 +56,7 @@ for d in situation_assessor path_assessor dialogue_manager; do
 done
 "$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
   --timeout-s 60 >/dev/null
-lcm-logger -f -l "$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
+lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
 pids+=($!)
 sleep 0.5
 lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \

@@ -70,7 +70,7 @@ for scenario in "${scenarios[@]}"; do
   port=$((port + 1))
   echo "== $name  ($scenario)"
 
-  lcm-logger -f -l "$LCM_DEFAULT_URL" "$dir/$name.lcm" >"$dir/lcm-logger.log" 2>&1 &
+  lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$dir/$name.lcm" >"$dir/lcm-logger.log" 2>&1 &
   pids+=($!)
   "$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
     --set "map_file=$scenario" >"$dir/obstacle_distance_server.log" 2>&1 &

@@ -137,15 +137,15 @@ void addCtlCommands(CLI::App& app) {
 
   o.merge = app.add_subcommand("merge-summaries", "merge summary files into one");
   o.merge->add_option("out", o.out, "summary file to write")->required();
-  o.merge->add_option("inputs", o.inputs, "summary files, later ones win per scenario")
-      ->required();
+  o.merge->add_option("inputs", o.inputs, "summary files, later ones win per scenario")->required();
 
   o.figures = app.add_subcommand("figures", "write SVG figures of a recorded run");
   o.figures->add_option("log", o.log, "LCM log of one run")->required();
   o.figures->add_option("--out-dir", o.out_dir, "directory for <name>_*.svg")->required();
   o.figures->add_option("--scenario", o.scenario, "name of the files (default: from the log)");
-  o.figures->add_option("--sample-period-s", o.sample_period_s,
-                        "path assessor CA sampling period [s] (its sample_period_s)")
+  o.figures
+      ->add_option("--sample-period-s", o.sample_period_s,
+                   "path assessor CA sampling period [s] (its sample_period_s)")
       ->check(CLI::PositiveNumber);
 
   o.cm_table = app.add_subcommand("cm-table", "print the CM table beside the paper's Table I");

@@ -1,7 +1,6 @@
 #pragma once
 // Further coopnav_ctl subcommands (log reading, transcripts, summaries) live beside main.cpp.
 #include <CLI/CLI.hpp>
-
 #include <string>
 
 namespace coopnav {

@@ -57,9 +57,9 @@ bool decodeInto(const RawEvent& e, std::vector<Msg>& out) {
 }
 
 bool isNotNeeded(const std::string& channel) {
-  static const char* const kNames[] = {channels::kGoals,      channels::kBands,
-                                       channels::kRobotCmd,   channels::kDistanceRequest,
-                                       channels::kStatus,     channels::kStepAck};
+  static const char* const kNames[] = {channels::kGoals,    channels::kBands,
+                                       channels::kRobotCmd, channels::kDistanceRequest,
+                                       channels::kStatus,   channels::kStepAck};
   for (const char* n : kNames)
     if (channel == n) return true;
   const std::string prefix = channels::kDistanceReplyPrefix;

@@ -2,7 +2,6 @@
 //   coopnav_ctl wait-ready NAME... [--timeout-s S]     wait for each daemon's status message
 //   coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -42,8 +41,8 @@ int query(const std::string& url, const std::vector<double>& nearest,
   for (std::size_t i = 0; i + 1 < nearest.size(); i += 2)
     qs.push_back({DistanceQueryKind::kNearest, {nearest[i], nearest[i + 1]}, {0, 0}, range_m});
   for (std::size_t i = 0; i + 3 < side.size(); i += 4)
-    qs.push_back({DistanceQueryKind::kSide, {side[i], side[i + 1]}, {side[i + 2], side[i + 3]},
-                  range_m});
+    qs.push_back(
+        {DistanceQueryKind::kSide, {side[i], side[i + 1]}, {side[i + 2], side[i + 3]}, range_m});
   for (std::size_t i = 0; i + 3 < ray.size(); i += 4)
     qs.push_back(
         {DistanceQueryKind::kRay, {ray[i], ray[i + 1]}, {ray[i + 2], ray[i + 3]}, range_m});

@@ -7,8 +7,7 @@
 namespace coopnav::ctl {
 namespace {
 
-std::string codeName(const char* const* names, int first, int count, int code,
-                     const char* prefix) {
+std::string codeName(const char* const* names, int first, int count, int code, const char* prefix) {
   if (code >= first && code < first + count) return names[code - first];
   return std::string(prefix) + std::to_string(code);
 }
@@ -16,9 +15,12 @@ std::string codeName(const char* const* names, int first, int count, int code,
 }  // namespace
 
 std::string speechActName(std::int8_t act) {
-  static const char* const kNames[] = {"INFORM_DIRECTION",  "ASK_TO_MOVE",
-                                       "INFORM_DOCK_IF_NEEDED", "REPEAT_DIRECTION",
-                                       "ASK_TO_MOVE_MORE",  "INFORM_DOCKING",
+  static const char* const kNames[] = {"INFORM_DIRECTION",
+                                       "ASK_TO_MOVE",
+                                       "INFORM_DOCK_IF_NEEDED",
+                                       "REPEAT_DIRECTION",
+                                       "ASK_TO_MOVE_MORE",
+                                       "INFORM_DOCKING",
                                        "THANK"};
   return codeName(kNames, utterance_t::ACT_INFORM_DIRECTION, 7, act, "ACT_");
 }
@@ -136,8 +138,8 @@ RunAnalysis analyseRun(const RunLog& run, const std::string& scenario_override) 
     const auto& s = run.situations[i];
     HumanAnalysis& h = by_id[s.human_id];
     if (h.first_round_situation) continue;
-    if (std::isfinite(s.t_cross_s) && s.t_cross_s <= kRound1TCross_s &&
-        std::isfinite(s.cp_h_x_m) && std::isfinite(s.cp_r_x_m))
+    if (std::isfinite(s.t_cross_s) && s.t_cross_s <= kRound1TCross_s && std::isfinite(s.cp_h_x_m) &&
+        std::isfinite(s.cp_r_x_m))
       h.first_round_situation = i;
   }
 

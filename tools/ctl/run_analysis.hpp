@@ -52,7 +52,7 @@ struct HumanAnalysis {
 };
 
 struct RunAnalysis {
-  std::string scenario;  ///< --scenario, else the sim status' scenario, else ""
+  std::string scenario;               ///< --scenario, else the sim status' scenario, else ""
   std::vector<HumanAnalysis> humans;  ///< every human id seen, ascending
   /// Index of the last sim_status_t; nullopt when the log has none.
   std::optional<std::size_t> final_status;

@@ -51,8 +51,8 @@ double minClearanceFromStates(const RunLog& run) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& s : run.agent_states) {
     for (const auto& h : s.humans) {
-      const double d = std::hypot(h.x_m - s.robot.x_m, h.y_m - s.robot.y_m) - h.radius_m -
-                       s.robot.radius_m;
+      const double d =
+          std::hypot(h.x_m - s.robot.x_m, h.y_m - s.robot.y_m) - h.radius_m - s.robot.radius_m;
       if (std::isfinite(d)) best = std::min(best, d);
     }
   }
@@ -146,7 +146,8 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   Json s = Json::object();
   s.set("scenario", Json::string(analysis.scenario));
   s.set("log", Json::string(log_name));
-  const sim_status_t* st = analysis.final_status ? &run.sim_status[*analysis.final_status] : nullptr;
+  const sim_status_t* st =
+      analysis.final_status ? &run.sim_status[*analysis.final_status] : nullptr;
   if (st) {
     s.set("final_state", Json::string(simStateName(st->state)));
     s.set("collision", Json::boolean(st->state == sim_status_t::STATE_COLLISION));
@@ -273,9 +274,9 @@ std::string formatCmTable(const Json& summary) {
       "CM [m]: ours = interaction CM (round 1 to crossing, no reset), as Table I reports it;\n"
       "window = CM since the last reset (round 2 decides on it). Paper = Table I (gamma 0.98).\n";
   char buf[512];
-  std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", "scenario",
-                "human", "CM ours", "CM paper", "CM window", "IsContributing", "docked",
-                "collision", "final state");
+  std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", "scenario", "human",
+                "CM ours", "CM paper", "CM window", "IsContributing", "docked", "collision",
+                "final state");
   out += buf;
   for (const Json* e : rows) {
     const Json* n = e->find("scenario");
@@ -283,8 +284,7 @@ std::string formatCmTable(const Json& summary) {
     const Json* humans = e->find("humans");
     const std::string paper = fixed(paperTableCm(name), 2);
     const Json* final_state = e->find("final_state");
-    const std::string state =
-        final_state && !final_state->isNull() ? final_state->asString() : "-";
+    const std::string state = final_state && !final_state->isNull() ? final_state->asString() : "-";
     if (!humans || humans->items().empty()) {
       std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", name.c_str(),
                     "-", "-", paper.c_str(), "-", "-", boolText(e->find("docked")).c_str(),

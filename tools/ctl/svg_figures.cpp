@@ -172,8 +172,8 @@ std::string SvgPlot::render() const {
     const double v = k * sx, p = mx(v);
     o += "<line x1=\"" + px(p) + "\" y1=\"" + px(top) + "\" x2=\"" + px(p) + "\" y2=\"" +
          px(top + plot_h) + "\" stroke=\"#e6e6e6\"/>\n";
-    o += "<text x=\"" + px(p) + "\" y=\"" + px(top + plot_h + 16) +
-         "\" text-anchor=\"middle\">" + fixed(v, decimalsFor(sx)) + "</text>\n";
+    o += "<text x=\"" + px(p) + "\" y=\"" + px(top + plot_h + 16) + "\" text-anchor=\"middle\">" +
+         fixed(v, decimalsFor(sx)) + "</text>\n";
   }
   for (long k = static_cast<long>(std::ceil(y0 / sy)); k * sy <= y1; ++k) {
     const double v = k * sy, p = my(v);
@@ -182,12 +182,13 @@ std::string SvgPlot::render() const {
     o += "<text x=\"" + px(left - 6) + "\" y=\"" + px(p + 4) + "\" text-anchor=\"end\">" +
          fixed(v, decimalsFor(sy)) + "</text>\n";
   }
-  o += "<rect x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" + px(plot_w) +
-       "\" height=\"" + px(plot_h) + "\" fill=\"none\" stroke=\"black\"/>\n";
+  o += "<rect x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" + px(plot_w) + "\" height=\"" +
+       px(plot_h) + "\" fill=\"none\" stroke=\"black\"/>\n";
   o += "<text x=\"" + px(left + plot_w / 2) + "\" y=\"" + px(height - 14) +
        "\" text-anchor=\"middle\">" + esc(x_label) + "</text>\n";
-  o += "<text x=\"18\" y=\"" + px(top + plot_h / 2) + "\" text-anchor=\"middle\" transform=\"rotate(-90 18 " +
-       px(top + plot_h / 2) + ")\">" + esc(y_label) + "</text>\n";
+  o += "<text x=\"18\" y=\"" + px(top + plot_h / 2) +
+       "\" text-anchor=\"middle\" transform=\"rotate(-90 18 " + px(top + plot_h / 2) + ")\">" +
+       esc(y_label) + "</text>\n";
 
   o += "<clipPath id=\"plot-area\"><rect x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" +
        px(plot_w) + "\" height=\"" + px(plot_h) + "\"/></clipPath>\n";
@@ -198,8 +199,11 @@ std::string SvgPlot::render() const {
       const double p = mx(g.value);
       o += "<line x1=\"" + px(p) + "\" y1=\"" + px(top) + "\" x2=\"" + px(p) + "\" y2=\"" +
            px(top + plot_h) + "\" stroke=\"" + kGuideColor + "\" stroke-dasharray=\"4 3\"/>\n";
-      o += "<text x=\"" + px(p + 3) + "\" y=\"" + px(top + 12) + "\" fill=\"" + kGuideColor +
-           "\">" + esc(g.label) + "</text>\n";
+      // Near the right edge the label goes to the left of the line, to stay in the plot.
+      const bool flip = p > left + 0.8 * plot_w;
+      o += "<text x=\"" + px(flip ? p - 3 : p + 3) + "\" y=\"" + px(top + 12) + "\"" +
+           (flip ? " text-anchor=\"end\"" : "") + " fill=\"" + kGuideColor + "\">" + esc(g.label) +
+           "</text>\n";
     } else {
       const double p = my(g.value);
       o += "<line x1=\"" + px(left) + "\" y1=\"" + px(p) + "\" x2=\"" + px(left + plot_w) +
@@ -251,8 +255,7 @@ std::string SvgPlot::render() const {
     else
       o += "<rect x=\"" + px(x + 9.5) + "\" y=\"" + px(y - 4.5) +
            "\" width=\"9\" height=\"9\" fill=\"" + item.color + "\" stroke=\"black\"/>\n";
-    o += "<text x=\"" + px(x + 34) + "\" y=\"" + px(y + 4) + "\">" + esc(item.label) +
-         "</text>\n";
+    o += "<text x=\"" + px(x + 34) + "\" y=\"" + px(y + 4) + "\">" + esc(item.label) + "</text>\n";
   }
   o += "</svg>\n";
   return o;
@@ -322,8 +325,8 @@ std::string trajectoriesSvg(const RunLog& run, const RunAnalysis& analysis,
       plot.markers.push_back(
           {"CP_r" + suffix, kRobotColor, s.cp_r_x_m, s.cp_r_y_m, SvgPlot::Marker::Shape::kSquare});
       if (round_note.empty())
-        round_note = ", CP at t=" + fixed(utimeToS(s.utime), 1) +
-                     " s (t_cross " + fixed(s.t_cross_s, 1) + " s)";
+        round_note = ", CP at t=" + fixed(utimeToS(s.utime), 1) + " s (t_cross " +
+                     fixed(s.t_cross_s, 1) + " s)";
     }
   }
   plot.title = name + ": trajectories" + round_note;

@@ -12,9 +12,7 @@ namespace {
 
 // Within one time stamp: why a situation was unknown, then what the dialogue manager did (in its
 // publishing order), as the pipeline runs (lockstep: situation before decision).
-int rank(TranscriptEntry::Kind k) {
-  return k == TranscriptEntry::Kind::kUnknown ? 0 : 1;
-}
+int rank(TranscriptEntry::Kind k) { return k == TranscriptEntry::Kind::kUnknown ? 0 : 1; }
 
 std::string prefix(std::int64_t utime, std::int32_t human_id, double t_cross_s) {
   std::string s = "t=" + fixed(utimeToS(utime), 2) + "s  human " + std::to_string(human_id) +
@@ -141,12 +139,12 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
       e.t_cross_s = std::nan("");
       e.what = "CM";
       e.line = "t=" + fixed(utimeToS(p.utime), 2) + "s  human " + std::to_string(p.human_id) +
-               "  FINAL CM window=" + fixed(p.cm_m, 3) + " m (" +
-               std::to_string(p.window_samples) + " samples, IsContributing " +
-               predicateName(p.is_contributing) + "), interaction=" +
-               fixed(p.cm_interaction_m, 3) + " m (" + std::to_string(p.interaction_samples) +
-               " samples, IsContributing " + predicateName(p.is_contributing_interaction) +
-               "), gamma " + fixed(p.gamma, 2) + ", tau " + fixed(p.tau_m, 2) + " m";
+               "  FINAL CM window=" + fixed(p.cm_m, 3) + " m (" + std::to_string(p.window_samples) +
+               " samples, IsContributing " + predicateName(p.is_contributing) +
+               "), interaction=" + fixed(p.cm_interaction_m, 3) + " m (" +
+               std::to_string(p.interaction_samples) + " samples, IsContributing " +
+               predicateName(p.is_contributing_interaction) + "), gamma " + fixed(p.gamma, 2) +
+               ", tau " + fixed(p.tau_m, 2) + " m";
       events.push_back(std::move(e));
     }
   }

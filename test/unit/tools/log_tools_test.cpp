@@ -1,0 +1,661 @@
+// coopnav_ctl's log tools on a synthetic scripted run written with lcm::LogFile: transcript text,
+// summary.json fields, cm_by_gamma against discountedMean, SVG figures, broken logs.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "coopnav/assessment/path_assessment.hpp"
+#include "coopnav/channels.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "json.hpp"
+#include "log_reader.hpp"
+#include "run_analysis.hpp"
+#include "summary.hpp"
+#include "svg_figures.hpp"
+#include "transcript.hpp"
+
+namespace coopnav::ctl {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A temporary directory removed at the end of the test.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            ("coopnav_tools_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    if (!std::getenv("COOPNAV_KEEP_TEST_FILES")) fs::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+class LogWriter {
+ public:
+  explicit LogWriter(const std::string& path, std::int64_t timestamp0 = 1'700'000'000'000'000)
+      : log_(path, "w"), timestamp_(timestamp0) {
+    if (!log_.good()) throw std::runtime_error("cannot write " + path);
+  }
+  template <class Msg>
+  void put(const std::string& channel, const Msg& msg) {
+    std::vector<std::uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+    msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+    raw(channel, buf);
+  }
+  void raw(const std::string& channel, std::vector<std::uint8_t> bytes) {
+    lcm::LogEvent e{0, timestamp_, channel, static_cast<std::int32_t>(bytes.size()), bytes.data()};
+    timestamp_ += 1234;  // logger receive time: must not show anywhere
+    log_.writeEvent(&e);
+  }
+  // Bytes outside any event (corruption between events).
+  void garbage(const std::vector<std::uint8_t>& bytes) {
+    std::fwrite(bytes.data(), 1, bytes.size(), log_.getFilePtr());
+  }
+
+ private:
+  lcm::LogFile log_;
+  std::int64_t timestamp_;
+};
+
+// The scripted run: robot along +x from x 0, human 1 along -x from x 16 (closing 2 m/s, t_CROSS
+// = 8 - 0.1 k s at step k), the human stepping aside from step 20. Round 1 at step 10 (START,
+// inform left), round 2 at step 40 (dock, reset), crossing at step 80 (stop, resume), thanks at
+// step 85. The path assessor samples one CA per step from step 10.
+constexpr int kSteps = 90;
+constexpr int kStartStep = 10;
+constexpr int kResetStep = 40;
+
+std::int64_t utimeOf(int k) { return std::int64_t{k} * 100'000; }
+double humanY(int k) { return 1.5 + (k >= 20 ? std::min(0.05 * (k - 20), 0.9) : 0.0); }
+double caOfSample(int j) { return std::min(0.03 * j, 0.9); }
+
+std::vector<double> interactionCa(int k) {
+  std::vector<double> ca;
+  for (int j = 0; j <= k - kStartStep; ++j) ca.push_back(caOfSample(j));
+  return ca;
+}
+
+agent_state_t agent(std::int32_t id, std::int8_t kind, double x, double y, double theta) {
+  agent_state_t a{};
+  a.id = id;
+  a.kind = kind;
+  a.x_m = x;
+  a.y_m = y;
+  a.theta_rad = theta;
+  a.radius_m = 0.3;
+  return a;
+}
+
+agent_states_t statesAt(int k) {
+  agent_states_t s{};
+  s.utime = utimeOf(k);
+  s.step = k;
+  s.robot = agent(0, agent_state_t::KIND_ROBOT, 0.1 * k, 1.5, 0.0);
+  s.num_humans = 1;
+  s.humans = {agent(1, agent_state_t::KIND_HUMAN, 16.0 - 0.1 * k, humanY(k), M_PI)};
+  return s;
+}
+
+situation_t situationAt(int k) {
+  const double nan = std::nan("");
+  situation_t s{};
+  s.utime = utimeOf(k);
+  s.step = k;
+  s.human_id = 1;
+  s.tau_h_m = 0.3;
+  s.tau_oh_m = 1.0;
+  s.tau_or_m = 0.3;
+  s.tau_hr_m = 1.2;
+  if (k < 5 || k >= 80) {
+    s.crossing_status = k < 5 ? situation_t::CROSSING_BEYOND_HORIZON : situation_t::CROSSING_OK;
+    s.i_star = -1;
+    s.t_cross_s = s.cp_h_x_m = s.cp_h_y_m = s.cp_r_x_m = s.cp_r_y_m = nan;
+    s.d_h_m = s.d_oh_m = s.d_or_m = s.d_hr_m = nan;
+    s.dir = situation_t::DIR_UNDEFINED;
+    s.human_needs_to_contribute = s.human_is_constrained = s.robot_is_constrained =
+        situation_t::PRED_UNKNOWN;
+    s.reason = k < 5 ? "crossing beyond the band horizon" : "agents have crossed";
+    return s;
+  }
+  s.crossing_status = situation_t::CROSSING_OK;
+  s.i_star = 80 - k;
+  s.t_cross_s = (80 - k) / 10.0;
+  s.cp_h_x_m = 8.0;
+  s.cp_h_y_m = 2.4;
+  s.cp_r_x_m = 8.0;
+  s.cp_r_y_m = 1.2;
+  s.dir = situation_t::DIR_LEFT;
+  s.d_h_m = 0.9;
+  s.d_oh_m = 2.0;
+  s.d_or_m = 0.2;
+  s.d_hr_m = 1.2;
+  s.human_needs_to_contribute = situation_t::PRED_TRUE;
+  s.human_is_constrained = situation_t::PRED_FALSE;
+  s.robot_is_constrained = situation_t::PRED_TRUE;
+  return s;
+}
+
+path_assessment_t assessmentAt(int k) {
+  path_assessment_t p{};
+  p.utime = utimeOf(k);
+  p.step = k;
+  p.human_id = 1;
+  p.gamma = 0.98;
+  p.tau_m = 0.4;
+  const auto inter = interactionCa(k);
+  // Samples at or before the reset's step leave the window from the next step on.
+  const std::size_t window_begin =
+      k > kResetStep ? static_cast<std::size_t>(kResetStep - kStartStep + 1) : 0;
+  p.ca_m.assign(inter.begin() + static_cast<std::ptrdiff_t>(window_begin), inter.end());
+  p.recording = k >= 80 ? path_assessment_t::REC_STOPPED : path_assessment_t::REC_RECORDING;
+  p.num_samples = static_cast<std::int16_t>(p.ca_m.size());
+  p.window_samples = static_cast<std::int32_t>(p.ca_m.size());
+  p.cm_m = *assessment::discountedMean(p.ca_m, p.gamma);
+  p.is_contributing = p.cm_m > p.tau_m ? situation_t::PRED_TRUE : situation_t::PRED_FALSE;
+  p.interaction_samples = static_cast<std::int32_t>(inter.size());
+  p.cm_interaction_m = *assessment::discountedMean(inter, p.gamma);
+  p.is_contributing_interaction =
+      p.cm_interaction_m > p.tau_m ? situation_t::PRED_TRUE : situation_t::PRED_FALSE;
+  return p;
+}
+
+utterance_t say(int k, std::int8_t act, std::int8_t dir, std::int8_t round, double t_cross,
+                const std::string& text) {
+  utterance_t u{};
+  u.utime = utimeOf(k);
+  u.step = k;
+  u.human_id = 1;
+  u.speech_act = act;
+  u.direction = dir;
+  u.round = round;
+  u.t_cross_s = t_cross;
+  u.text = text;
+  return u;
+}
+
+path_assessor_control_t control(int k, std::int8_t command, const std::string& reason) {
+  path_assessor_control_t c{};
+  c.utime = utimeOf(k);
+  c.step = k;
+  c.human_id = 1;
+  c.command = command;
+  c.reason = reason;
+  return c;
+}
+
+robot_action_t action(int k, std::int8_t a, const std::string& reason) {
+  robot_action_t r{};
+  r.utime = utimeOf(k);
+  r.step = k;
+  r.action = a;
+  r.human_id = 1;
+  r.reason = reason;
+  return r;
+}
+
+sim_status_t simStatus(int k, std::int8_t state, const std::string& detail) {
+  sim_status_t s{};
+  s.utime = utimeOf(k);
+  s.step = k;
+  s.state = state;
+  s.scenario = "open_facilitating";
+  s.min_clearance_m = 0.65;
+  s.robot_time_to_goal_s = state == sim_status_t::STATE_GOAL_REACHED ? 8.9 : std::nan("");
+  s.detail = detail;
+  return s;
+}
+
+reference_paths_t referencePaths() {
+  reference_paths_t r{};
+  r.num_paths = 1;
+  path_t p{};
+  p.agent_id = 1;
+  p.num_points = 2;
+  p.x_m = {16.0, 0.0};
+  p.y_m = {1.5, 1.5};
+  r.paths = {p};
+  r.revision = {0};
+  return r;
+}
+
+// The dialogue manager's messages of step k, in its publishing order.
+void dialogueAt(LogWriter& w, int k) {
+  using U = utterance_t;
+  if (k == kStartStep) {
+    w.put(channels::kPathAssessorControl,
+          control(k, path_assessor_control_t::COMMAND_START, "round 1"));
+    w.put(channels::kUtterance, say(k, U::ACT_INFORM_DIRECTION, situation_t::DIR_LEFT, 1, 7.0,
+                                    "I will pass on your left."));
+  } else if (k == kResetStep) {
+    w.put(channels::kUtterance, say(k, U::ACT_INFORM_DOCKING, situation_t::DIR_UNDEFINED, 2, 4.0,
+                                    "I will wait here for you to pass."));
+    w.put(channels::kRobotAction,
+          action(k, robot_action_t::ACTION_DOCK, "robot constrained, human not contributing"));
+    w.put(channels::kPathAssessorControl,
+          control(k, path_assessor_control_t::COMMAND_RESET, "round 2"));
+  } else if (k == 80) {
+    w.put(channels::kPathAssessorControl,
+          control(k, path_assessor_control_t::COMMAND_STOP, "crossed"));
+    w.put(channels::kRobotAction, action(k, robot_action_t::ACTION_RESUME, "human passed"));
+  } else if (k == 85) {
+    w.put(channels::kUtterance,
+          say(k, U::ACT_THANK, situation_t::DIR_UNDEFINED, 3, std::nan(""), "Thank you."));
+  }
+}
+
+struct WriteOptions {
+  // Another arrival order of the daemons' messages within each step (the logger hears several
+  // processes; only the dialogue manager's own order is fixed).
+  bool shuffle{false};
+  std::int64_t timestamp0{1'700'000'000'000'000};
+};
+
+void writeScriptedRun(const std::string& path, const WriteOptions& o = {}) {
+  LogWriter w(path, o.timestamp0);
+  daemon_status_t status{};
+  status.name = "band_source";
+  for (int k = 0; k < kSteps; ++k) {
+    if (k % 10 == 0 && o.shuffle) w.put(channels::kSimStatus, simStatus(k, 0, ""));
+    w.put(channels::kAgentStates, statesAt(k));
+    if (k == 0) w.put(channels::kReferencePaths, referencePaths());
+    if (!o.shuffle && k >= kStartStep) w.put(channels::kPathAssessment, assessmentAt(k));
+    if (!o.shuffle) w.put(channels::kSituation, situationAt(k));
+    dialogueAt(w, k);
+    if (o.shuffle) w.put(channels::kSituation, situationAt(k));
+    if (o.shuffle && k >= kStartStep) w.put(channels::kPathAssessment, assessmentAt(k));
+    if (k % 10 == 0 && !o.shuffle) w.put(channels::kSimStatus, simStatus(k, 0, ""));
+    if (k == 3) {
+      status.utime = o.timestamp0;  // wall clock, as daemons stamp it
+      w.put(channels::kStatus, status);
+      w.raw("FOREIGN_CHANNEL", {1, 2, 3});
+    }
+  }
+  w.put(channels::kSimStatus,
+        simStatus(kSteps - 1, sim_status_t::STATE_GOAL_REACHED, "robot reached its goal"));
+}
+
+const char* const kExpectedTranscript =
+    "# scenario open_facilitating\n"
+    "t=0.00s  human 1  t_cross=-  UNKNOWN crossing BEYOND_HORIZON, needs UNKNOWN, "
+    "human_constrained UNKNOWN, robot_constrained UNKNOWN: \"crossing beyond the band horizon\" "
+    "(first of 5)\n"
+    "t=1.00s  human 1  t_cross=7.00s  RECORDER START (why: round 1)\n"
+    "t=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"I will pass on your left.\" "
+    "(round 1, direction left)\n"
+    "t=4.00s  human 1  t_cross=4.00s  SAY INFORM_DOCKING \"I will wait here for you to pass.\" "
+    "(round 2)\n"
+    "t=4.00s  human 1  t_cross=4.00s  ACTION DOCK (why: robot constrained, human not "
+    "contributing)\n"
+    "t=4.00s  human 1  t_cross=4.00s  RECORDER RESET (why: round 2)\n"
+    "t=8.00s  human 1  t_cross=-  UNKNOWN crossing OK, needs UNKNOWN, human_constrained UNKNOWN, "
+    "robot_constrained UNKNOWN: \"agents have crossed\" (first of 10)\n"
+    "t=8.00s  human 1  t_cross=-  RECORDER STOP (why: crossed)\n"
+    "t=8.00s  human 1  t_cross=-  ACTION RESUME (why: human passed)\n"
+    "t=8.50s  human 1  t_cross=-  SAY THANK \"Thank you.\" (round 3)\n"
+    "t=8.90s  human 1  FINAL CM window=0.900 m (49 samples, IsContributing TRUE), "
+    "interaction=0.813 m (80 samples, IsContributing TRUE), gamma 0.98, tau 0.40 m\n"
+    "t=8.90s  SIM GOAL_REACHED  step 89  min_clearance=0.650m  robot_time_to_goal=8.90s  "
+    "\"robot reached its goal\"\n";
+
+std::string transcriptOf(const std::string& log, const TranscriptOptions& o = {}) {
+  const RunLog run = readRunLog(log);
+  const RunAnalysis a = analyseRun(run);
+  return formatTranscript(a.scenario, buildTranscript(run, a, o));
+}
+
+int countOf(const std::string& text, const std::string& what) {
+  int n = 0;
+  for (auto pos = text.find(what); pos != std::string::npos; pos = text.find(what, pos + 1)) ++n;
+  return n;
+}
+
+TEST(LogTools, ReadsEveryEventAndCountsForeignOnes) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.agent_states.size(), static_cast<std::size_t>(kSteps));
+  EXPECT_EQ(run.situations.size(), static_cast<std::size_t>(kSteps));
+  EXPECT_EQ(run.assessments.size(), static_cast<std::size_t>(kSteps - kStartStep));
+  EXPECT_EQ(run.utterances.size(), 3u);
+  EXPECT_EQ(run.actions.size(), 2u);
+  EXPECT_EQ(run.controls.size(), 3u);
+  EXPECT_EQ(run.sim_status.size(), 10u);
+  EXPECT_EQ(run.reference_paths.size(), 1u);
+  EXPECT_EQ(run.counts.unknown_channel, 1);
+  EXPECT_EQ(run.counts.not_needed, 1);
+  EXPECT_EQ(run.counts.undecodable, 0);
+  EXPECT_FALSE(run.counts.anyCorruption());
+  EXPECT_EQ(run.counts.events, run.counts.decoded + 2);
+}
+
+TEST(LogTools, TranscriptTextIsExact) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  EXPECT_EQ(transcriptOf(dir.file("run.lcm")), kExpectedTranscript);
+}
+
+TEST(LogTools, TranscriptIgnoresWallClockAndCrossDaemonInterleaving) {
+  TempDir dir;
+  writeScriptedRun(dir.file("a.lcm"));
+  WriteOptions other;
+  other.shuffle = true;
+  other.timestamp0 = 42;
+  writeScriptedRun(dir.file("b.lcm"), other);
+  EXPECT_EQ(transcriptOf(dir.file("b.lcm")), transcriptOf(dir.file("a.lcm")));
+}
+
+TEST(LogTools, TranscriptOptionsLeaveOutLines) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  TranscriptOptions o;
+  o.include_sim_status = false;
+  o.include_unknown = false;
+  o.include_final_cm = false;
+  const std::string t = transcriptOf(dir.file("run.lcm"), o);
+  EXPECT_EQ(countOf(t, "\n"), 9);  // header + 8 dialogue lines
+  EXPECT_EQ(countOf(t, "SIM "), 0);
+  EXPECT_EQ(countOf(t, "UNKNOWN"), 0);
+  EXPECT_EQ(countOf(t, "FINAL"), 0);
+}
+
+TEST(LogTools, InteractionCaIsRebuiltAcrossTheReset) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const RunAnalysis a = analyseRun(run);
+  ASSERT_EQ(a.humans.size(), 1u);
+  const HumanAnalysis& h = a.humans[0];
+  EXPECT_TRUE(h.interaction_ca_complete);
+  EXPECT_EQ(h.interaction_ca_m, interactionCa(kSteps - 1));
+  EXPECT_EQ(h.window_starts, (std::vector<std::size_t>{0, kResetStep - kStartStep + 1}));
+  ASSERT_TRUE(h.recorder_start_s.has_value());
+  EXPECT_DOUBLE_EQ(*h.recorder_start_s, 1.0);
+  EXPECT_TRUE(h.docked);
+  ASSERT_TRUE(h.first_round_situation.has_value());
+  EXPECT_EQ(run.situations[*h.first_round_situation].step, kStartStep);
+  // The rebuilt interaction gives the published interaction CM.
+  EXPECT_NEAR(*assessment::discountedMean(h.interaction_ca_m, 0.98),
+              run.assessments.back().cm_interaction_m, 1e-12);
+}
+
+TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json doc =
+      Json::parse(summaryDocument({summarizeRun(run, analyseRun(run), "run.lcm")}).dump());
+  ASSERT_NE(doc.find("format"), nullptr);
+  EXPECT_EQ(doc.find("format")->asString(), kSummaryFormat);
+  const Json& s = doc.find("scenarios")->items().at(0);
+  EXPECT_EQ(s.find("scenario")->asString(), "open_facilitating");
+  EXPECT_EQ(s.find("log")->asString(), "run.lcm");
+  EXPECT_EQ(s.find("final_state")->asString(), "GOAL_REACHED");
+  EXPECT_FALSE(s.find("collision")->asBool());
+  EXPECT_EQ(s.find("collision")->type(), Json::Type::kBool);
+  EXPECT_DOUBLE_EQ(s.find("min_clearance_m")->asNumber(), 0.65);
+  EXPECT_DOUBLE_EQ(s.find("robot_time_to_goal_s")->asNumber(), 8.9);
+  EXPECT_TRUE(s.find("docked")->asBool());
+  // Closest approach of the script: step 80, both at x 8, y 1.5 and 2.4, radii 0.3.
+  EXPECT_NEAR(s.find("min_clearance_states_m")->asNumber(), 0.3, 1e-9);
+
+  const Json& h = s.find("humans")->items().at(0);
+  const path_assessment_t& last = run.assessments.back();
+  EXPECT_EQ(h.find("id")->asNumber(), 1.0);
+  EXPECT_EQ(h.find("cm_window_m")->asNumber(), last.cm_m);
+  EXPECT_EQ(h.find("cm_interaction_m")->asNumber(), last.cm_interaction_m);
+  EXPECT_EQ(h.find("window_samples")->asNumber(), 49.0);
+  EXPECT_EQ(h.find("interaction_samples")->asNumber(), 80.0);
+  EXPECT_TRUE(h.find("is_contributing")->asBool());
+  EXPECT_TRUE(h.find("is_contributing_interaction")->asBool());
+  EXPECT_EQ(h.find("recording")->asString(), "STOPPED");
+  EXPECT_TRUE(h.find("docked")->asBool());
+  EXPECT_TRUE(h.find("thanked")->asBool());
+  EXPECT_TRUE(h.find("interaction_ca_complete")->asBool());
+  const Json* round1 = h.find("first_round");
+  ASSERT_NE(round1, nullptr);
+  EXPECT_DOUBLE_EQ(round1->find("t_s")->asNumber(), 1.0);
+  EXPECT_DOUBLE_EQ(round1->find("cp_h_m")->items().at(1).asNumber(), 2.4);
+  EXPECT_EQ(round1->find("dir")->asString(), "left");
+
+  const auto& entries = h.find("transcript")->items();
+  ASSERT_EQ(entries.size(), 8u);
+  EXPECT_EQ(entries[0].find("kind")->asString(), "recorder");
+  EXPECT_EQ(entries[0].find("command")->asString(), "START");
+  EXPECT_EQ(entries[1].find("kind")->asString(), "say");
+  EXPECT_EQ(entries[1].find("act")->asString(), "INFORM_DIRECTION");
+  EXPECT_EQ(entries[1].find("text")->asString(), "I will pass on your left.");
+  EXPECT_EQ(entries[1].find("round")->asNumber(), 1.0);
+  EXPECT_EQ(entries[1].find("direction")->asString(), "left");
+  EXPECT_DOUBLE_EQ(entries[1].find("t_s")->asNumber(), 1.0);
+  EXPECT_DOUBLE_EQ(entries[1].find("t_cross_s")->asNumber(), 7.0);
+  EXPECT_EQ(entries[3].find("kind")->asString(), "action");
+  EXPECT_EQ(entries[3].find("action")->asString(), "DOCK");
+  // THANK after crossing: t_CROSS unknown -> null.
+  EXPECT_TRUE(entries[7].find("t_cross_s")->isNull());
+}
+
+TEST(LogTools, CmByGammaIsDiscountedMeanOfTheLoggedCa) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json h = Json::parse(summarizeRun(run, analyseRun(run), "run.lcm").dump())
+                     .find("humans")
+                     ->items()
+                     .at(0);
+  const Json* window = h.find("cm_by_gamma");
+  const Json* inter = h.find("cm_interaction_by_gamma");
+  ASSERT_NE(window, nullptr);
+  ASSERT_NE(inter, nullptr);
+  ASSERT_EQ(window->members().size(), std::size(kSummaryGammas));
+  for (const double gamma : kSummaryGammas) {
+    char key[16];
+    std::snprintf(key, sizeof key, "%.2f", gamma);
+    ASSERT_NE(window->find(key), nullptr) << key;
+    // Shortest round-trip text: the exact double comes back.
+    EXPECT_EQ(window->find(key)->asNumber(),
+              *assessment::discountedMean(run.assessments.back().ca_m, gamma))
+        << key;
+    EXPECT_EQ(inter->find(key)->asNumber(),
+              *assessment::discountedMean(interactionCa(kSteps - 1), gamma))
+        << key;
+  }
+  EXPECT_EQ(window->find("0.98")->asNumber(), run.assessments.back().cm_m);
+}
+
+TEST(LogTools, MergeReplacesTheSameScenarioAndKeepsOrder) {
+  Json a = Json::object();
+  a.set("scenario", Json::string("open_facilitating")).set("x", Json::number(1.0));
+  Json b = Json::object();
+  b.set("scenario", Json::string("narrow_minimal")).set("x", Json::number(2.0));
+  Json a2 = Json::object();
+  a2.set("scenario", Json::string("open_facilitating")).set("x", Json::number(3.0));
+  const Json merged = mergeSummaries(
+      {Json::parse(summaryDocument({a, b}).dump()), Json::parse(summaryDocument({a2}).dump())});
+  const auto& list = merged.find("scenarios")->items();
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].find("scenario")->asString(), "open_facilitating");
+  EXPECT_EQ(list[0].find("x")->asNumber(), 3.0);
+  EXPECT_EQ(list[1].find("scenario")->asString(), "narrow_minimal");
+  EXPECT_THROW(mergeSummaries({Json::object()}), std::runtime_error);
+}
+
+TEST(LogTools, SummaryTextSurvivesParseAndDumpUnchanged) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const std::string text = summaryDocument({summarizeRun(run, analyseRun(run), "r.lcm")}).dump();
+  EXPECT_EQ(Json::parse(text).dump(), text);
+  EXPECT_NE(text.find("\"cm_window_m\": "), std::string::npos);
+}
+
+TEST(LogTools, JsonNumbersStringsAndNull) {
+  EXPECT_EQ(jsonNumber(0.1), "0.1");
+  EXPECT_EQ(jsonNumber(0.98), "0.98");
+  EXPECT_EQ(jsonNumber(1.0 / 3.0), "0.3333333333333333");
+  EXPECT_EQ(jsonNumber(std::nan("")), "null");
+  EXPECT_EQ(jsonNumber(-INFINITY), "null");
+  EXPECT_EQ(jsonNumber(-0.0), "0");
+  EXPECT_EQ(Json::number(std::nan("")).dump(), "null\n");
+  EXPECT_EQ(Json::number(std::optional<double>()).dump(), "null\n");
+  const std::string tricky = "say \"hi\"\\ \n\t\x01 é";
+  EXPECT_EQ(jsonQuote(tricky), "\"say \\\"hi\\\"\\\\ \\n\\t\\u0001 é\"");
+  Json o = Json::object();
+  o.set("s", Json::string(tricky)).set("n", Json::null()).set("b", Json::boolean(true));
+  const Json back = Json::parse(o.dump());
+  EXPECT_EQ(back.find("s")->asString(), tricky);
+  EXPECT_TRUE(back.find("n")->isNull());
+  EXPECT_TRUE(back.find("b")->asBool());
+  EXPECT_THROW(Json::parse("{\"a\": [1, 2"), std::runtime_error);
+}
+
+TEST(LogTools, CmTableSitsBesideTableI) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  Json other = Json::object();
+  other.set("scenario", Json::string("narrow_minimal"));
+  other.set("humans", Json::array());
+  const Json doc = summaryDocument({other, summarizeRun(run, analyseRun(run), "run.lcm")});
+  const std::string table = formatCmTable(Json::parse(doc.dump()));
+  std::istringstream lines(table);
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(lines, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 5u) << table;  // 2 notes, header, 2 rows
+  // Table I order: open before narrow, whatever the file order.
+  EXPECT_EQ(rows[3].rfind("open_facilitating", 0), 0u) << rows[3];
+  EXPECT_NE(rows[3].find(" 0.81 "), std::string::npos) << rows[3];  // ours (interaction)
+  EXPECT_NE(rows[3].find(" 0.94 "), std::string::npos) << rows[3];  // paper
+  EXPECT_NE(rows[3].find(" 0.90 "), std::string::npos) << rows[3];  // window
+  EXPECT_NE(rows[3].find("TRUE"), std::string::npos);
+  EXPECT_NE(rows[3].find("GOAL_REACHED"), std::string::npos);
+  EXPECT_EQ(rows[4].rfind("narrow_minimal", 0), 0u) << rows[4];
+  EXPECT_NE(rows[4].find(" 0.05 "), std::string::npos) << rows[4];
+  EXPECT_DOUBLE_EQ(paperTableCm("open_minimal"), 0.15);
+  EXPECT_DOUBLE_EQ(paperTableCm("narrow_facilitating"), 0.49);
+  EXPECT_TRUE(std::isnan(paperTableCm("walls_oblivious")));
+}
+
+TEST(LogTools, FiguresAreSvgWithOnePolylinePerSeries) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const RunAnalysis a = analyseRun(run);
+  const FigurePaths paths = writeFigures(run, a, dir.file("fig"), "open_facilitating");
+  EXPECT_EQ(paths.trajectories, dir.file("fig") + "/open_facilitating_trajectories.svg");
+  auto slurp = [](const std::string& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  const std::string traj = slurp(paths.trajectories);
+  const std::string ca = slurp(paths.ca);
+  const std::string cm = slurp(paths.cm_gamma);
+  for (const auto* svg : {&traj, &ca, &cm}) {
+    EXPECT_EQ(svg->rfind("<?xml", 0), 0u);
+    EXPECT_EQ(countOf(*svg, "<svg "), 1);
+    EXPECT_EQ(countOf(*svg, "</svg>"), 1);
+    EXPECT_EQ(countOf(*svg, "<g "), countOf(*svg, "</g>"));
+    EXPECT_EQ(countOf(*svg, "nan"), 0);
+  }
+  EXPECT_EQ(countOf(traj, "<polyline"), 3);  // robot, human, human's reference path
+  EXPECT_NE(traj.find(">CP_h</text>"), std::string::npos);
+  EXPECT_NE(traj.find(">CP_r</text>"), std::string::npos);
+  EXPECT_NE(traj.find("x [m]"), std::string::npos);
+  EXPECT_EQ(countOf(ca, "<polyline"), 1);
+  EXPECT_NE(ca.find("reset (human 1)"), std::string::npos);
+  EXPECT_EQ(countOf(cm, "<polyline"), 1);
+  EXPECT_NE(cm.find("gamma 0.98"), std::string::npos);
+  // Same log, same bytes.
+  EXPECT_EQ(trajectoriesSvg(run, a, "open_facilitating"), traj);
+}
+
+TEST(LogTools, BrokenLogIsSkippedAndCountedNotFatal) {
+  TempDir dir;
+  const std::string path = dir.file("broken.lcm");
+  {
+    LogWriter w(path);
+    w.put(channels::kAgentStates, statesAt(0));
+    // Right channel, wrong bytes: does not decode.
+    w.raw(channels::kUtterance, {0xde, 0xad, 0xbe, 0xef, 0, 1, 2, 3, 4});
+    // A valid message of another type on the utterance channel: fingerprint mismatch.
+    w.put(channels::kUtterance, statesAt(1));
+    // Garbage between events, then a header claiming an impossible channel length.
+    w.garbage({0x00, 0x11, 0x22, 0x33, 0x44});
+    w.garbage({0xED, 0xA1, 0xDA, 0x01, 0, 0, 0,    0,    0,    0,    0, 9, 0, 0,
+               0,    0,    0,    0,    0, 1, 0x7f, 0xff, 0xff, 0xff, 0, 0, 0, 4});
+    dialogueAt(w, kStartStep);
+    // A negative array count: the generated decoder throws, which must be caught.
+    auto bad = statesAt(2);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(bad.getEncodedSize()));
+    bad.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    // num_humans sits after the fingerprint (8), utime, step (16) and the robot (4+1+7*8).
+    const std::size_t num_humans_at = 8 + 16 + 4 + 1 + 7 * 8;
+    bytes[num_humans_at] = 0xff;
+    bytes[num_humans_at + 1] = 0xff;
+    w.raw(channels::kAgentStates, bytes);
+    w.put(channels::kSituation, situationAt(kStartStep));
+    // The last event cut short: a plausible header whose payload runs past the end.
+    w.garbage({0xED, 0xA1, 0xDA, 0x01, 0, 0, 0, 0, 0, 0, 0, 9,    0, 0,   0,
+               0,    0,    0,    0,    1, 0, 0, 0, 4, 0, 0, 0x10, 0, 'C', 'O'});
+  }
+  RunLog run;
+  ASSERT_NO_THROW(run = readRunLog(path));
+  EXPECT_EQ(run.agent_states.size(), 1u);
+  EXPECT_EQ(run.controls.size(), 1u);
+  EXPECT_EQ(run.utterances.size(), 1u);
+  EXPECT_EQ(run.situations.size(), 1u);
+  EXPECT_EQ(run.counts.undecodable, 3);
+  EXPECT_EQ(run.counts.undecodable_by_channel.at(channels::kUtterance), 2);
+  EXPECT_EQ(run.counts.undecodable_by_channel.at(channels::kAgentStates), 1);
+  EXPECT_EQ(run.counts.bad_headers, 1);
+  EXPECT_GE(run.counts.skipped_bytes, 5);
+  EXPECT_TRUE(run.counts.truncated);
+  EXPECT_TRUE(run.counts.anyCorruption());
+  EXPECT_NE(run.counts.describe().find("undecodable 3"), std::string::npos);
+
+  const RunAnalysis a = analyseRun(run);
+  const std::string t = formatTranscript(a.scenario, buildTranscript(run, a));
+  EXPECT_EQ(t,
+            "# scenario (unnamed)\n"
+            "t=1.00s  human 1  t_cross=7.00s  RECORDER START (why: round 1)\n"
+            "t=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"I will pass on your left.\" "
+            "(round 1, direction left)\n");
+  EXPECT_NO_THROW(summarizeRun(run, a, "broken.lcm").dump());
+  EXPECT_NO_THROW(writeFigures(run, a, dir.file("fig"), "broken"));
+}
+
+TEST(LogTools, MissingOrEmptyLog) {
+  TempDir dir;
+  EXPECT_THROW(readRunLog(dir.file("absent.lcm")), std::runtime_error);
+  { std::ofstream(dir.file("empty.lcm")); }
+  const RunLog run = readRunLog(dir.file("empty.lcm"));
+  EXPECT_EQ(run.counts.events, 0);
+  EXPECT_FALSE(run.counts.anyCorruption());
+  const RunAnalysis a = analyseRun(run);
+  EXPECT_EQ(formatTranscript("x", buildTranscript(run, a)), "# scenario x\n");
+  // Figures of nothing still render, with a note instead of series.
+  EXPECT_EQ(countOf(trajectoriesSvg(run, a, "x"), "<polyline"), 0);
+}
+
+}  // namespace
+}  // namespace coopnav::ctl

@@ -21,7 +21,8 @@ StepGate::StepGate(Runtime& runtime, StepGateOptions options)
 
 void StepGate::submit(std::int64_t step, Work work) {
   if (step < 0 && queue_.empty()) {
-    work(false, "");
+    Pending item{step, std::move(work), std::chrono::steady_clock::now()};
+    runItem(item, false, "");
     return;
   }
   queue_.push_back({step, std::move(work), std::chrono::steady_clock::now()});
@@ -58,13 +59,24 @@ std::string StepGate::missingFor(std::int64_t step) const {
   return missing;
 }
 
+void StepGate::runItem(Pending& item, bool degraded, const std::string& missing) {
+  // Queued work runs outside the handler that submitted it: an exception must neither escape
+  // into an unrelated handler nor leave draining_ set (that would stall the gate for good).
+  try {
+    item.work(degraded, missing);
+  } catch (const std::exception& e) {
+    runtime_.countRejected();
+    log().error("{}: work of step {} failed: {}", runtime_.name(), item.step, e.what());
+  }
+}
+
 void StepGate::drain() {
   if (draining_) return;  // work may publish and re-enter through a local ack
   draining_ = true;
   while (!queue_.empty() && missingFor(queue_.front().step).empty()) {
     Pending item = std::move(queue_.front());
     queue_.pop_front();
-    item.work(false, "");
+    runItem(item, false, "");
   }
   draining_ = false;
 }
@@ -88,7 +100,7 @@ void StepGate::checkTimeouts(std::chrono::steady_clock::time_point now) {
   Pending item = std::move(head);
   queue_.pop_front();
   draining_ = true;
-  item.work(true, missing);
+  runItem(item, true, missing);
   draining_ = false;
   // Later items were queued behind it; the absent peers no longer hold them back.
   for (auto& q : queue_) q.since = now;

@@ -43,7 +43,8 @@ class StepGate {
   StepGate(Runtime& runtime, StepGateOptions options);
 
   /// Runs `work` now if step < 0 (free-running) or the step's requirements are met, else queues
-  /// it; queued work runs in submission order.
+  /// it; queued work runs in submission order. An exception thrown by work is logged and counted
+  /// as rejected, and the gate goes on (it never reaches an unrelated handler).
   void submit(std::int64_t step, Work work);
 
   /// Feeds an acknowledgement (the gate's own subscription calls this; tests may too).
@@ -68,6 +69,7 @@ class StepGate {
     bool present{false};
   };
   std::string missingFor(std::int64_t step) const;
+  void runItem(Pending& item, bool degraded, const std::string& missing);
   void drain();
 
   Runtime& runtime_;

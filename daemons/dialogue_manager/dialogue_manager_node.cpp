@@ -43,9 +43,8 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
       channels::kAgentStates, [this](const agent_states_t& m, std::int64_t) { onAgentStates(m); });
   runtime_.subscribe<step_ack_t>(channels::kStepAck,
                                  [this](const step_ack_t& a, std::int64_t) { onStepAck(a); });
-  if (config_.speech.enabled) runtime_.addTimer(std::chrono::milliseconds(50), [this] {
-    speech_.poll();
-  });
+  if (config_.speech.enabled)
+    runtime_.addTimer(std::chrono::milliseconds(50), [this] { speech_.poll(); });
   runtime_.setRunning(speech_.usable() ? "speech on" : "");
 }
 
@@ -178,12 +177,11 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
     for (auto& [id, h] : humans_) {
       if (h.decision.ended()) continue;
       const Tracked& t = tracked_[id];
-      const double absent_s = t.last_seen_utime < 0
-                                  ? 0.0
-                                  : utimeToSeconds(latest_agents_utime_ - t.last_seen_utime);
+      const double absent_s =
+          t.last_seen_utime < 0 ? 0.0 : utimeToSeconds(latest_agents_utime_ - t.last_seen_utime);
       if (absent_s <= config_.human_gone_s) continue;
-      const std::string why = fmt::format("human {} absent from the agent states for {:.1f} s", id,
-                                          absent_s);
+      const std::string why =
+          fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
       const DialogueStamp stamp{in.agents->utime, step, id};
       emit(stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why), std::nullopt);
     }

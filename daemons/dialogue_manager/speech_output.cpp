@@ -72,11 +72,8 @@ void SpeechOutput::disable(const std::string& why) {
 
 std::vector<std::string> SpeechOutput::argumentsFor(const std::string& text,
                                                     const std::string& wav_stem) const {
-  std::vector<std::string> args{program_path_.empty() ? config_.program : program_path_,
-                                "-v",
-                                config_.voice,
-                                "-s",
-                                std::to_string(config_.rate_wpm)};
+  std::vector<std::string> args{program_path_.empty() ? config_.program : program_path_, "-v",
+                                config_.voice, "-s", std::to_string(config_.rate_wpm)};
   if (!config_.wav_dir.empty()) {
     args.push_back("-w");
     args.push_back((std::filesystem::path(config_.wav_dir) / (wav_stem + ".wav")).string());

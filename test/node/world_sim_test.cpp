@@ -221,7 +221,9 @@ TEST(WorldSimNode, LockstepAdvancesOnlyOnAcksAndDrivesTheRobotByItsCommands) {
     ASSERT_EQ(st[k].num_humans, 1);
     EXPECT_EQ(st[k].robot.id, 0);
     EXPECT_NEAR(st[k].robot.y_m, 1.5, 1e-9);  // straight: omega 0
-    if (k > 0) EXPECT_GE(st[k].robot.x_m, st[k - 1].robot.x_m);
+    if (k > 0) {
+      EXPECT_GE(st[k].robot.x_m, st[k - 1].robot.x_m);
+    }
   }
   EXPECT_DOUBLE_EQ(st[0].robot.x_m, 1.0);
   // The command of step 0 is applied over step 0 -> 1: 2 physics steps at 0.8 m/s^2.
@@ -239,11 +241,11 @@ TEST(WorldSimNode, LockstepAdvancesOnlyOnAcksAndDrivesTheRobotByItsCommands) {
   EXPECT_GT(fin->min_clearance_m, 0.5);
   // One RUNNING status per simulated second before the final one.
   std::size_t running = 0;
-  for (const auto& s : h.simStatus())
-    if (s.state == sim_status_t::STATE_RUNNING) {
-      EXPECT_EQ(s.utime % 1000000, 0) << s.utime;
-      ++running;
-    }
+  for (const auto& s : h.simStatus()) {
+    if (s.state != sim_status_t::STATE_RUNNING) continue;
+    EXPECT_EQ(s.utime % 1000000, 0) << s.utime;
+    ++running;
+  }
   EXPECT_EQ(running, static_cast<std::size_t>(st.back().utime / 1000000));
 }
 
@@ -340,7 +342,9 @@ TEST(WorldSimNode, SigtermExitsCleanlyWithinOneSecond) {
     const auto& st = h.states();
     for (std::size_t k = 0; k < st.size(); ++k) {
       EXPECT_EQ(st[k].step, -1);
-      if (k > 0) EXPECT_EQ(st[k].utime - st[k - 1].utime, 100000);
+      if (k > 0) {
+        EXPECT_EQ(st[k].utime - st[k - 1].utime, 100000);
+      }
     }
   }
 }
@@ -366,11 +370,28 @@ TEST(WorldSimNode, AskToMoveMakesAResponsiveHumanYieldToTheAskedSide) {
     if (cued) {
       // Nothing before the cue is heard plus the reaction time (0.5 s + 0.8 s).
       for (const auto& s : h.states())
-        if (s.utime <= 1300000) EXPECT_NEAR(s.humans[0].y_m, 3.0, 1e-9) << s.step;
+        if (s.utime < 1300000) {
+          EXPECT_NEAR(s.humans[0].y_m, 3.0, 1e-9) << s.step;
+        }
     }
   }
   EXPECT_NEAR(final_y[0], 3.0, 0.05);
   EXPECT_LT(final_y[1], 3.0 - 0.5);
+}
+
+TEST(WorldSimNode, PlannerBackedFacilitatingHumanWalksWithoutParticipants) {
+  Harness h;
+  ChildProcess sim(daemonPath("world_sim"), daemonArgs("tiny_band_human.yaml"));
+  ASSERT_TRUE(h.spinUntil([&] { return h.final() != nullptr; }, 60s));
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_TIME_LIMIT) << h.final()->detail;
+  EXPECT_EQ(h.final()->utime, 3000000);
+  EXPECT_EQ(sim.waitExit(5s), 0);
+  ASSERT_FALSE(h.states().empty());
+  // Its planner walks it towards its goal (-x) while the robot, given no command, stands.
+  const agent_states_t& last = h.states().back();
+  EXPECT_LT(last.humans[0].x_m, 10.0 - 1.0);
+  EXPECT_DOUBLE_EQ(last.robot.x_m, 2.0);
+  EXPECT_DOUBLE_EQ(last.robot.y_m, 1.0);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@ struct LogCommandOptions {
   CLI::App* merge{nullptr};
   CLI::App* figures{nullptr};
   CLI::App* cm_table{nullptr};
+  CLI::App* summary_figures{nullptr};
   std::string log;
   std::string scenario;
   std::string out;
@@ -110,6 +111,15 @@ int figuresCommand() {
   return 0;
 }
 
+int summaryFiguresCommand() {
+  const auto& o = opts();
+  ctl::FigureOptions fopt;
+  fopt.sample_period_s = o.sample_period_s;
+  const auto paths = ctl::writeSummaryFigures(ctl::readSummaryFile(o.out), o.out_dir, fopt);
+  std::cout << paths.ca << "\n" << paths.cm_gamma << "\n";
+  return 0;
+}
+
 int cmTableCommand() {
   std::cout << ctl::formatCmTable(ctl::readSummaryFile(opts().out));
   return 0;
@@ -148,6 +158,15 @@ void addCtlCommands(CLI::App& app) {
                    "path assessor CA sampling period [s] (its sample_period_s)")
       ->check(CLI::PositiveNumber);
 
+  o.summary_figures = app.add_subcommand(
+      "summary-figures", "write SVG figures across the scenarios of a summary.json");
+  o.summary_figures->add_option("summary", o.out, "summary.json")->required();
+  o.summary_figures->add_option("--out-dir", o.out_dir, "directory for summary_*.svg")->required();
+  o.summary_figures
+      ->add_option("--sample-period-s", o.sample_period_s,
+                   "path assessor CA sampling period [s] (its sample_period_s)")
+      ->check(CLI::PositiveNumber);
+
   o.cm_table = app.add_subcommand("cm-table", "print the CM table beside the paper's Table I");
   o.cm_table->add_option("summary", o.out, "summary.json")->required();
 }
@@ -159,6 +178,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.merge) return mergeCommand();
   if (*o.figures) return figuresCommand();
   if (*o.cm_table) return cmTableCommand();
+  if (*o.summary_figures) return summaryFiguresCommand();
   return 2;
 }
 

@@ -86,6 +86,17 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
   o.set("cm_interaction_by_gamma",
         h.interaction_ca_complete ? cmByGamma(h.interaction_ca_m) : Json::null());
   o.set("interaction_ca_complete", Json::boolean(h.interaction_ca_complete));
+  // The CA itself, so that figures across scenarios (paper's γ-vs-CM plot) need only this file.
+  const std::vector<double>* ca = h.interaction_ca_complete ? &h.interaction_ca_m
+                                  : p                       ? &p->ca_m
+                                                            : nullptr;
+  o.set("ca_kind",
+        ca ? Json::string(h.interaction_ca_complete ? "interaction" : "window") : Json::null());
+  Json ca_json = Json::array();
+  if (ca)
+    for (const double v : *ca) ca_json.push(Json::number(v));
+  o.set("ca_m", std::move(ca_json));
+  o.set("recorder_start_s", Json::number(h.recorder_start_s));
   o.set("docked", Json::boolean(h.docked));
   bool thanked = false;
   for (const auto& u : run.utterances)

@@ -426,4 +426,97 @@ FigurePaths writeFigures(const RunLog& run, const RunAnalysis& analysis, const s
   return paths;
 }
 
+namespace {
+
+struct SummaryCurve {
+  std::string label;
+  std::vector<double> ca_m;
+  double tau_m{std::nan("")};
+};
+
+std::vector<SummaryCurve> summaryCurves(const Json& summary) {
+  std::vector<SummaryCurve> curves;
+  const Json* list = summary.find("scenarios");
+  if (!list) throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
+  for (const auto& s : list->items()) {
+    const Json* name = s.find("scenario");
+    const Json* humans = s.find("humans");
+    if (!humans) continue;
+    for (const auto& h : humans->items()) {
+      const Json* ca = h.find("ca_m");
+      if (!ca || ca->items().empty()) continue;
+      SummaryCurve c;
+      c.label = name ? name->asString() : "?";
+      if (humans->items().size() > 1)
+        c.label += " human " + jsonNumber(h.find("id") ? h.find("id")->asNumber() : -1.0);
+      for (const auto& v : ca->items()) c.ca_m.push_back(v.asNumber());
+      if (const Json* tau = h.find("tau_m")) c.tau_m = tau->asNumber();
+      curves.push_back(std::move(c));
+    }
+  }
+  return curves;
+}
+
+double firstTau(const std::vector<SummaryCurve>& curves, double fallback) {
+  for (const auto& c : curves)
+    if (std::isfinite(c.tau_m)) return c.tau_m;
+  return fallback;
+}
+
+}  // namespace
+
+std::string summaryCaSvg(const Json& summary, const FigureOptions& options) {
+  const auto curves = summaryCurves(summary);
+  SvgPlot plot;
+  plot.title = "CA over time, every scenario (every " + fixed(options.sample_period_s, 2) + " s)";
+  plot.x_label = "time since the recorder start [s]";
+  plot.y_label = "CA [m] (> 0: away from the robot)";
+  plot.note = "no CA recorded";
+  const double tau = firstTau(curves, options.tau_m);
+  plot.guides.push_back({false, 0.0, ""});
+  plot.guides.push_back({false, tau, "tau " + fixed(tau, 2) + " m"});
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    SvgPlot::Series s{curves[i].label, humanColor(i), {}, false, 2.0};
+    for (std::size_t k = 0; k < curves[i].ca_m.size(); ++k)
+      s.points.push_back({static_cast<double>(k) * options.sample_period_s, curves[i].ca_m[k]});
+    plot.series.push_back(std::move(s));
+  }
+  return plot.render();
+}
+
+std::string summaryCmGammaSvg(const Json& summary, const FigureOptions& options) {
+  const auto curves = summaryCurves(summary);
+  SvgPlot plot;
+  plot.title = "CM as a function of gamma, every scenario";
+  plot.x_label = "gamma";
+  plot.y_label = "CM [m]";
+  plot.note = "no CA recorded";
+  const double tau = firstTau(curves, options.tau_m);
+  plot.guides.push_back({false, tau, "tau " + fixed(tau, 2) + " m"});
+  plot.guides.push_back({true, 0.98, "gamma 0.98"});
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    SvgPlot::Series s{curves[i].label, humanColor(i), {}, false, 2.0};
+    for (int k = 0; k <= 50; ++k) {
+      const double gamma = 0.5 + 0.01 * k;
+      if (const auto cm = assessment::discountedMean(curves[i].ca_m, gamma))
+        s.points.push_back({gamma, *cm});
+    }
+    plot.series.push_back(std::move(s));
+  }
+  return plot.render();
+}
+
+FigurePaths writeSummaryFigures(const Json& summary, const std::string& out_dir,
+                                const FigureOptions& options) {
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw std::runtime_error("cannot create " + out_dir + ": " + ec.message());
+  FigurePaths paths;
+  paths.ca = (std::filesystem::path(out_dir) / "summary_ca.svg").string();
+  paths.cm_gamma = (std::filesystem::path(out_dir) / "summary_cm_gamma.svg").string();
+  writeTextFile(paths.ca, summaryCaSvg(summary, options));
+  writeTextFile(paths.cm_gamma, summaryCmGammaSvg(summary, options));
+  return paths;
+}
+
 }  // namespace coopnav::ctl

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "json.hpp"
 #include "log_reader.hpp"
 #include "run_analysis.hpp"
 
@@ -70,5 +71,13 @@ std::string cmGammaSvg(const RunLog& run, const RunAnalysis& analysis, const std
 /// std::runtime_error when a file cannot be written.
 FigurePaths writeFigures(const RunLog& run, const RunAnalysis& analysis, const std::string& out_dir,
                          const std::string& name, const FigureOptions& options = {});
+
+/// Figures across the scenarios of a summary.json (its "ca_m" per human): <out_dir>/
+/// summary_ca.svg (CA against time since the recorder start) and summary_cm_gamma.svg (CM against
+/// γ, as the paper's single γ-vs-CM figure). Returns {"", ca, cm_gamma}.
+FigurePaths writeSummaryFigures(const Json& summary, const std::string& out_dir,
+                                const FigureOptions& options = {});
+std::string summaryCaSvg(const Json& summary, const FigureOptions& options = {});
+std::string summaryCmGammaSvg(const Json& summary, const FigureOptions& options = {});
 
 }  // namespace coopnav::ctl

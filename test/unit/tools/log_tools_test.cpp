@@ -589,6 +589,28 @@ TEST(LogTools, FiguresAreSvgWithOnePolylinePerSeries) {
   EXPECT_EQ(trajectoriesSvg(run, a, "open_facilitating"), traj);
 }
 
+TEST(LogTools, SummaryFiguresDrawOneCurvePerScenarioFromTheSummaryAlone) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json entry = summarizeRun(run, analyseRun(run), "run.lcm");
+  EXPECT_EQ(entry.find("humans")->items().at(0).find("ca_kind")->asString(), "interaction");
+  EXPECT_EQ(entry.find("humans")->items().at(0).find("ca_m")->items().size(), 80u);
+  Json renamed = Json::parse(entry.dump());
+  renamed.set("scenario", Json::string("narrow_minimal"));
+  Json no_ca = Json::object();
+  no_ca.set("scenario", Json::string("open_minimal")).set("humans", Json::array());
+  const Json doc = Json::parse(summaryDocument({entry, renamed, no_ca}).dump());
+  const FigurePaths paths = writeSummaryFigures(doc, dir.file("fig"));
+  EXPECT_EQ(paths.cm_gamma, dir.file("fig") + "/summary_cm_gamma.svg");
+  const std::string cm = summaryCmGammaSvg(doc);
+  EXPECT_EQ(countOf(cm, "<polyline"), 2);
+  EXPECT_NE(cm.find(">open_facilitating</text>"), std::string::npos);
+  EXPECT_NE(cm.find(">narrow_minimal</text>"), std::string::npos);
+  EXPECT_EQ(countOf(summaryCaSvg(doc), "<polyline"), 2);
+  EXPECT_THROW(summaryCaSvg(Json::object()), std::runtime_error);
+}
+
 TEST(LogTools, BrokenLogIsSkippedAndCountedNotFatal) {
   TempDir dir;
   const std::string path = dir.file("broken.lcm");

@@ -33,6 +33,7 @@ DockResult findDockPose(const DistanceMap& map, const Pose2& robot, const Pose2&
   // Which side the human is on, as the robot sees it; dock on the other one. Dead ahead (a
   // head-on course) gives no side: keep right.
   constexpr double kDeadAhead_m = 0.1;
+  constexpr int kBackOffTries = 4;
   const double lateral = cross2(h, rel);
   const double away = std::abs(lateral) < kDeadAhead_m ? -1.0 : (lateral > 0.0 ? -1.0 : 1.0);
   const Eigen::Vector2d n = away * left;
@@ -44,9 +45,19 @@ DockResult findDockPose(const DistanceMap& map, const Pose2& robot, const Pose2&
     const DistanceResult hit = map.ray(base, n, o.search_range_m);
     if (hit.status != DistanceStatus::kOk) continue;
     wall_seen = true;
-    const double travel = hit.distance_m - need_m;
-    const Eigen::Vector2d p = base + std::max(travel, 0.0) * n;
-    const DistanceResult c = map.nearest(p);
+    double travel = std::max(hit.distance_m - need_m, 0.0);
+    Eigen::Vector2d p = base + travel * n;
+    DistanceResult c = map.nearest(p);
+    // A grid field measures RAY and NEAREST to slightly different surfaces (cell edge vs cell
+    // centre, up to half a cell) and real walls are ragged: back off from the wall by the
+    // shortfall until the clearance holds, never past the robot's own line.
+    for (int i = 0; i < kBackOffTries && c.status == DistanceStatus::kOk &&
+                    c.distance_m < need_m - 1e-3 && travel > 0.0;
+         ++i) {
+      travel = std::max(travel - (need_m - c.distance_m + 1e-3), 0.0);
+      p = base + travel * n;
+      c = map.nearest(p);
+    }
     if (c.status != DistanceStatus::kOk || c.distance_m < need_m - 1e-3) continue;
     // Straight approach: sampled clearance along robot → p of at least the radius.
     bool clear = true;

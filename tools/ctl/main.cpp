@@ -92,7 +92,12 @@ int main(int argc, char** argv) {
   q->add_option("--range-m", range_m);
 
   coopnav::addCtlCommands(app);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help exits 0; any bad command line 2, as every coopnav program.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   coopnav::setLogLevel("warn");
   try {
     if (*wait) return coopnav::waitReady(url, names, timeout_s);

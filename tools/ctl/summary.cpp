@@ -185,6 +185,7 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   Json counts = Json::object();
   counts.set("events", Json::number(c.events));
   counts.set("decoded", Json::number(c.decoded));
+  counts.set("not_needed", Json::number(c.not_needed));
   counts.set("undecodable", Json::number(c.undecodable));
   counts.set("unknown_channel", Json::number(c.unknown_channel));
   counts.set("bad_headers", Json::number(c.bad_headers));

@@ -78,16 +78,14 @@ void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, Fill fill)
 
 void DialogueManagerNode::onSituation(const situation_t& msg) {
   file(msg.step, msg.utime, [&](StepInputs& b) {
-    SituationForDecision s = situationForDecision(msg);
-    b.situations[s.stamp.human_id] = std::move(s);
+    b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
+                                  situationSnapshotFromLcm(msg)};
   });
 }
 
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
-  file(msg.step, msg.utime, [&](StepInputs& b) {
-    PathForDecision p = pathForDecision(msg);
-    b.paths[p.stamp.human_id] = std::move(p);
-  });
+  file(msg.step, msg.utime,
+       [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
@@ -154,7 +152,7 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
     }
   }
   // 2. The latest path assessment of each human, read before the decisions of this step.
-  for (const auto& [id, p] : in.paths) latest_path_[id] = p.snapshot;
+  for (const auto& [id, p] : in.paths) latest_path_[id] = p;
 
   // 3. Decisions, humans in id order (deterministic output order).
   std::set<std::int32_t> ids;
@@ -236,7 +234,8 @@ void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::Decis
                stamp.human_id);
   }
   for (const auto c : out.recorder_commands) {
-    runtime_.publish(channels::kPathAssessorControl, toLcm(stamp, c, why));
+    runtime_.publish(channels::kPathAssessorControl,
+                     toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, c, why}));
     log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
                 stamp.human_id);
   }

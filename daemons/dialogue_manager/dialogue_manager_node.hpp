@@ -14,6 +14,7 @@
 
 #include "common/config.hpp"
 #include "common/conversions.hpp"
+#include "common/conversions_assessment.hpp"
 #include "common/conversions_dialogue.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
@@ -86,10 +87,14 @@ class DialogueManagerNode {
 
  private:
   /// Everything received for one step, applied in one go when the gate lets the step run.
+  struct SituationIn {
+    DialogueStamp stamp;
+    dialogue::SituationSnapshot snapshot;
+  };
   struct StepInputs {
     std::optional<AgentStatesSnapshot> agents;
-    std::map<std::int32_t, PathForDecision> paths;
-    std::map<std::int32_t, SituationForDecision> situations;
+    std::map<std::int32_t, dialogue::PathSnapshot> paths;
+    std::map<std::int32_t, SituationIn> situations;
     std::int64_t utime{-1};  ///< the step's input time (first message of it)
   };
   struct Human {

@@ -58,7 +58,7 @@ struct SituationAssessorConfig {
     v("query_range_m", query_range_m, Range{0.1, 100.0});
     v("distance_timeout_ms", distance_timeout_ms, Range{1, 5000});
     v("distance_attempts", distance_attempts, Range{1, 10});
-    v("free_running_queue_max", free_running_queue_max, Range{0, 1000});
+    v("free_running_queue_max", free_running_queue_max, Range{1, 1000});
   }
 
   assessment::SituationThresholds thresholds() const;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -314,6 +315,27 @@ TEST_F(BandSourceNodeTest, SigtermStopsWithinOneSecondExitZero) {
   ASSERT_TRUE(step(headOnStates(0)));
   dut_->signal(SIGTERM);
   EXPECT_EQ(dut_->waitExit(milliseconds(1000)), 0);
+}
+
+std::string run(const std::string& command) {
+  std::string out;
+  FILE* f = ::popen(command.c_str(), "r");
+  if (!f) return out;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, f)) {
+    if (std::string(buf).rfind("map_file:", 0) != 0) out += buf;  // resolved per config dir
+  }
+  ::pclose(f);
+  return out;
+}
+
+TEST(BandSourceConfigTest, ShippedConfigListsTheDefaultsAndLoads) {
+  const std::string exe = test::daemonPath("band_source");
+  const std::string defaults = run(exe + " --print-config");
+  const std::string shipped =
+      run(exe + " --config " + COOPNAV_SOURCE_DIR + "/config/band_source.yaml --print-config");
+  ASSERT_NE(defaults.find("planner:"), std::string::npos);
+  EXPECT_EQ(shipped, defaults);
 }
 
 }  // namespace

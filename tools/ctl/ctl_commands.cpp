@@ -28,6 +28,7 @@ struct LogCommandOptions {
   bool no_sim_status{false};
   bool no_unknown{false};
   bool no_final_cm{false};
+  bool with_status{false};
   double sample_period_s{0.1};
   std::vector<std::string> inputs;
 };
@@ -71,6 +72,7 @@ int transcriptCommand() {
   topt.include_sim_status = !o.no_sim_status;
   topt.include_unknown = !o.no_unknown;
   topt.include_final_cm = !o.no_final_cm;
+  topt.include_daemon_status = o.with_status;
   std::cout << ctl::formatTranscript(runName(analysis, o.log),
                                      ctl::buildTranscript(run, analysis, topt));
   return 0;
@@ -137,6 +139,8 @@ void addCtlCommands(CLI::App& app) {
                          "leave out the final simulator status (replays have none)");
   o.transcript->add_flag("--no-unknown", o.no_unknown, "leave out situation-unknown notes");
   o.transcript->add_flag("--no-final-cm", o.no_final_cm, "leave out the final CM lines");
+  o.transcript->add_flag("--with-status", o.with_status,
+                         "add daemons' DEGRADED reports (wall-clock: not deterministic)");
 
   o.summarize = app.add_subcommand("summarize", "write summary.json of a recorded run");
   o.summarize->add_option("log", o.log, "LCM log of one run")->required();

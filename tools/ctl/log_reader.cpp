@@ -57,9 +57,8 @@ bool decodeInto(const RawEvent& e, std::vector<Msg>& out) {
 }
 
 bool isNotNeeded(const std::string& channel) {
-  static const char* const kNames[] = {channels::kGoals,    channels::kBands,
-                                       channels::kRobotCmd, channels::kDistanceRequest,
-                                       channels::kStatus,   channels::kStepAck};
+  static const char* const kNames[] = {channels::kGoals, channels::kBands, channels::kRobotCmd,
+                                       channels::kDistanceRequest, channels::kStepAck};
   for (const char* n : kNames)
     if (channel == n) return true;
   const std::string prefix = channels::kDistanceReplyPrefix;
@@ -165,6 +164,8 @@ void addEvent(const RawEvent& e, RunLog& run) {
     take(Kind::kSimStatus, run.sim_status);
   } else if (ch == channels::kReferencePaths) {
     take(Kind::kReferencePaths, run.reference_paths);
+  } else if (ch == channels::kStatus) {
+    take(Kind::kDaemonStatus, run.daemon_status);
   } else if (isNotNeeded(ch)) {
     ++run.counts.not_needed;
     return;

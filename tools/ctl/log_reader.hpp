@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "coopnav/agent_states_t.hpp"
+#include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
@@ -84,6 +85,7 @@ struct RunLog {
     kRecorderControl,
     kSimStatus,
     kReferencePaths,
+    kDaemonStatus,
   };
   struct Ref {
     Kind kind;
@@ -98,6 +100,7 @@ struct RunLog {
   std::vector<path_assessor_control_t> controls;
   std::vector<sim_status_t> sim_status;
   std::vector<reference_paths_t> reference_paths;
+  std::vector<daemon_status_t> daemon_status;  ///< wall-clock reports: never in default outputs
   std::vector<Ref> order;
   LogReadCounts counts;
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <set>
 
 #include "json.hpp"
 
@@ -52,9 +53,27 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
       if (!s.reason.empty()) ++unknown_count[{s.human_id, s.reason}];
   }
 
+  std::int64_t last_step_utime = 0;
+  std::set<std::pair<std::string, std::string>> degraded_seen;
   for (const auto& ref : run.order) {
     TranscriptEntry e;
     switch (ref.kind) {
+      case RunLog::Kind::kAgentStates:
+        last_step_utime = run.agent_states[ref.index].utime;
+        continue;
+      case RunLog::Kind::kDaemonStatus: {
+        const auto& st = run.daemon_status[ref.index];
+        if (!options.include_daemon_status || st.state != daemon_status_t::STATE_DEGRADED) continue;
+        if (!degraded_seen.insert({st.name, st.detail}).second) continue;
+        e.kind = Kind::kDaemonDegraded;
+        e.utime = last_step_utime;
+        e.t_cross_s = std::nan("");
+        e.what = st.name;
+        e.text = st.detail;
+        e.line = "t~" + fixed(utimeToS(e.utime), 2) + "s  DAEMON " + st.name + " DEGRADED " +
+                 jsonQuote(st.detail) + " (wall-clock status; time of the last step logged)";
+        break;
+      }
       case RunLog::Kind::kUtterance: {
         const auto& u = run.utterances[ref.index];
         e.kind = Kind::kSay;

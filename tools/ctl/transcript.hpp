@@ -14,7 +14,15 @@
 namespace coopnav::ctl {
 
 struct TranscriptEntry {
-  enum class Kind : std::uint8_t { kSay, kAction, kRecorder, kUnknown, kFinalCm, kSimStatus };
+  enum class Kind : std::uint8_t {
+    kSay,
+    kAction,
+    kRecorder,
+    kUnknown,
+    kDaemonDegraded,
+    kFinalCm,
+    kSimStatus
+  };
   Kind kind{Kind::kSay};
   std::int64_t utime{0};
   std::int32_t human_id{-1};  ///< -1: not about one human (sim status)
@@ -32,6 +40,10 @@ struct TranscriptOptions {
   bool include_sim_status{true};  ///< the final simulator status line (absent in replays)
   /// At most this many distinct unknown reasons per human (reasons may carry numbers).
   int max_unknown_reasons{20};
+  /// Daemons' DEGRADED status reports (first per daemon and detail). Off by default: they are
+  /// wall-clock reports, placed at the last simulated step logged before them, so their lines
+  /// may differ between identical runs.
+  bool include_daemon_status{false};
 };
 
 std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysis& analysis,

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "coopnav/assessment/path_assessment.hpp"
+#include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "json.hpp"
@@ -339,11 +340,12 @@ TEST(LogTools, ReadsEveryEventAndCountsForeignOnes) {
   EXPECT_EQ(run.controls.size(), 3u);
   EXPECT_EQ(run.sim_status.size(), 10u);
   EXPECT_EQ(run.reference_paths.size(), 1u);
+  EXPECT_EQ(run.daemon_status.size(), 1u);
   EXPECT_EQ(run.counts.unknown_channel, 1);
-  EXPECT_EQ(run.counts.not_needed, 1);
+  EXPECT_EQ(run.counts.not_needed, 0);
   EXPECT_EQ(run.counts.undecodable, 0);
   EXPECT_FALSE(run.counts.anyCorruption());
-  EXPECT_EQ(run.counts.events, run.counts.decoded + 2);
+  EXPECT_EQ(run.counts.events, run.counts.decoded + 1);
 }
 
 TEST(LogTools, TranscriptTextIsExact) {
@@ -374,6 +376,34 @@ TEST(LogTools, TranscriptOptionsLeaveOutLines) {
   EXPECT_EQ(countOf(t, "SIM "), 0);
   EXPECT_EQ(countOf(t, "UNKNOWN"), 0);
   EXPECT_EQ(countOf(t, "FINAL"), 0);
+}
+
+TEST(LogTools, DegradedDaemonsOnlyOnRequestOncePerDetail) {
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    bands_t bands{};
+    bands.robot.poses.clear();
+    w.put(channels::kBands, bands);  // a channel the tools do not need
+    daemon_status_t st{};
+    st.name = "situation_assessor";
+    st.state = daemon_status_t::STATE_DEGRADED;
+    st.detail = "distance server silent";
+    for (int k = 0; k < 6; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      if (k >= 4) w.put(channels::kStatus, st);
+    }
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.counts.not_needed, 1);
+  const RunAnalysis a = analyseRun(run);
+  EXPECT_EQ(formatTranscript("x", buildTranscript(run, a)), "# scenario x\n");
+  TranscriptOptions o;
+  o.include_daemon_status = true;
+  EXPECT_EQ(formatTranscript("x", buildTranscript(run, a, o)),
+            "# scenario x\n"
+            "t~0.40s  DAEMON situation_assessor DEGRADED \"distance server silent\" (wall-clock "
+            "status; time of the last step logged)\n");
 }
 
 TEST(LogTools, InteractionCaIsRebuiltAcrossTheReset) {

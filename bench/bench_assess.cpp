@@ -5,7 +5,6 @@
 //
 // Executables come from the build tree: $COOPNAV_BUILD_DIR, else the directory above this binary
 // (build/bench/bench_assess -> build/), else the configure-time build dir. Isolated port 7950.
-#include <lcm/lcm-cpp.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -15,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <lcm/lcm-cpp.hpp>
 #include <string>
 #include <vector>
 
@@ -98,8 +98,7 @@ double assessRoundTrip(lcm::LCM& lcm, Sink& sink, bands_t bands, std::int64_t id
     if (!sink.got) continue;
     situation_t s;
     if (s.decode(sink.last.data(), 0, static_cast<int>(sink.last.size())) < 0) continue;
-    if (s.utime == id)
-      return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+    if (s.utime == id) return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
   }
   return -1.0;
 }
@@ -147,9 +146,8 @@ int main() {
   const pid_t server =
       spawn({build + "/daemons/obstacle_distance_server/coopnav_obstacle_distance_server",
              "--lcm-url", kBenchUrl, "--set", "map_file=" + map, "--log-level", "warn"});
-  const pid_t assessor =
-      spawn({build + "/daemons/situation_assessor/coopnav_situation_assessor", "--lcm-url",
-             kBenchUrl, "--log-level", "warn"});
+  const pid_t assessor = spawn({build + "/daemons/situation_assessor/coopnav_situation_assessor",
+                                "--lcm-url", kBenchUrl, "--log-level", "warn"});
 
   lcm::LCM lcm(kBenchUrl);
   if (!lcm.good()) {
@@ -178,11 +176,17 @@ int main() {
   for (int round = 0; round < 20; ++round) {
     for (int i = 0; i < 25; ++i) {
       const double a = assessRoundTrip(lcm, situations, bands, id++);
-      if (a < 0) ++lost; else assess_us.push_back(a);
+      if (a < 0)
+        ++lost;
+      else
+        assess_us.push_back(a);
     }
     for (int i = 0; i < 25; ++i) {
       const double e = echoRoundTrip(lcm, echoes, bytes);
-      if (e < 0) ++lost; else echo_us.push_back(e);
+      if (e < 0)
+        ++lost;
+      else
+        echo_us.push_back(e);
     }
   }
   for (pid_t p : {assessor, server}) ::kill(p, SIGTERM);

@@ -153,8 +153,7 @@ path_assessment_t toLcm(const PathAssessmentRecord& r) {
   m.step = r.step;
   m.human_id = r.human_id;
   m.recording = static_cast<std::int8_t>(s.state);
-  const std::size_t n =
-      std::min<std::size_t>(r.window_ca_m.size(), path_assessment_t::MAX_SAMPLES);
+  const std::size_t n = std::min<std::size_t>(r.window_ca_m.size(), path_assessment_t::MAX_SAMPLES);
   m.ca_m.assign(r.window_ca_m.end() - static_cast<std::ptrdiff_t>(n), r.window_ca_m.end());
   m.num_samples = static_cast<std::int16_t>(n);
   m.window_samples = static_cast<std::int32_t>(

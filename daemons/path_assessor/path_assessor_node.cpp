@@ -43,9 +43,9 @@ const assessment::PathRecorder* PathAssessorNode::recorder(std::int32_t human_id
 PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
   if (it == humans_.end())
-    it = humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, 0,
-                                   false})
-             .first;
+    it =
+        humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, 0, false})
+            .first;
   return it->second;
 }
 
@@ -105,15 +105,16 @@ void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
     // Still acknowledged, in its turn, so that a lockstep run goes on (docs/lockstep.md).
     const std::int64_t utime = msg.utime;
     const std::int64_t step = msg.step;
-    gate_.submit(step, [this, utime, step](bool, const std::string&) {
-      runtime_.ackStep(utime, step);
-    });
+    gate_.submit(step,
+                 [this, utime, step](bool, const std::string&) { runtime_.ackStep(utime, step); });
     throw;
   }
   gate_.submit(states.step, [this, states](bool degraded, const std::string& missing) {
     if (degraded)
-      log().warn("path_assessor: step {} assessed without {}'s ack: its recorder controls may "
-                 "be missing", states.step, missing);
+      log().warn(
+          "path_assessor: step {} assessed without {}'s ack: its recorder controls may "
+          "be missing",
+          states.step, missing);
     assess(states);
   });
 }
@@ -127,8 +128,10 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
     h.seen_in_states = true;
     // Paper §II-C: one observation; the recorder samples CA on its fixed grid from these.
     if (!h.recorder.observe(t_s, a.pose.position(), robot_m))
-      log().debug("path_assessor: observation of human {} at step {} ignored (time not after "
-                  "the previous one)", a.id, states.step);
+      log().debug(
+          "path_assessor: observation of human {} at step {} ignored (time not after "
+          "the previous one)",
+          a.id, states.step);
     PathAssessmentRecord rec;
     rec.utime = states.utime;
     rec.step = states.step;

@@ -73,13 +73,17 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
     auto it = references_.find(e.agent_id);
     if (it != references_.end() && e.revision < it->second.revision) {
       if (paths.utime <= it->second.utime) {
-        log().debug("situation_assessor: ignoring stale reference path of human {} (revision {} "
-                    "< {})", e.agent_id, e.revision, it->second.revision);
+        log().debug(
+            "situation_assessor: ignoring stale reference path of human {} (revision {} "
+            "< {})",
+            e.agent_id, e.revision, it->second.revision);
         continue;
       }
       // A newer message with a lower revision: the band source restarted.
-      log().info("situation_assessor: reference path revision of human {} went back from {} to "
-                 "{} (band source restarted?)", e.agent_id, it->second.revision, e.revision);
+      log().info(
+          "situation_assessor: reference path revision of human {} went back from {} to "
+          "{} (band source restarted?)",
+          e.agent_id, it->second.revision, e.revision);
     }
     references_[e.agent_id] = Reference{e.revision, paths.utime, e.path};
   }
@@ -188,8 +192,7 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
   if (outcome) {
     if (!outcome->ok) {
       runtime_.setDegraded("distance server: " + outcome->error);
-      log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", job.step,
-                 outcome->error);
+      log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", job.step, outcome->error);
     } else {
       runtime_.setRunning();
     }

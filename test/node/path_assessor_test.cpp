@@ -2,8 +2,6 @@
 // PathRecorder fed the same input; recorder controls of step k-1 are applied before step k
 // (StepGate on the dialogue manager's ack); unknown ids and bad commands are dropped / rejected
 // and counted; a rejected agent-states message is still acknowledged; SIGTERM exits 0 within 1 s.
-#include "path_assessor_node.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +13,7 @@
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "path_assessor_node.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -42,9 +41,8 @@ class PathAssessorTest : public ::testing::Test {
   }
 
   bool waitAck(std::int64_t step, std::chrono::milliseconds timeout = 3000ms) {
-    return test::waitFor(
-        [&] { return std::find(acks_.begin(), acks_.end(), step) != acks_.end(); }, timeout,
-        [&] { spin(); });
+    return test::waitFor([&] { return std::find(acks_.begin(), acks_.end(), step) != acks_.end(); },
+                         timeout, [&] { spin(); });
   }
 
   const path_assessment_t* latest(std::int64_t step, std::int32_t human) const {
@@ -191,8 +189,8 @@ TEST_F(PathAssessorTest, BadControlsAreDroppedOrRejectedAndCounted) {
   const auto before = dut_rt_->counters();
   publishControl(0, 77, dialogue::RecorderCommand::kStart);  // unknown id
   publishControl(0, 1, dialogue::RecorderCommand::kStart);   // no reference path yet
-  path_assessor_control_t bad = toLcm(RecorderControl{utimeOf(0), 0, 1,
-                                                      dialogue::RecorderCommand::kStop, ""});
+  path_assessor_control_t bad =
+      toLcm(RecorderControl{utimeOf(0), 0, 1, dialogue::RecorderCommand::kStop, ""});
   bad.command = 9;
   probe_->publish(channels::kPathAssessorControl, bad);
   ASSERT_TRUE(test::waitFor(

@@ -4,8 +4,6 @@
 // predicates needing it go unknown within the bound and the daemon keeps going, in step order;
 // bad bands, a missing reference path and CP_h = CP_r give unknowns with reasons; a message that
 // does not convert is rejected but its step acknowledged; SIGTERM exits 0 within 1 s.
-#include "situation_assessor_node.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +19,7 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "situation_assessor_node.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -63,10 +62,9 @@ class SituationAssessorTest : public ::testing::Test {
     dut_rt_ = std::make_unique<Runtime>("situation_assessor", test::testLcmUrl());
     node_ = std::make_unique<SituationAssessorNode>(config_, *dut_rt_);
     probe_ = std::make_unique<Runtime>("probe", test::testLcmUrl());
-    probe_->subscribe<situation_t>(channels::kSituation, [this](const situation_t& m,
-                                                                std::int64_t) {
-      situations_.push_back(m);
-    });
+    probe_->subscribe<situation_t>(
+        channels::kSituation,
+        [this](const situation_t& m, std::int64_t) { situations_.push_back(m); });
     probe_->subscribe<step_ack_t>(channels::kStepAck, [this](const step_ack_t& a, std::int64_t) {
       if (a.participant == "situation_assessor") acks_.push_back(a.step);
     });
@@ -96,9 +94,8 @@ class SituationAssessorTest : public ::testing::Test {
   }
 
   bool waitAck(std::int64_t step, std::chrono::milliseconds timeout = 3000ms) {
-    return test::waitFor(
-        [&] { return std::find(acks_.begin(), acks_.end(), step) != acks_.end(); }, timeout,
-        [&] { spin(); });
+    return test::waitFor([&] { return std::find(acks_.begin(), acks_.end(), step) != acks_.end(); },
+                         timeout, [&] { spin(); });
   }
 
   const situation_t* situation(std::int64_t step, std::int32_t human) const {
@@ -265,12 +262,9 @@ TEST_F(SituationAssessorTest, BadBandsAreUnknownForThatHumanOnly) {
   with_nan.poses[3].pose.y_m = kNaN;
   Band not_increasing = human_;
   not_increasing.poses[4].t_s = not_increasing.poses[3].t_s;
-  publish(bands(1, {{1, human_}, {3, Band{}}, {4, one_pose}, {5, with_nan}, {6, not_increasing}}),
-          paths({{1, human_ref_},
-                 {3, human_ref_},
-                 {4, human_ref_},
-                 {5, human_ref_},
-                 {6, human_ref_}}));
+  publish(
+      bands(1, {{1, human_}, {3, Band{}}, {4, one_pose}, {5, with_nan}, {6, not_increasing}}),
+      paths({{1, human_ref_}, {3, human_ref_}, {4, human_ref_}, {5, human_ref_}, {6, human_ref_}}));
   ASSERT_TRUE(waitAck(1));
   ASSERT_NE(situation(1, 1), nullptr);
   expectMatches(*situation(1, 1), expected(robot_, human_, human_ref_));
@@ -356,25 +350,23 @@ TEST(SituationAssessorProcessTest, RunsAloneDegradedAndStopsOnSigtermWithin1s) {
   probe.subscribe<daemon_status_t>(channels::kStatus, [&](const daemon_status_t& s, std::int64_t) {
     if (s.name == "situation_assessor") statuses.push_back(s);
   });
-  probe.subscribe<situation_t>(channels::kSituation,
-                               [&](const situation_t& s, std::int64_t) { situations.push_back(s); });
+  probe.subscribe<situation_t>(
+      channels::kSituation, [&](const situation_t& s, std::int64_t) { situations.push_back(s); });
   test::ChildProcess dut(test::daemonPath("situation_assessor"),
                          {"--lcm-url", test::testLcmUrl(), "--log-level", "error"});
-  ASSERT_TRUE(test::waitFor([&] { return !statuses.empty(); }, 5000ms,
-                            [&] { probe.spinFor(5); }));
+  ASSERT_TRUE(test::waitFor([&] { return !statuses.empty(); }, 5000ms, [&] { probe.spinFor(5); }));
   BandsSnapshot b;
   b.utime = 42;
   b.step = -1;
   b.robot = straightBand({12.0, 1.5}, {20.0, 1.5}, 8.0, 0.5);
   b.humans.emplace_back(1, straightBand({20.0, 1.9}, {12.0, 1.9}, 8.0, 0.4));
   probe.publish(channels::kBands, toLcm(b));
-  ASSERT_TRUE(test::waitFor([&] { return !situations.empty(); }, 5000ms,
-                            [&] { probe.spinFor(5); }));
+  ASSERT_TRUE(
+      test::waitFor([&] { return !situations.empty(); }, 5000ms, [&] { probe.spinFor(5); }));
   EXPECT_EQ(situations[0].human_is_constrained, situation_t::PRED_UNKNOWN);
   EXPECT_EQ(situations[0].utime, 42);
   statuses.clear();
-  ASSERT_TRUE(test::waitFor([&] { return !statuses.empty(); }, 3000ms,
-                            [&] { probe.spinFor(5); }));
+  ASSERT_TRUE(test::waitFor([&] { return !statuses.empty(); }, 3000ms, [&] { probe.spinFor(5); }));
   EXPECT_EQ(statuses.back().state, daemon_status_t::STATE_DEGRADED);
   EXPECT_TRUE(dut.running());
   dut.signal(SIGTERM);

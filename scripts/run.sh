@@ -114,6 +114,7 @@ done
 if [ "${#summaries[@]}" -gt 0 ]; then
   "$ctl" merge-summaries "$out/summary.json" "${summaries[@]}"
   "$ctl" cm-table "$out/summary.json" | tee "$out/cm_table.txt"
+  "$ctl" summary-figures "$out/summary.json" --out-dir "$out"
   echo "run directory: $out (logs, transcripts, summary.json, figures *.svg)"
 fi
 exit "$failed"

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "common/daemon_main.hpp"
 #include "common/log.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
@@ -23,6 +24,12 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.round2_t_cross_s = round2_t_cross_s;
   c.templates = templates;
   return c;
+}
+
+void DialogueManagerConfig::resolvePaths(const std::string& base_dir) {
+  speech.wav_dir = resolvePath(base_dir, speech.wav_dir);
+  if (speech.program.find('/') != std::string::npos)
+    speech.program = resolvePath(base_dir, speech.program);
 }
 
 DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)

@@ -70,6 +70,8 @@ struct DialogueManagerConfig {
               "must be less than round1_t_cross_s (round 2 comes after round 1)");
   }
   dialogue::DecisionConfig decisionConfig() const;
+  /// speech.wav_dir and a speech.program with a '/' are relative to the config file's folder.
+  void resolvePaths(const std::string& base_dir);
 };
 
 class DialogueManagerNode {

@@ -40,6 +40,7 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
   StepGateOptions gate;
   gate.requirements = {{kSituationAssessor, 0}, {kPathAssessor, 0}};
   gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
+  gate.wait_for_unseen = config_.gate_wait_for_unseen;
   gate_ = std::make_unique<StepGate>(runtime_, gate);
   runtime_.subscribe<situation_t>(channels::kSituation,
                                   [this](const situation_t& m, std::int64_t) { onSituation(m); });

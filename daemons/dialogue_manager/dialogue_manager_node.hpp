@@ -54,6 +54,7 @@ struct DialogueManagerConfig {
   double crossed_hysteresis_m{0.2};
   double human_gone_s{2.0};
   int gate_timeout_ms{2000};
+  bool gate_wait_for_unseen{true};
   TemplatesConfig templates;
   SpeechConfig speech;
 
@@ -64,6 +65,7 @@ struct DialogueManagerConfig {
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});
+    v("gate_wait_for_unseen", gate_wait_for_unseen);
     v("templates", templates);
     v("speech", speech);
     v.require(round2_t_cross_s < round1_t_cross_s, "round2_t_cross_s",

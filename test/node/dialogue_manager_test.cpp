@@ -376,6 +376,26 @@ TEST_F(DialogueManagerTest, DoesNotActOnAStepBeforeBothAcksArrive) {
   EXPECT_EQ(actions_[0].action, robot_action_t::ACTION_DOCK);
 }
 
+TEST_F(DialogueManagerTest, WaitsForTheAssessorsFromTheFirstStepEvenBeforeHearingFromThem) {
+  start();
+  situation(0, {1, 6.9});
+  path(0, {1, 0.0, F});
+  ack("path_assessor", 0);
+  settle(milliseconds(300));
+  EXPECT_TRUE(utterances_.empty());
+  EXPECT_FALSE(acked(0));
+  ack("situation_assessor", 0);
+  ASSERT_TRUE(waitAck(0));
+  EXPECT_EQ(utterances_.size(), 1u);
+}
+
+TEST_F(DialogueManagerTest, WithoutWaitingForUnseenPeersAStepRunsAtOnce) {
+  start({"--set", "gate_wait_for_unseen=false"});
+  situation(0, {1, 6.9});
+  ASSERT_TRUE(waitAck(0));
+  EXPECT_EQ(utterances_.size(), 1u);
+}
+
 TEST_F(DialogueManagerTest, AcknowledgesAStepWithoutAnyHuman) {
   start();
   primePeers();
@@ -451,7 +471,7 @@ TEST_F(DialogueManagerTest, EachHumanIsDecidedOnItsOwn) {
 }
 
 TEST_F(DialogueManagerTest, FreeRunningActsOnEachSituationWithTheLatestPathAssessment) {
-  start();
+  start();  // the assessors are waited for in lockstep only: step -1 runs at once
   situation(-1, {1, 6.9, T, F, T, situation_t::DIR_RIGHT});
   ASSERT_TRUE(spinUntil([&] { return utterances_.size() == 1; }, seconds(3)));
   EXPECT_EQ(utterances_[0].step, -1);

@@ -2,10 +2,9 @@
 /// run (1) alone, with no participant, and (2) with the band source in the loop (the real
 /// coopnav_band_source process when it is built, else this process as its stand-in running the
 /// lib DualBandPlanner once per step, said so in the output). Scenario: a 6 m corridor, 30 m long,
-/// a robot driving its length and five humans (facilitating, minimal, social force, responsive,
-/// oblivious) walking the other way. Runs on its own udpm port. Ends with RESULT lines.
+/// a robot driving its length and three humans (facilitating head-on, minimal and social force in
+/// the side lanes) walking the other way. Runs on its own udpm port. Ends with RESULT lines.
 
-#include <lcm/lcm-cpp.hpp>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -16,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,7 +50,9 @@ walls:
   - {x0_m: 31, y0_m: 0, x1_m: 31, y1_m: 6, thickness_m: 0.2}
 )";
 
-const Pose2 kRobotGoal{28.0, 1.5, 0.0};
+const Pose2 kRobotGoal{28.0, 3.0, 0.0};
+/// Goals of humans 1..3 (known, as band_source gets them on COOPNAV_GOALS).
+const Pose2 kHumanGoals[3] = {{4.0, 3.0, M_PI}, {4.0, 4.8, M_PI}, {4.0, 1.2, M_PI}};
 
 std::string scenarioText(const std::string& participants) {
   std::string map;
@@ -63,19 +65,15 @@ std::string scenarioText(const std::string& participants) {
          "lockstep: {enabled: true, participants: [" +
          participants +
          "], step_timeout_s: 30}\n"
-         "robot:\n  start: {x_m: 1.5, y_m: 1.5, theta_rad: 0}\n  goal: {x_m: 28, y_m: 1.5}\n"
+         "robot:\n  start: {x_m: 1.5, y_m: 3.0, theta_rad: 0}\n  goal: {x_m: 28, y_m: 3.0}\n"
          "  limits: {max_forward_m_s: 0.7}\n"
          "humans:\n"
-         "  - {id: 1, start: {x_m: 28, y_m: 1.5, theta_rad: 3.14159}, goal: {x_m: 1.5, y_m: 1.5},"
+         "  - {id: 1, start: {x_m: 28, y_m: 3.0, theta_rad: 3.14159}, goal: {x_m: 4, y_m: 3.0},"
          " behaviour: facilitating, speed_m_s: 1.0}\n"
-         "  - {id: 2, start: {x_m: 29, y_m: 4.5, theta_rad: 3.14159}, goal: {x_m: 2, y_m: 4.5},"
+         "  - {id: 2, start: {x_m: 29, y_m: 4.8, theta_rad: 3.14159}, goal: {x_m: 4, y_m: 4.8},"
          " behaviour: minimal, speed_m_s: 0.9}\n"
-         "  - {id: 3, start: {x_m: 24, y_m: 3.0, theta_rad: 3.14159}, goal: {x_m: 2, y_m: 3.0},"
-         " behaviour: social_force, speed_m_s: 1.1}\n"
-         "  - {id: 4, start: {x_m: 20, y_m: 5.0, theta_rad: 3.14159}, goal: {x_m: 2, y_m: 5.0},"
-         " behaviour: responsive, speed_m_s: 0.8}\n"
-         "  - {id: 5, start: {x_m: 8, y_m: 5.2, theta_rad: 0}, goal: {x_m: 29, y_m: 5.2},"
-         " behaviour: oblivious, speed_m_s: 1.2, velocity_noise_m_s: 0.05}\n";
+         "  - {id: 3, start: {x_m: 24, y_m: 1.2, theta_rad: 3.14159}, goal: {x_m: 4, y_m: 1.2},"
+         " behaviour: social_force, speed_m_s: 1.1, velocity_noise_m_s: 0.05}\n";
 }
 
 /// A child process; SIGTERM then SIGKILL on destruction.
@@ -135,8 +133,12 @@ class Run {
         next_status = Clock::now() + std::chrono::milliseconds(100);
       }
       lcm_.handleTimeout(10);
-      if (sim.exited() && !final_) lcm_.handleTimeout(100);
-      if (sim.exited() && !final_) return false;
+      if (sim.exited()) {
+        // It published its last messages before exiting: drain them.
+        while (!final_ && lcm_.handleTimeout(200) > 0) {
+        }
+        return final_.has_value();
+      }
     }
     return final_.has_value();
   }
@@ -147,6 +149,7 @@ class Run {
   const sim_status_t& final() const { return *final_; }
   std::int64_t steps() const { return steps_; }
   int planFailures() const { return plan_failures_; }
+  double planSeconds() const { return plan_s_; }
 
  private:
   void onStates(const lcm::ReceiveBuffer* rbuf, const std::string&) {
@@ -162,10 +165,12 @@ class Run {
     for (const AgentState& h : s.humans) {
       OtherAgentInput o;
       o.state = h;
-      o.goal = {std::nan(""), std::nan(""), 0.0};  // unknown: constant velocity
+      o.goal = h.id >= 1 && h.id <= 3 ? kHumanGoals[h.id - 1] : Pose2{std::nan(""), 0.0, 0.0};
       req.others.push_back(o);
     }
+    const auto t0 = Clock::now();
     const PlanResult r = planner_->plan(req);
+    plan_s_ += std::chrono::duration<double>(Clock::now() - t0).count();
     if (r.status != PlanStatus::kOk && r.status != PlanStatus::kGoalReached) ++plan_failures_;
     velocity_command_t c{};
     c.utime = s.utime;
@@ -193,13 +198,14 @@ class Run {
   std::unique_ptr<DualBandPlanner> planner_;
   std::int64_t steps_{0};
   int plan_failures_{0};
+  double plan_s_{0.0};
   Clock::time_point t_first_, t_end_;
   std::optional<sim_status_t> final_;
 };
 
 const char* stateName(std::int8_t s) {
-  static const char* names[] = {"RUNNING",           "GOAL_REACHED", "COLLISION", "TIME_LIMIT",
-                                "PARTICIPANT_TIMEOUT", "ERROR"};
+  static const char* names[] = {"RUNNING",    "GOAL_REACHED",        "COLLISION",
+                                "TIME_LIMIT", "PARTICIPANT_TIMEOUT", "ERROR"};
   return s >= 0 && s <= 5 ? names[s] : "?";
 }
 
@@ -210,14 +216,20 @@ void report(const char* what, const Run& r) {
 }
 
 std::vector<std::string> simArgs(const std::string& scenario) {
-  return {std::string(COOPNAV_BINARY_DIR) + "/daemons/world_sim/coopnav_world_sim", "--lcm-url",
-          kUrl, "--log-level", "warn", "--set", "scenario=" + scenario};
+  return {std::string(COOPNAV_BINARY_DIR) + "/daemons/world_sim/coopnav_world_sim",
+          "--lcm-url",
+          kUrl,
+          "--log-level",
+          "warn",
+          "--set",
+          "scenario=" + scenario};
 }
 
 }  // namespace
 
 int main() {
-  const fs::path dir = fs::temp_directory_path() / ("coopnav_bench_sim_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("coopnav_bench_sim_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "map.yaml") << kMap;
   std::ofstream(dir / "alone.yaml") << scenarioText("");
@@ -229,7 +241,8 @@ int main() {
     Run run;
     Child sim(simArgs((dir / "alone.yaml").string()));
     if (!run.good() || !sim.ok() || !run.spin(std::chrono::seconds(300), sim)) {
-      std::printf("sim alone: no final SIM_STATUS (is coopnav_world_sim built? multicast route?)\n");
+      std::printf(
+          "sim alone: no final SIM_STATUS (is coopnav_world_sim built? multicast route?)\n");
       rc = 1;
     } else {
       report("world_sim alone (lockstep, no participant):", run);
@@ -255,9 +268,10 @@ int main() {
       std::printf("coopnav_band_source did not complete a run; using the in-process stand-in\n");
     }
   } else {
-    std::printf("coopnav_band_source is not built (%s): stand-in = this process as participant "
-                "band_source, running the lib DualBandPlanner once per step\n",
-                band_source_exe.c_str());
+    std::printf(
+        "coopnav_band_source is not built (%s): stand-in = this process as participant "
+        "band_source, running the lib DualBandPlanner once per step\n",
+        band_source_exe.c_str());
   }
   if (!measured) {
     auto field = std::make_shared<GridDistanceField>(loadMap((dir / "map.yaml").string()).grid);
@@ -268,7 +282,10 @@ int main() {
       rc = 1;
     } else {
       report("world_sim + in-process DualBandPlanner stand-in:", run);
-      if (run.planFailures() > 0) std::printf("  planner failures: %d\n", run.planFailures());
+      std::printf("  planner: %.1f ms per step (%.0f %% of the wall time), %d failed cycles\n",
+                  1e3 * run.planSeconds() / static_cast<double>(run.steps()),
+                  100.0 * run.planSeconds() * run.speedup() / utimeToSeconds(run.final().utime),
+                  run.planFailures());
       with_bs = run.speedup();
     }
   }

@@ -595,6 +595,27 @@ TEST(SpeechOutputTest, AMissingProgramDisablesSpeechAndNothingElse) {
   EXPECT_EQ(speech.started(), 0);
 }
 
+TEST(SpeechOutputTest, RealEspeakNgWritesAWavFile) {
+  if (findExecutable("espeak-ng").empty()) GTEST_SKIP() << "espeak-ng not installed";
+  const std::string dir = tempDir();
+  SpeechConfig c;
+  c.enabled = true;
+  c.wav_dir = dir;
+  SpeechOutput speech(c);
+  ASSERT_TRUE(speech.usable());
+  speech.say("-I will pass on your left.", "u1_h1_r1_inform_direction");
+  ASSERT_TRUE(test::waitFor(
+      [&] {
+        speech.poll();
+        return !speech.busy();
+      },
+      seconds(20)));
+  EXPECT_EQ(speech.failed(), 0);
+  struct stat st {};
+  ASSERT_EQ(::stat((dir + "/u1_h1_r1_inform_direction.wav").c_str(), &st), 0);
+  EXPECT_GT(st.st_size, 10000) << "about a second of audio at least";
+}
+
 TEST(SpeechOutputTest, DisabledByDefault) {
   SpeechOutput speech(SpeechConfig{});
   EXPECT_FALSE(speech.usable());
@@ -606,6 +627,20 @@ TEST_F(DialogueManagerTest, SpeechWithAMissingProgramDoesNotChangeWhatIsPublishe
   fullStep(1, {{1, 6.9}}, {});
   EXPECT_EQ(utterances_.size(), 1u);
   EXPECT_TRUE(dut_->running());
+}
+
+TEST_F(DialogueManagerTest, SpeaksIntoWavFilesWhenEspeakNgIsInstalled) {
+  if (findExecutable("espeak-ng").empty()) GTEST_SKIP() << "espeak-ng not installed";
+  const std::string dir = tempDir();
+  start({"--set", "speech.enabled=true", "--set", "speech.wav_dir=" + dir});
+  primePeers();
+  fullStep(1, {{1, 6.9}}, {});
+  ASSERT_EQ(utterances_.size(), 1u);
+  const std::string wav = dir + "/u" + std::to_string(utimeOf(1)) + "_h1_r1_inform_direction.wav";
+  struct stat st {};
+  EXPECT_TRUE(test::waitFor([&] { return ::stat(wav.c_str(), &st) == 0 && st.st_size > 10000; },
+                            seconds(20)))
+      << wav;
 }
 
 }  // namespace

@@ -39,6 +39,24 @@ std::string fixed(double v, int decimals) {
   return s;
 }
 
+// The kind of an unknown reason: its text with numbers blanked, so "horizon (10.6 s)" and
+// "horizon (9.9 s)" count as one reason and the transcript names it once.
+static std::string reasonKind(const std::string& reason) {
+  std::string out;
+  bool in_number = false;
+  for (char c : reason) {
+    const bool digit = (c >= '0' && c <= '9') || (in_number && c == '.');
+    if (digit) {
+      if (!in_number) out += '#';
+      in_number = true;
+    } else {
+      in_number = false;
+      out += c;
+    }
+  }
+  return out;
+}
+
 std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysis& analysis,
                                              const TranscriptOptions& options) {
   using Kind = TranscriptEntry::Kind;
@@ -50,7 +68,7 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
   std::map<std::int32_t, int> reasons_per_human;
   if (options.include_unknown) {
     for (const auto& s : run.situations)
-      if (!s.reason.empty()) ++unknown_count[{s.human_id, s.reason}];
+      if (!s.reason.empty()) ++unknown_count[{s.human_id, reasonKind(s.reason)}];
   }
 
   std::int64_t last_step_utime = 0;
@@ -116,7 +134,7 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
         if (!options.include_unknown) continue;
         const auto& s = run.situations[ref.index];
         if (s.reason.empty()) continue;
-        const auto key = std::make_pair(s.human_id, s.reason);
+        const auto key = std::make_pair(s.human_id, reasonKind(s.reason));
         if (unknown_first.count(key)) continue;
         if (reasons_per_human[s.human_id] >= options.max_unknown_reasons) continue;
         ++reasons_per_human[s.human_id];

@@ -89,6 +89,7 @@ std::vector<BandPlannerConfig::Error> BandPlannerConfig::validate() const {
   c.range("weight_agent_agent_safety", weight_agent_agent_safety, 0.0, 1e6);
   c.range("rel_vel_cost_threshold", rel_vel_cost_threshold, 0.0, 1e3);
   c.range("weight_agent_robot_rel_vel", weight_agent_robot_rel_vel, 0.0, 1e6);
+  c.range("rel_vel_activation_dist_m", rel_vel_activation_dist_m, -kInf, 1e3);
   c.range("safety_activation_dist_m", safety_activation_dist_m, -kInf, 1e3);
   c.range("symmetry_break_offset_m", symmetry_break_offset_m, 0.0, 5.0);
   c.range("xy_goal_tolerance_m", xy_goal_tolerance_m, 0.0, 10.0, true);

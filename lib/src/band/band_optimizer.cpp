@@ -169,17 +169,23 @@ class ProblemBuilder {
     const double sw_rel = sq(cfg_.weight_agent_robot_rel_vel);
     const auto pairs = pairByTime(a, b);
     const double eps = cfg_.penalty_epsilon;
-    for (std::size_t i = 1; i < pairs.size(); ++i) {
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
       if (!pairs[i]) continue;
       const std::size_t j = pairs[i]->segment;
       const double s = pairs[i]->fraction;
-      if (safety_on && i + 1 < a.size()) {
+      // Pose 0 is fixed: no safety term; its segment's relative velocity (the command) counts.
+      if (safety_on && i > 0 && i + 1 < a.size()) {
         add(robot_pair ? kAgentRobotSafety : kAgentAgentSafety,
             autodiff<AgentSafetyCost, 1, 3, 3, 3>(
                 new AgentSafetyCost(sw_safety, min_dist, radii, s, eps)),
             {a.poseData(i), b.poseData(j), b.poseData(j + 1)});
       }
-      if (robot_pair && sw_rel > 0.0 && i + 1 < a.size()) {
+      bool rel_on = robot_pair && sw_rel > 0.0 && i + 1 < a.size();
+      if (rel_on && cfg_.rel_vel_activation_dist_m > 0.0) {
+        const Eigen::Vector2d pb = (1.0 - s) * b.pose(j).position() + s * b.pose(j + 1).position();
+        rel_on = (a.pose(i).position() - pb).norm() - radii < cfg_.rel_vel_activation_dist_m;
+      }
+      if (rel_on) {
         add(kRelativeVelocity,
             autodiff<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(
                 new RelativeVelocityCost(sw_rel, cfg_.rel_vel_cost_threshold, s, A.is_robot, eps)),

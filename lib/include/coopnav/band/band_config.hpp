@@ -122,6 +122,14 @@ struct BandPlannerConfig {
   double weight_agent_agent_safety{2.0};
   double rel_vel_cost_threshold{1.5};
   double weight_agent_robot_rel_vel{5.0};
+  /// The relative-velocity term acts on a time-paired pose pair only while the pair's
+  /// edge-to-edge distance is below this [m] (<= 0: at any range). Why: CoHAN's cost
+  /// c = closing speed + (|v_r| + 1)/|d| exceeds the 1.5 threshold head-on at ANY range
+  /// (0.7 + 1.0 m/s closing), so ungated it makes the robot crawl from 14 m away (measured:
+  /// first band 6.75 m over 17.9 s instead of 11.3 s, closed-loop speed ~0.3 m/s), while the
+  /// paper's CoHAN robot keeps moving and bends aside. Gated like CoHAN's 2.0 m safety gate, but
+  /// per pair (we pair by time), so the term still shapes the bands where they meet.
+  double rel_vel_activation_dist_m{2.0};
   /// Safety term only while agents are closer than this now [m]; CoHAN hard-codes 2.0 because
   /// it pairs by index. We pair by time, so the term is safe to keep always (<= 0: always).
   double safety_activation_dist_m{0.0};

@@ -39,6 +39,8 @@ assessment::SituationThresholds SituationAssessorConfig::thresholds() const {
   t.tau_oh_m = tau_oh_m;
   t.tau_or_m = tau_or_m;
   t.tau_hr_m = tau_hr_m;
+  t.robot_radius_m = robot_radius_m;
+  t.human_radius_m = human_radius_m;
   t.coincident_tolerance_m = coincident_tolerance_m;
   return t;
 }
@@ -206,8 +208,8 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
       if (outcome->ok) {
         const DistanceResult& rh = outcome->results[static_cast<std::size_t>(w.first_query)];
         const DistanceResult& rr = outcome->results[static_cast<std::size_t>(w.first_query) + 1];
-        d_oh_m = assessment::obstacleDistanceFrom(rh);
-        d_or_m = assessment::obstacleDistanceFrom(rr);
+        d_oh_m = assessment::obstacleDistanceFrom(rh, thresholds_.human_radius_m);
+        d_or_m = assessment::obstacleDistanceFrom(rr, thresholds_.robot_radius_m);
         if (!d_oh_m) prependReason(reason, std::string("d_OH query: ") + toString(rh.status));
         if (!d_or_m) {
           const std::string r = std::string("d_OR query: ") + toString(rr.status);

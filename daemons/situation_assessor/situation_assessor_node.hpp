@@ -31,6 +31,8 @@ struct SituationAssessorConfig {
   double tau_oh_m{assessment::SituationThresholds{}.tau_oh_m};
   double tau_or_m{assessment::SituationThresholds{}.tau_or_m};
   double tau_hr_m{assessment::SituationThresholds{}.tau_hr_m};
+  double robot_radius_m{assessment::SituationThresholds{}.robot_radius_m};
+  double human_radius_m{assessment::SituationThresholds{}.human_radius_m};
   double coincident_tolerance_m{assessment::SituationThresholds{}.coincident_tolerance_m};
   double grid_dt_s{assessment::CrossingConfig{}.grid_dt_s};
   double dir_tolerance_m{assessment::CrossingConfig{}.dir_tolerance_m};
@@ -51,6 +53,8 @@ struct SituationAssessorConfig {
     v("tau_oh_m", tau_oh_m, Range{0.0, 10.0});
     v("tau_or_m", tau_or_m, Range{0.0, 10.0});
     v("tau_hr_m", tau_hr_m, Range{0.0, 10.0});
+    v("robot_radius_m", robot_radius_m, Range{0.0, 5.0});
+    v("human_radius_m", human_radius_m, Range{0.0, 5.0});
     v("coincident_tolerance_m", coincident_tolerance_m, Range{1e-6, 1.0});
     v("grid_dt_s", grid_dt_s, Range{1e-3, 1.0});
     v("dir_tolerance_m", dir_tolerance_m, Range{0.0, 1.0});

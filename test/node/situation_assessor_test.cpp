@@ -116,10 +116,10 @@ class SituationAssessorTest : public ::testing::Test {
       dq.max_range_m = config_.query_range_m;
       dq.point = q->human.point;
       dq.vector = q->human.normal;
-      d_oh = assessment::obstacleDistanceFrom(answerQuery(*field_, dq));
+      d_oh = assessment::obstacleDistanceFrom(answerQuery(*field_, dq), thr.human_radius_m);
       dq.point = q->robot.point;
       dq.vector = q->robot.normal;
-      d_or = assessment::obstacleDistanceFrom(answerQuery(*field_, dq));
+      d_or = assessment::obstacleDistanceFrom(answerQuery(*field_, dq), thr.robot_radius_m);
     }
     e.assessment = assessment::assessSituation(e.crossing, ref, d_oh, d_or, thr);
     return e;

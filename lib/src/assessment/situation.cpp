@@ -1,5 +1,6 @@
 #include "coopnav/assessment/situation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -48,10 +49,10 @@ std::optional<HalfPlaneQueries> halfPlaneQueries(const CrossingInfo& crossing,
   return q;
 }
 
-std::optional<double> obstacleDistanceFrom(const DistanceResult& result) {
+std::optional<double> obstacleDistanceFrom(const DistanceResult& result, double body_radius_m) {
   switch (result.status) {
     case DistanceStatus::kOk:
-      return result.distance_m;
+      return std::max(0.0, result.distance_m - body_radius_m);
     case DistanceStatus::kInObstacle:
       return 0.0;
     case DistanceStatus::kNotFound:

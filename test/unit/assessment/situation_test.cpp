@@ -63,6 +63,9 @@ TEST(ObstacleDistance, ServerStatusesMapToKnownOrUnknown) {
   r.status = DistanceStatus::kOk;
   r.distance_m = 0.7;
   EXPECT_EQ(obstacleDistanceFrom(r), 0.7);
+  // As a body's clearance: centre distance minus the radius, never negative.
+  EXPECT_DOUBLE_EQ(*obstacleDistanceFrom(r, 0.47), 0.7 - 0.47);
+  EXPECT_EQ(*obstacleDistanceFrom(r, 0.9), 0.0);
   r.status = DistanceStatus::kInObstacle;
   EXPECT_EQ(obstacleDistanceFrom(r), 0.0);
   r.status = DistanceStatus::kNotFound;

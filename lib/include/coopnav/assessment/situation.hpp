@@ -30,6 +30,12 @@ struct SituationThresholds {
   double tau_oh_m{1.0};  ///< [m] τ_OH, paper §III: latitude the human needs to contribute
   double tau_or_m{0.3};  ///< [m] τ_OR, paper §III: robot clearance to obstacles
   double tau_hr_m{1.2};  ///< [m] τ_HR, paper §III: social distance at the crossing point
+  /// [m] Body radii: d_OH and d_OR are clearances of the body, not of its centre. Paper §III sets
+  /// τ_OR = 0.3 m "to avoid collision with the obstacle", a clearance as CoHAN/TEB measure it from
+  /// the footprint; measured from the centre, a 0.47 m robot could never be constrained.
+  /// Defaults: CoHAN's PR2 footprint and agent radius.
+  double robot_radius_m{0.47};
+  double human_radius_m{0.3};
   /// [m] |CP_h - CP_r| below this: the CP_r -> CP_h direction is meaningless, so the half-plane
   /// normals fall back to the human's heading (clarifications, "Half-plane queries").
   double coincident_tolerance_m{0.05};
@@ -55,9 +61,11 @@ struct HalfPlaneQueries {
 std::optional<HalfPlaneQueries> halfPlaneQueries(const CrossingInfo& crossing,
                                                  const SituationThresholds& thresholds = {});
 
-/// Converts a distance-server answer into a d_OH / d_OR value: kOk -> distance, kInObstacle -> 0,
+/// Converts a distance-server answer (from the agent's centre) into a d_OH / d_OR value, the
+/// clearance of a body of `body_radius_m`: kOk -> max(0, distance - radius), kInObstacle -> 0,
 /// kNotFound -> +inf (known: nothing within range); any other status -> nullopt (unknown).
-std::optional<double> obstacleDistanceFrom(const DistanceResult& result);
+std::optional<double> obstacleDistanceFrom(const DistanceResult& result,
+                                           double body_radius_m = 0.0);
 
 /// [m] Paper §II-B, d_h: unsigned distance from CP_h to the human's reference path.
 /// nullopt when the path is empty or CP_h non-finite.

@@ -135,9 +135,10 @@ void TimedElasticBand::insertAfter(std::size_t i, const std::array<double, 3>& p
   dts_.insert(dts_.begin() + static_cast<std::ptrdiff_t>(i + 1), dt_after);
 }
 
-void TimedElasticBand::autoResize(double dt_ref_s, double dt_hysteresis_s, int min_samples,
+bool TimedElasticBand::autoResize(double dt_ref_s, double dt_hysteresis_s, int min_samples,
                                   int max_samples) {
-  if (poses_.size() < 2) return;
+  if (poses_.size() < 2) return false;
+  bool any = false;
   constexpr int kMaxSweeps = 100;  // as TEB: bounded so a pathological band cannot spin
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
     bool changed = false;
@@ -177,7 +178,9 @@ void TimedElasticBand::autoResize(double dt_ref_s, double dt_hysteresis_s, int m
       }
     }
     if (!changed) break;
+    any = true;
   }
+  return any;
 }
 
 std::size_t TimedElasticBand::pruneToStart(const Pose2& current, double elapsed_s) {

@@ -238,20 +238,5 @@ TEST(ClosedLoopTest, NarrowCorridorHeadOnRobotMovesAsideWithoutCollision) {
   EXPECT_TRUE(log.reached_goal);
 }
 
-TEST(ClosedLoopTest, NarrowCorridorHeadOnStraightHumanNoCollision) {
-  Scenario sc;
-  sc.robot_start = {11.0, 1.575};
-  sc.robot_goal = {30.0, 1.575};
-  sc.human_start = {25.0, 1.575};
-  sc.human_goal = {11.0, 1.575};
-  sc.motion = HumanMotion::kStraight;
-  const RunLog log = runClosedLoop(openPgm(), sc, {}, true);
-  ASSERT_EQ(log.failed_cycles, 0);
-  EXPECT_GT(log.max_band_offset_m, 0.25);
-  EXPECT_GE(log.min_centre_distance_m, kRobotRadius_m + kHumanRadius_m);
-  EXPECT_GE(log.min_wall_distance_m, kRobotRadius_m);
-  EXPECT_TRUE(log.reached_goal);
-}
-
 }  // namespace
 }  // namespace coopnav

@@ -2,8 +2,10 @@
 /// @file Joint optimisation of several timed elastic bands (the planning agent's and one per
 /// anticipated agent) as ONE sparse nonlinear least-squares problem in Ceres, as CoHAN puts the
 /// robot and human bands in one g2o graph (Singamaneni et al. 2021). Outer loop as TEB
-/// (Rösmann et al. 2015): autoResize, build the problem (time pairing and via-point anchors are
-/// fixed here), a few Levenberg–Marquardt iterations, obstacle weight × weight_adapt_factor.
+/// (Rösmann et al. 2015) — autoResize, build, a few Levenberg–Marquardt iterations, obstacle and
+/// safety weights × weight_adapt_factor — except that the bands are resized and the problem is
+/// built once per call: between outer iterations only the via-point projections, the pairing
+/// fractions and the weight multiplier change (notes §9, "built once + warm start").
 
 #include <cstdint>
 #include <string>
@@ -43,6 +45,7 @@ struct TermCost {
 struct OptimizeStats {
   int iterations{0};  ///< LM iterations over all outer loops
   int outer_iterations{0};
+  int rebuilds{0};           ///< problems rebuilt after the first because autoResize changed a band
   double initial_cost{0.0};  ///< at the first outer iteration
   double final_cost{0.0};
   double solver_time_s{0.0};  ///< as Ceres measured it

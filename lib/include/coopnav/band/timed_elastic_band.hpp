@@ -70,7 +70,8 @@ class TimedElasticBand {
   /// into round(ΔT / dt_ref) parts; a ΔT below dt_ref - hyst is merged with its neighbour when
   /// the sum stays <= 1.5 dt_ref (merging further would only trigger a split again: the
   /// oscillation of teb_local_planner PR #263). The first and last poses are never removed.
-  void autoResize(double dt_ref_s, double dt_hysteresis_s, int min_samples, int max_samples);
+  /// Returns true when poses were inserted or removed (storage addresses may have changed).
+  bool autoResize(double dt_ref_s, double dt_hysteresis_s, int min_samples, int max_samples);
 
   /// Warm start: drops the poses the agent has already passed (the band pose nearest to
   /// `current` among those within elapsed_s + 1 s of the start) and makes `current` the first

@@ -4,7 +4,8 @@
 /// min_obstacle_dist. Analytic Jacobian: the nearest obstacle point o is treated as locally
 /// constant, so ∂d/∂p = (p − o)/|p − o|. Inside an obstacle (or outside the map) the residual is
 /// the full margin with a zero gradient: the band must not start there, and neighbouring poses'
-/// gradients pull it out.
+/// gradients pull it out. The weight is √weight × *sqrt_multiplier: the outer loop raises it
+/// between solves of one problem (TEB weight adaptation) without rebuilding.
 
 #include <ceres/sized_cost_function.h>
 
@@ -17,9 +18,14 @@ namespace coopnav::band_costs {
 
 class ObstacleCost final : public ceres::SizedCostFunction<1, 3> {
  public:
-  ObstacleCost(const DistanceMap* map, double sqrt_weight, double min_clearance_m, double radius_m,
-               double epsilon)
-      : map_(map), sw_(sqrt_weight), min_(min_clearance_m), radius_(radius_m), eps_(epsilon) {}
+  ObstacleCost(const DistanceMap* map, double sqrt_weight, const double* sqrt_multiplier,
+               double min_clearance_m, double radius_m, double epsilon)
+      : map_(map),
+        sw_(sqrt_weight),
+        mult_(sqrt_multiplier),
+        min_(min_clearance_m),
+        radius_(radius_m),
+        eps_(epsilon) {}
 
   bool Evaluate(double const* const* params, double* residuals, double** jacobians) const override {
     const Eigen::Vector2d p(params[0][0], params[0][1]);
@@ -38,10 +44,11 @@ class ObstacleCost final : public ceres::SizedCostFunction<1, 3> {
     } else {
       r = limit + radius_;
     }
-    residuals[0] = sw_ * r;
+    const double sw = mult_ != nullptr ? sw_ * *mult_ : sw_;
+    residuals[0] = sw * r;
     if (jacobians != nullptr && jacobians[0] != nullptr) {
-      jacobians[0][0] = sw_ * grad.x();
-      jacobians[0][1] = sw_ * grad.y();
+      jacobians[0][0] = sw * grad.x();
+      jacobians[0][1] = sw * grad.y();
       jacobians[0][2] = 0.0;
     }
     return true;
@@ -49,7 +56,9 @@ class ObstacleCost final : public ceres::SizedCostFunction<1, 3> {
 
  private:
   const DistanceMap* map_;
-  double sw_, min_, radius_, eps_;
+  double sw_;
+  const double* mult_;
+  double min_, radius_, eps_;
 };
 
 }  // namespace coopnav::band_costs

@@ -6,7 +6,8 @@
 /// penalised above `threshold`. It grows as the agents close in on each other head-on, long
 /// before the safety distance is reached, which is what bends the bands early.
 /// Pairing by time: segment a (a0 → a1 in ΔT_a) of one band and segment b of the other band,
-/// with the position on b interpolated at a0's time (fraction fixed for an outer iteration).
+/// with the position on b interpolated at a0's time (fraction read through a pointer, updated
+/// between the solves of one problem).
 
 #include "coopnav/band/costs/penalties.hpp"
 
@@ -15,15 +16,16 @@ namespace coopnav::band_costs {
 struct RelativeVelocityCost {
   static constexpr int kResiduals = 1;
   /// robot_is_a: which segment is the robot's (|v_r| enters the formula, not |v_h|).
-  RelativeVelocityCost(double sqrt_weight, double threshold, double fraction, bool robot_is_a,
-                       double epsilon)
+  RelativeVelocityCost(double sqrt_weight, double threshold, const double* fraction,
+                       bool robot_is_a, double epsilon)
       : sw_(sqrt_weight), thr_(threshold), s_(fraction), robot_is_a_(robot_is_a), eps_(epsilon) {}
   template <typename T>
   bool operator()(const T* a0, const T* a1, const T* dta, const T* b0, const T* b1, const T* dtb,
                   T* r) const {
     const T pax = a0[0], pay = a0[1];
-    const T pbx = (1.0 - s_) * b0[0] + s_ * b1[0];
-    const T pby = (1.0 - s_) * b0[1] + s_ * b1[1];
+    const double s = *s_;
+    const T pbx = (1.0 - s) * b0[0] + s * b1[0];
+    const T pby = (1.0 - s) * b0[1] + s * b1[1];
     const T vax = (a1[0] - a0[0]) / dta[0], vay = (a1[1] - a0[1]) / dta[0];
     const T vbx = (b1[0] - b0[0]) / dtb[0], vby = (b1[1] - b0[1]) / dtb[0];
     // Robot r, human h.
@@ -45,7 +47,8 @@ struct RelativeVelocityCost {
   }
 
  private:
-  double sw_, thr_, s_;
+  double sw_, thr_;
+  const double* s_;
   bool robot_is_a_;
   double eps_;
 };

@@ -110,6 +110,29 @@ TEST(DualBandPlannerTest, NarrowCorridorRobotBandMovesToOneSide) {
   EXPECT_GE(minWallClearance(*map, r.agent_band, kRobotRadius_m), 0.1);
 }
 
+TEST(DualBandPlannerTest, FarHeadOnHumanDoesNotSlowTheRobotBand) {
+  // Given a head-on human who stays > 14 m away over the whole robot band (6.75 m ahead),
+  auto map = BoxMap::corridor(0.0, 40.0, 0.0, 6.0);
+  auto req = test::headOn(3.0, 35.0, 3.0, 20.0);
+  req.agent.velocity.vx_m_s = 0.7;
+  auto duration = [&](BandPlannerConfig cfg, bool with_human) {
+    DualBandPlanner dut(cfg, map);
+    auto r0 = req;
+    if (!with_human) r0.others.clear();
+    const PlanResult r = dut.plan(r0);
+    EXPECT_EQ(r.status, PlanStatus::kOk);
+    return r.agent_band.poses.back().t_s;
+  };
+  const double alone_s = duration({}, false);
+  // then the robot band is as fast as without the human: CoHAN's relative-velocity cost
+  // (closing speed + (|v_r| + 1)/|d| > 1.5 head-on at any range) acts only near the meeting.
+  EXPECT_NEAR(duration({}, true), alone_s, 0.05 * alone_s);
+  // The bug this guards against: ungated, the same term slows the robot band from afar.
+  BandPlannerConfig ungated;
+  ungated.rel_vel_activation_dist_m = 0.0;
+  EXPECT_GT(duration(ungated, true), 1.2 * alone_s);
+}
+
 TEST(DualBandPlannerTest, WarmStartKeepsPlanningAsAgentsMove) {
   auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
   DualBandPlanner dut(BandPlannerConfig{}, map);

@@ -83,24 +83,11 @@ std::string idList(const std::set<std::int32_t>& ids) {
 
 }  // namespace
 
-void BandSourceConfig::resolvePaths(const std::string& base_dir) {
-  map_file = resolvePath(base_dir, map_file);
-}
+void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePaths(base_dir); }
 
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
     : config_(config), runtime_(runtime) {
-  LoadedMap map;
-  try {
-    MapLoadOptions opts;
-    opts.bt_z_min_m = config_.bt_z_min_m;
-    opts.bt_z_max_m = config_.bt_z_max_m;
-    map = loadMap(config_.map_file, opts);
-  } catch (const MapLoadError& e) {
-    throw StartupError(e.what());
-  }
-  map_ = std::make_shared<GridDistanceField>(std::move(map.grid), config_.unknown_is_obstacle
-                                                                      ? UnknownPolicy::kObstacle
-                                                                      : UnknownPolicy::kFree);
+  map_ = loadDistanceField(config_.map).field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
   if (!planner_->configErrors().empty()) {
@@ -121,7 +108,7 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   gate_ = std::make_unique<StepGate>(runtime_, gate);
 
   const auto& g = map_->grid();
-  detail_ = "map " + config_.map_file + " " + std::to_string(g.width()) + "x" +
+  detail_ = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
             std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) + " m";
   log().info("band_source: {}; {} LM iterations per cycle, free-running at most {} Hz", detail_,
              config_.max_iterations > 0 ? config_.max_iterations

@@ -15,6 +15,7 @@
 
 #include "common/band_config_yaml.hpp"
 #include "common/config.hpp"
+#include "common/map_source.hpp"
 #include "common/conversions.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
@@ -28,14 +29,8 @@
 namespace coopnav {
 
 struct BandSourceConfig {
-  /// Known map, the same file as the distance server's: ROS map_server YAML (+PGM), OctoMap .bt,
-  /// or a walls YAML. Relative to the config file.
-  std::string map_file{"maps/open.yaml"};
-  /// Unknown cells count as obstacles (open.pgm's pillar interior is unknown).
-  bool unknown_is_obstacle{true};
-  /// Height band [m] of a .bt map projected to 2-D.
-  double bt_z_min_m{0.05};
-  double bt_z_max_m{2.0};
+  /// The known map: the same file as the other map-loading daemons of a run.
+  MapSource map;
   /// Free-running only: at most this many cycles per second of message time (CoHAN: 10 Hz). In
   /// lockstep every step is a cycle; the simulator's publish_hz sets the rate.
   double control_hz{10.0};
@@ -57,10 +52,7 @@ struct BandSourceConfig {
 
   template <class V>
   void visit(V& v) {
-    v("map_file", map_file);
-    v("unknown_is_obstacle", unknown_is_obstacle);
-    v("bt_z_min_m", bt_z_min_m, Range{-100.0, 100.0});
-    v("bt_z_max_m", bt_z_max_m, Range{-100.0, 100.0});
+    map.visit(v);  // its keys at the top level of this YAML
     v("control_hz", control_hz, Range{0.1, 1000.0});
     v("max_iterations", max_iterations, Range{0, 10000});
     v("free_running_time_budget_s", free_running_time_budget_s, Range{0.0, 10.0});
@@ -68,8 +60,6 @@ struct BandSourceConfig {
     v("reference_paths_republish_s", reference_paths_republish_s, Range{0.0, 3600.0});
     v("dock", dock);
     v("planner", planner);
-    v.require(bt_z_max_m > bt_z_min_m, "bt_z_max_m", "must be greater than bt_z_min_m");
-    v.require(!map_file.empty(), "map_file", "must name a map file");
   }
   void resolvePaths(const std::string& base_dir);
 };

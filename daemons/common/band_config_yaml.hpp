@@ -93,6 +93,7 @@ struct BandPlannerConfigYaml {
     v("weight_agent_agent_safety", c.weight_agent_agent_safety);
     v("rel_vel_cost_threshold", c.rel_vel_cost_threshold);
     v("weight_agent_robot_rel_vel", c.weight_agent_robot_rel_vel);
+    v("rel_vel_activation_dist_m", c.rel_vel_activation_dist_m);
     v("safety_activation_dist_m", c.safety_activation_dist_m);
     v("symmetry_break_offset_m", c.symmetry_break_offset_m);
     v("init_planning_band_aside", c.init_planning_band_aside);

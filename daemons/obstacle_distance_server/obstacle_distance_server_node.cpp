@@ -11,26 +11,22 @@
 namespace coopnav {
 
 void ObstacleDistanceServerConfig::resolvePaths(const std::string& base_dir) {
-  map_file = resolvePath(base_dir, map_file);
+  map.resolvePaths(base_dir);
   write_bt_path = resolvePath(base_dir, write_bt_path);
 }
 
 ObstacleDistanceServerNode::ObstacleDistanceServerNode(const Config& config, Runtime& runtime)
     : config_(config), runtime_(runtime) {
-  LoadedMap map;
+  LoadedField loaded = loadDistanceField(config_.map);
+  LoadedMap& map = loaded.map;
+  field_ = std::move(loaded.field);
   try {
-    MapLoadOptions opts;
-    opts.bt_z_min_m = config_.bt_z_min_m;
-    opts.bt_z_max_m = config_.bt_z_max_m;
-    map = loadMap(config_.map_file, opts);
     if (!config_.write_bt_path.empty()) writeBt(*map.tree, config_.write_bt_path);
   } catch (const MapLoadError& e) {
     throw StartupError(e.what());
   }
-  field_ = std::make_unique<GridDistanceField>(
-      map.grid, config_.unknown_is_obstacle ? UnknownPolicy::kObstacle : UnknownPolicy::kFree);
   const auto& g = field_->grid();
-  const std::string detail = "map " + config_.map_file + " " + std::to_string(g.width()) + "x" +
+  const std::string detail = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
                              std::to_string(g.height()) + " @ " +
                              std::to_string(g.resolution_m()) + " m";
   log().info("obstacle_distance_server: {}, {} occupied cells, octree {} leaves", detail,

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/config.hpp"
+#include "common/map_source.hpp"
 #include "common/runtime.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_request_t.hpp"
@@ -13,13 +14,8 @@
 namespace coopnav {
 
 struct ObstacleDistanceServerConfig {
-  /// Map: ROS map_server YAML (+PGM), OctoMap .bt, or a walls YAML. Relative to the config file.
-  std::string map_file{"maps/open.yaml"};
-  /// Unknown cells count as obstacles for distances (open.pgm's pillar interior is unknown).
-  bool unknown_is_obstacle{true};
-  /// Height band [m] of a .bt map projected to 2-D.
-  double bt_z_min_m{0.05};
-  double bt_z_max_m{2.0};
+  /// The known map: the same file as the other map-loading daemons of a run.
+  MapSource map;
   /// If set, the map of record is written there as .bt at start (for octovis).
   std::string write_bt_path{""};
   /// Queries asking for more range than this are clamped to it [m].
@@ -27,14 +23,9 @@ struct ObstacleDistanceServerConfig {
 
   template <class V>
   void visit(V& v) {
-    v("map_file", map_file);
-    v("unknown_is_obstacle", unknown_is_obstacle);
-    v("bt_z_min_m", bt_z_min_m, Range{-100.0, 100.0});
-    v("bt_z_max_m", bt_z_max_m, Range{-100.0, 100.0});
+    map.visit(v);  // its keys at the top level of this YAML
     v("write_bt_path", write_bt_path);
     v("max_range_cap_m", max_range_cap_m, Range{0.1, 1000.0});
-    v.require(bt_z_max_m > bt_z_min_m, "bt_z_max_m", "must be greater than bt_z_min_m");
-    v.require(!map_file.empty(), "map_file", "must name a map file");
   }
   void resolvePaths(const std::string& base_dir);
 };
@@ -52,7 +43,7 @@ class ObstacleDistanceServerNode {
 
   Config config_;
   Runtime& runtime_;
-  std::unique_ptr<GridDistanceField> field_;
+  std::shared_ptr<GridDistanceField> field_;
 };
 
 }  // namespace coopnav

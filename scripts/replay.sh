@@ -60,7 +60,8 @@ lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm" 
 pids+=($!)
 sleep 0.5
 lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
-  -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log"
+  -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log" \
+  >"$outdir/lcm-logplayer.log" 2>&1
 sleep 1.0  # the last step's decisions reach the logger
 stop_all
 "$ctl" transcript "$outdir/replay.lcm"

@@ -27,6 +27,8 @@ if [ -z "$map" ] && [ -f "$(dirname "$log")/scenario.path" ]; then
   map="$(cat "$(dirname "$log")/scenario.path")"
 fi
 [ -n "$map" ] && [ -f "$map" ] || { echo "replay.sh: no map; pass --map FILE" >&2; exit 2; }
+# Daemons resolve relative paths against their config file's folder: give them an absolute one.
+map="$(cd "$(dirname "$map")" && pwd)/$(basename "$map")"
 [ -n "$outdir" ] || outdir="$(mktemp -d)"
 mkdir -p "$outdir"
 

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Log replay with golden output: a recorded lockstep run (the world's side only: agent states,
+# goals, bands, reference paths, sim status; test/data/golden/*.lcm.gz) played with
+# lcm-logplayer into fresh assessors and a fresh dialogue manager must give the golden
+# transcript byte for byte. Guards the assessors' and dialogue manager's decisions against
+# unintended change; regenerate with test/data/golden/README.md when a change is intended.
+set -euo pipefail
+src="${COOPNAV_SOURCE_DIR:?}"
+export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+port=7950
+for gz in "$src"/test/data/golden/*.lcm.gz; do
+  name="$(basename "$gz" .lcm.gz)"
+  gunzip -c "$gz" >"$tmp/$name.lcm"
+  COOPNAV_REPLAY_PORT=$port bash "$src/scripts/replay.sh" --no-build --speed 4 \
+    --map "$src/config/scenarios/$name.yaml" --out-dir "$tmp/$name" "$tmp/$name.lcm" \
+    >"$tmp/$name.txt" 2>"$tmp/$name.err" || { cat "$tmp/$name.err"; fail=1; }
+  port=$((port + 1))
+  if cmp -s "$tmp/$name.txt" "$src/test/data/golden/$name.transcript"; then
+    echo "ok   $name: replayed transcript equals the golden one"
+  else
+    echo "FAIL $name: replayed transcript differs from test/data/golden/$name.transcript"
+    diff "$src/test/data/golden/$name.transcript" "$tmp/$name.txt" | head -30
+    fail=1
+  fi
+done
+exit "$fail"

@@ -21,7 +21,7 @@ coopnav_sudo() {
 coopnav_install_deps() {
   local missing=()
   for p in "${COOPNAV_DEBS[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing+=("$p")
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep "ok installed" >/dev/null || missing+=("$p")
   done
   if [ "${#missing[@]}" -gt 0 ]; then
     echo "coopnav: installing ${#missing[@]} Debian packages: ${missing[*]}"
@@ -41,8 +41,9 @@ coopnav_build() {
 
 # LCM's udpm needs a multicast route; a minimal machine (or container) may have none on lo.
 coopnav_ensure_multicast() {
-  if ip route show 2>/dev/null | grep -qE '^(224\.0\.0\.0/4|default)'; then return 0; fi
-  echo "coopnav: no multicast route; adding 224.0.0.0/4 on lo"
+  # No grep -q: it exits at the first match, ip gets SIGPIPE, and pipefail calls that a failure.
+  if ip route show 2>/dev/null | grep -E '^(224\.0\.0\.0/4|default)' >/dev/null; then return 0; fi
+  echo "coopnav: no multicast route; adding 224.0.0.0/4 on lo" >&2
   coopnav_sudo ip link set lo up || true
   coopnav_sudo ip link set lo multicast on || true
   coopnav_sudo ip route add 224.0.0.0/4 dev lo || true

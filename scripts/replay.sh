@@ -64,6 +64,14 @@ sleep 0.5
 lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
   -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log" \
   >"$outdir/lcm-logplayer.log" 2>&1
-sleep 1.0  # the last step's decisions reach the logger
+# The daemons may still be working through queued steps (a loaded machine): wait until the
+# recording stops growing (the logger flushes every 100 ms), at most 60 s.
+last=-1
+for _ in $(seq 120); do
+  sleep 0.5
+  size=$(stat -c %s "$outdir/replay.lcm" 2>/dev/null || echo 0)
+  [ "$size" = "$last" ] && break
+  last=$size
+done
 stop_all
 "$ctl" transcript "$outdir/replay.lcm"

@@ -41,6 +41,15 @@ coopnav_build() {
 
 # LCM's udpm needs a multicast route; a minimal machine (or container) may have none on lo.
 coopnav_ensure_multicast() {
+  # LCM asks for 4 MB receive buffers (recv_buf_size in our URLs), but the kernel caps them at
+  # net.core.rmem_max (often 208 KB): a burst of bands then loses datagrams. Raise the cap when
+  # we may (LCM notes D6); elsewhere it stays a warning.
+  local rmem
+  rmem=$(sysctl -n net.core.rmem_max 2>/dev/null || echo 0)
+  if [ "$rmem" -lt 8388608 ]; then
+    coopnav_sudo sysctl -q -w net.core.rmem_max=8388608 >/dev/null 2>&1 ||
+      echo "coopnav: could not raise net.core.rmem_max ($rmem); LCM may drop bursts" >&2
+  fi
   # No grep -q: it exits at the first match, ip gets SIGPIPE, and pipefail calls that a failure.
   if ip route show 2>/dev/null | grep -E '^(224\.0\.0\.0/4|default)' >/dev/null; then return 0; fi
   echo "coopnav: no multicast route; adding 224.0.0.0/4 on lo" >&2

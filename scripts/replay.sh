@@ -49,6 +49,10 @@ stop_all() {
 }
 trap stop_all EXIT
 
+# The logger first: it is listening by the time the daemons are ready (a loaded machine can
+# take a while to start it).
+lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
+pids+=($!)
 "$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
   --set "map_file=$map" >"$outdir/obstacle_distance_server.log" 2>&1 &
 pids+=($!)
@@ -58,8 +62,6 @@ for d in situation_assessor path_assessor dialogue_manager; do
 done
 "$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
   --timeout-s 60 >/dev/null
-lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
-pids+=($!)
 sleep 0.5
 lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
   -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log" \

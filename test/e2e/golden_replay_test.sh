@@ -14,7 +14,7 @@ port=7950
 for gz in "$src"/test/data/golden/*.lcm.gz; do
   name="$(basename "$gz" .lcm.gz)"
   gunzip -c "$gz" >"$tmp/$name.lcm"
-  COOPNAV_REPLAY_PORT=$port bash "$src/scripts/replay.sh" --no-build --speed 4 \
+  COOPNAV_REPLAY_PORT=$port bash "$src/scripts/replay.sh" --no-build --speed 1 \
     --map "$src/config/scenarios/$name.yaml" --out-dir "$tmp/$name" "$tmp/$name.lcm" \
     >"$tmp/$name.txt" 2>"$tmp/$name.err" || { cat "$tmp/$name.err"; fail=1; }
   port=$((port + 1))

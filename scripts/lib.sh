@@ -59,3 +59,19 @@ coopnav_ensure_multicast() {
 }
 
 coopnav_bin() { echo "$COOPNAV_BUILD_DIR/daemons/$1/coopnav_$1"; }
+
+# Background processes of a script (daemons, logger): started with their output in a log file,
+# stopped together (SIGTERM, then waited for, so the logger flushes and daemons exit cleanly).
+COOPNAV_PIDS=()
+coopnav_spawn() {  # coopnav_spawn LOGFILE CMD ARGS...
+  local log="$1"
+  shift
+  "$@" >"$log" 2>&1 &
+  COOPNAV_PIDS+=($!)
+}
+coopnav_stop_all() {
+  local p
+  for p in "${COOPNAV_PIDS[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  for p in "${COOPNAV_PIDS[@]}"; do wait "$p" 2>/dev/null || true; done
+  COOPNAV_PIDS=()
+}

@@ -41,24 +41,16 @@ export LCM_DEFAULT_URL="udpm://239.255.76.67:${COOPNAV_REPLAY_PORT:-7689}?ttl=0&
 ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 cfg="$COOPNAV_ROOT/config"
 
-pids=()
-stop_all() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
-  pids=()
-}
-trap stop_all EXIT
+trap coopnav_stop_all EXIT
 
 # The logger first: it is listening by the time the daemons are ready (a loaded machine can
 # take a while to start it).
-lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm" >"$outdir/lcm-logger.log" 2>&1 &
-pids+=($!)
-"$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
-  --set "map_file=$map" >"$outdir/obstacle_distance_server.log" 2>&1 &
-pids+=($!)
+coopnav_spawn "$outdir/lcm-logger.log" \
+  lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm"
+coopnav_spawn "$outdir/obstacle_distance_server.log" "$(coopnav_bin obstacle_distance_server)" \
+  -c "$cfg/obstacle_distance_server.yaml" --set "map_file=$map"
 for d in situation_assessor path_assessor dialogue_manager; do
-  "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" >"$outdir/$d.log" 2>&1 &
-  pids+=($!)
+  coopnav_spawn "$outdir/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml"
 done
 "$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
   --timeout-s 60 >/dev/null
@@ -75,5 +67,5 @@ for _ in $(seq 120); do
   [ "$size" = "$last" ] && break
   last=$size
 done
-stop_all
+coopnav_stop_all
 "$ctl" transcript "$outdir/replay.lcm"

@@ -49,14 +49,8 @@ cfg="$COOPNAV_ROOT/config"
 # Port base: CI runs several suites at once; each scenario gets its own port from here.
 port="${COOPNAV_RUN_PORT_BASE:-7670}"
 
-pids=()
-stop_all() {
-  for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
-  pids=()
-}
-trap stop_all EXIT
-trap 'stop_all; exit 130' INT TERM
+trap coopnav_stop_all EXIT
+trap 'coopnav_stop_all; exit 130' INT TERM
 
 summaries=()
 failed=0
@@ -70,22 +64,19 @@ for scenario in "${scenarios[@]}"; do
   port=$((port + 1))
   echo "== $name  ($scenario)"
 
-  lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$dir/$name.lcm" >"$dir/lcm-logger.log" 2>&1 &
-  pids+=($!)
-  "$(coopnav_bin obstacle_distance_server)" -c "$cfg/obstacle_distance_server.yaml" \
-    --set "map_file=$scenario" >"$dir/obstacle_distance_server.log" 2>&1 &
-  pids+=($!)
-  "$(coopnav_bin band_source)" -c "$cfg/band_source.yaml" --set "map_file=$scenario" \
-    >"$dir/band_source.log" 2>&1 &
-  pids+=($!)
+  coopnav_spawn "$dir/lcm-logger.log" \
+    lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$dir/$name.lcm"
+  coopnav_spawn "$dir/obstacle_distance_server.log" "$(coopnav_bin obstacle_distance_server)" \
+    -c "$cfg/obstacle_distance_server.yaml" --set "map_file=$scenario"
+  coopnav_spawn "$dir/band_source.log" "$(coopnav_bin band_source)" -c "$cfg/band_source.yaml" \
+    --set "map_file=$scenario"
   for d in situation_assessor path_assessor dialogue_manager; do
-    "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" >"$dir/$d.log" 2>&1 &
-    pids+=($!)
+    coopnav_spawn "$dir/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml"
   done
   if ! "$ctl" wait-ready obstacle_distance_server band_source situation_assessor path_assessor \
     dialogue_manager --timeout-s 60; then
     echo "run.sh: daemons did not come up for $name; see $dir/*.log" >&2
-    stop_all
+    coopnav_stop_all
     failed=1
     continue
   fi
@@ -96,7 +87,7 @@ for scenario in "${scenarios[@]}"; do
     >"$dir/world_sim.log" 2>&1 || rc=$?
   end_s=$(date +%s.%N)
   sleep 0.3  # last messages reach the logger
-  stop_all
+  coopnav_stop_all
   if [ "$rc" -ne 0 ]; then
     echo "run.sh: world_sim failed (exit $rc) for $name; see $dir/world_sim.log" >&2
     tail -5 "$dir/world_sim.log" >&2 || true

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "common/conversions.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/situation_t.hpp"
@@ -42,25 +43,6 @@ std::string buildDir() {
     if (::access((root + "/daemons").c_str(), F_OK) == 0) return root;
   }
   return COOPNAV_BINARY_DIR;
-}
-
-pid_t spawn(const std::vector<std::string>& args) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const auto i = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size()))) - 1;
-  return v[std::min(i, v.size() - 1)];
 }
 
 Band straight(Eigen::Vector2d from, Eigen::Vector2d to, double duration_s, double dt_s) {
@@ -131,23 +113,13 @@ int main() {
   std::vector<std::uint8_t> bytes(static_cast<std::size_t>(bands.getEncodedSize()));
   bands.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
 
-  const pid_t echo = ::fork();
-  if (echo == 0) {  // bare echo: republish whatever arrives, no decoding
-    lcm::LCM l(kBenchUrl);
-    struct Echo {
-      lcm::LCM* l;
-      void onMessage(const lcm::ReceiveBuffer* rb, const std::string&) {
-        l->publish(kEchoRep, rb->data, rb->data_size);
-      }
-    } e{&l};
-    l.subscribe(kEchoReq, &Echo::onMessage, &e);
-    while (true) l.handleTimeout(1000);
-  }
-  const pid_t server =
-      spawn({build + "/daemons/obstacle_distance_server/coopnav_obstacle_distance_server",
-             "--lcm-url", kBenchUrl, "--set", "map_file=" + map, "--log-level", "warn"});
-  const pid_t assessor = spawn({build + "/daemons/situation_assessor/coopnav_situation_assessor",
-                                "--lcm-url", kBenchUrl, "--log-level", "warn"});
+  const pid_t echo = coopnav::bench::startEcho(kBenchUrl, kEchoReq, kEchoRep);
+  const pid_t server = coopnav::bench::spawnProcess(
+      {build + "/daemons/obstacle_distance_server/coopnav_obstacle_distance_server", "--lcm-url",
+       kBenchUrl, "--set", "map_file=" + map, "--log-level", "warn"});
+  const pid_t assessor = coopnav::bench::spawnProcess(
+      {build + "/daemons/situation_assessor/coopnav_situation_assessor", "--lcm-url", kBenchUrl,
+       "--log-level", "warn"});
 
   lcm::LCM lcm(kBenchUrl);
   if (!lcm.good()) {
@@ -196,10 +168,10 @@ int main() {
     ::waitpid(p, &st, 0);
   }
 
-  const double a50 = percentile(assess_us, 0.5) / 1000.0;
-  const double a99 = percentile(assess_us, 0.99) / 1000.0;
-  const double e50 = percentile(echo_us, 0.5) / 1000.0;
-  const double e99 = percentile(echo_us, 0.99) / 1000.0;
+  const double a50 = coopnav::bench::percentile(assess_us, 0.5) / 1000.0;
+  const double a99 = coopnav::bench::percentile(assess_us, 0.99) / 1000.0;
+  const double e50 = coopnav::bench::percentile(echo_us, 0.5) / 1000.0;
+  const double e99 = coopnav::bench::percentile(echo_us, 0.99) / 1000.0;
   std::printf("bands message %zu bytes (1 human, 2 x 101 poses); %zu + %zu samples, %d lost\n",
               bytes.size(), assess_us.size(), echo_us.size(), lost);
   std::printf("bands -> situation (assessor + distance server): p50 %.3f ms, p99 %.3f ms\n", a50,

@@ -1,21 +1,22 @@
 // bench_distance: build time and query cost of the grid distance field on open.pgm, beside
 // DynamicEDTOctomap (Lau, Sprunk & Burgard 2013) on the same map. Prints figures, then
 // "RESULT <key> <value>" lines. Timing: median of repeated runs (the machine is shared and noisy).
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
-#include <lcm/lcm-cpp.hpp>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
+#include "bench_util.hpp"
 #include "common/conversions.hpp"
 #include "common/map_loader.hpp"
 #include "coopnav/channels.hpp"
@@ -78,12 +79,6 @@ std::vector<double> roundTrips(lcm::LCM& lcm, const std::string& out, const std:
   }
   lcm.unsubscribe(sub);
   return us;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
 }
 
 }  // namespace
@@ -227,18 +222,7 @@ int main() {
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(req.getEncodedSize()));
     req.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
 
-    const pid_t echo = ::fork();
-    if (echo == 0) {  // bare echo: republish whatever arrives, no decoding
-      lcm::LCM l(kBenchUrl);
-      struct Echo {
-        lcm::LCM* l;
-        void onMessage(const lcm::ReceiveBuffer* rb, const std::string&) {
-          l->publish("BENCH_ECHO_REP", rb->data, rb->data_size);
-        }
-      } e{&l};
-      l.subscribe("BENCH_ECHO_REQ", &Echo::onMessage, &e);
-      while (true) l.handleTimeout(1000);
-    }
+    const pid_t echo = coopnav::bench::startEcho(kBenchUrl, "BENCH_ECHO_REQ", "BENCH_ECHO_REP");
     const std::string server_exe =
         std::string(COOPNAV_BINARY_DIR) +
         "/daemons/obstacle_distance_server/coopnav_obstacle_distance_server";
@@ -268,8 +252,10 @@ int main() {
     int st = 0;
     ::waitpid(server, &st, 0);
     ::waitpid(echo, &st, 0);
-    const double s50 = percentile(server_us, 0.5), s99 = percentile(server_us, 0.99);
-    const double e50 = percentile(echo_us, 0.5), e99 = percentile(echo_us, 0.99);
+    const double s50 = coopnav::bench::percentile(server_us, 0.5),
+                 s99 = coopnav::bench::percentile(server_us, 0.99);
+    const double e50 = coopnav::bench::percentile(echo_us, 0.5),
+                 e99 = coopnav::bench::percentile(echo_us, 0.99);
     std::printf(
         "LCM round trip, 100-query request (%zu bytes), %zu/%zu samples: server p50 %.1f us "
         "p99 %.1f us; bare echo p50 %.1f us p99 %.1f us\n",

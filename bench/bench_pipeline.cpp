@@ -4,20 +4,21 @@
 // published to the dialogue manager's decision for that step (its step acknowledgement, which
 // it sends after publishing whatever it decided), p50 / p99, beside a bare LCM echo measured in
 // the same run. Ends with RESULT lines.
-#include <lcm/lcm-cpp.hpp>
 #include <signal.h>
-#include <sys/wait.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/daemon_status_t.hpp"
@@ -30,27 +31,7 @@ using Clock = std::chrono::steady_clock;
 const std::string kBuild = COOPNAV_BINARY_DIR;
 const std::string kSource = COOPNAV_SOURCE_DIR;
 
-pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    if (FILE* f = std::freopen(log_path.c_str(), "w", stderr)) (void)f;
-    if (FILE* f = std::freopen("/dev/null", "w", stdout)) (void)f;
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
 std::string exe(const std::string& d) { return kBuild + "/daemons/" + d + "/coopnav_" + d; }
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
 
 struct Observer {
   std::map<std::int64_t, Clock::time_point> band_at;  // step -> band received
@@ -87,18 +68,7 @@ struct Observer {
 
 // Bare echo round trip [ms] of a bands-sized payload on the same URL, for scale.
 std::vector<double> echoRoundTrips(const std::string& url, std::size_t bytes, int n) {
-  const pid_t echo = ::fork();
-  if (echo == 0) {
-    lcm::LCM l(url);
-    struct E {
-      lcm::LCM* l;
-      void on(const lcm::ReceiveBuffer* rb, const std::string&) {
-        l->publish("BENCH_ECHO_REP", rb->data, rb->data_size);
-      }
-    } e{&l};
-    l.subscribe("BENCH_ECHO_REQ", &E::on, &e);
-    while (true) l.handleTimeout(1000);
-  }
+  const pid_t echo = coopnav::bench::startEcho(url, "BENCH_ECHO_REQ", "BENCH_ECHO_REP");
   lcm::LCM lcm(url);
   struct H {
     bool got{false};
@@ -139,16 +109,17 @@ int main() {
     const std::string scenario = kSource + "/config/scenarios/" + name + ".yaml";
     const std::string cfg = kSource + "/config/";
     std::vector<pid_t> pids;
-    pids.push_back(spawn({exe("obstacle_distance_server"), "-c",
-                          cfg + "obstacle_distance_server.yaml", "--lcm-url", url, "--set",
-                          "map_file=" + scenario},
-                         log_dir + "/" + name + "_server.log"));
-    pids.push_back(spawn({exe("band_source"), "-c", cfg + "band_source.yaml", "--lcm-url", url,
-                          "--set", "map_file=" + scenario},
-                         log_dir + "/" + name + "_band_source.log"));
+    pids.push_back(coopnav::bench::spawnProcess(
+        {exe("obstacle_distance_server"), "-c", cfg + "obstacle_distance_server.yaml", "--lcm-url",
+         url, "--set", "map_file=" + scenario},
+        log_dir + "/" + name + "_server.log"));
+    pids.push_back(coopnav::bench::spawnProcess({exe("band_source"), "-c", cfg + "band_source.yaml",
+                                                 "--lcm-url", url, "--set", "map_file=" + scenario},
+                                                log_dir + "/" + name + "_band_source.log"));
     for (const char* d : {"situation_assessor", "path_assessor", "dialogue_manager"})
-      pids.push_back(spawn({exe(d), "-c", cfg + d + ".yaml", "--lcm-url", url},
-                           log_dir + "/" + name + "_" + d + ".log"));
+      pids.push_back(
+          coopnav::bench::spawnProcess({exe(d), "-c", cfg + d + ".yaml", "--lcm-url", url},
+                                       log_dir + "/" + name + "_" + d + ".log"));
 
     lcm::LCM lcm(url);
     Observer obs;
@@ -160,9 +131,10 @@ int main() {
     while (obs.ready.size() < 5 && Clock::now() < ready_deadline) lcm.handleTimeout(100);
 
     const auto t0 = Clock::now();
-    const pid_t sim = spawn({exe("world_sim"), "-c", cfg + "world_sim.yaml", "--lcm-url", url,
-                             "--set", "scenario=" + scenario},
-                            log_dir + "/" + name + "_world_sim.log");
+    const pid_t sim =
+        coopnav::bench::spawnProcess({exe("world_sim"), "-c", cfg + "world_sim.yaml", "--lcm-url",
+                                      url, "--set", "scenario=" + scenario},
+                                     log_dir + "/" + name + "_world_sim.log");
     const auto deadline = t0 + std::chrono::minutes(10);
     while (!obs.done && Clock::now() < deadline) lcm.handleTimeout(100);
     const double wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -179,13 +151,16 @@ int main() {
   }
   if (band_bytes == 0) band_bytes = 4096;
   const auto echo = echoRoundTrips("udpm://239.255.76.67:7979?ttl=0", band_bytes, 500);
-  const double p50 = percentile(all_latency_ms, 0.5), p99 = percentile(all_latency_ms, 0.99);
-  const double e50 = percentile(echo, 0.5), e99 = percentile(echo, 0.99);
+  const double p50 = coopnav::bench::percentile(all_latency_ms, 0.5),
+               p99 = coopnav::bench::percentile(all_latency_ms, 0.99);
+  const double e50 = coopnav::bench::percentile(echo, 0.5),
+               e99 = coopnav::bench::percentile(echo, 0.99);
   std::printf("suite: %.1f s simulated in %.1f s wall -> wall/sim %.4f (target <= 0.1)\n",
               sim_total_s, wall_total_s, wall_total_s / sim_total_s);
-  std::printf("band -> decision: p50 %.2f ms, p99 %.2f ms over %zu steps; bare LCM echo of %zu "
-              "bytes: p50 %.3f ms, p99 %.3f ms (ratio p50 %.1f)\n",
-              p50, p99, all_latency_ms.size(), band_bytes, e50, e99, p50 / e50);
+  std::printf(
+      "band -> decision: p50 %.2f ms, p99 %.2f ms over %zu steps; bare LCM echo of %zu "
+      "bytes: p50 %.3f ms, p99 %.3f ms (ratio p50 %.1f)\n",
+      p50, p99, all_latency_ms.size(), band_bytes, e50, e99, p50 / e50);
   std::printf("RESULT suite_wall_over_sim %.4f\n", wall_total_s / sim_total_s);
   std::printf("RESULT decision_latency_p50_ms %.3f\n", p50);
   std::printf("RESULT decision_latency_p99_ms %.3f\n", p99);

@@ -15,8 +15,8 @@
 
 #include "common/band_config_yaml.hpp"
 #include "common/config.hpp"
-#include "common/map_source.hpp"
 #include "common/conversions.hpp"
+#include "common/map_source.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
 #include "coopnav/agent_states_t.hpp"

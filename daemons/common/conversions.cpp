@@ -19,8 +19,9 @@ void requireFinite(double v, const char* what) {
 
 template <class Count>
 void requireCount(Count n, std::size_t actual, int max, const char* what) {
-  if (n < 0 || n > max) reject(std::string(what) + " count " + std::to_string(n) +
-                               " outside [0, " + std::to_string(max) + "]");
+  if (n < 0 || n > max)
+    reject(std::string(what) + " count " + std::to_string(n) + " outside [0, " +
+           std::to_string(max) + "]");
   if (static_cast<std::size_t>(n) != actual) reject(std::string(what) + " count mismatch");
 }
 
@@ -86,7 +87,9 @@ band_t bandToLcm(std::int32_t id, std::int8_t kind, const Band& band) {
 }  // namespace
 
 double utimeToSeconds(std::int64_t utime) { return static_cast<double>(utime) * 1e-6; }
-std::int64_t secondsToUtime(double t_s) { return static_cast<std::int64_t>(std::llround(t_s * 1e6)); }
+std::int64_t secondsToUtime(double t_s) {
+  return static_cast<std::int64_t>(std::llround(t_s * 1e6));
+}
 
 const AgentState* AgentStatesSnapshot::human(std::int32_t id) const {
   for (const auto& h : humans)

@@ -23,10 +23,10 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts) {
                  "LCM URL (default: $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0)");
   app.add_option("--log-level", opts.log_level, "trace|debug|info|warn|error|critical|off")
       ->capture_default_str();
-  app.add_option("--set", opts.overrides,
-                 "override a setting of the config: key=value (dotted keys for nested; repeatable)");
-  app.add_flag("--print-config", opts.print_config,
-               "print the effective config as YAML and exit");
+  app.add_option(
+      "--set", opts.overrides,
+      "override a setting of the config: key=value (dotted keys for nested; repeatable)");
+  app.add_flag("--print-config", opts.print_config, "print the effective config as YAML and exit");
 }
 
 const char* exitCodeHelp() {

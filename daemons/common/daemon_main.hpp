@@ -6,11 +6,10 @@
 /// that subscribes and may throw StartupError (bad map, ...) to stop at start.
 
 #include <CLI/CLI.hpp>
-
 #include <iostream>
+#include <string>
 #include <type_traits>
 #include <utility>
-#include <string>
 #include <vector>
 
 #include "common/config.hpp"

@@ -10,7 +10,8 @@ DistanceClient::DistanceClient(Runtime& runtime, const std::string& client_name,
     : runtime_(runtime), options_(options) {
   const std::string pid = std::to_string(::getpid());
   reply_channel_ = std::string(channels::kDistanceReplyPrefix) + client_name + "_" + pid;
-  if (reply_channel_.size() > 63) reply_channel_ = reply_channel_.substr(reply_channel_.size() - 63);
+  if (reply_channel_.size() > 63)
+    reply_channel_ = reply_channel_.substr(reply_channel_.size() - 63);
   // Unique per process and attempt: pid in the high bits.
   next_id_ = (static_cast<std::int64_t>(::getpid()) << 32) + 1;
   runtime_.subscribe<distance_reply_t>(

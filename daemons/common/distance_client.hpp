@@ -23,7 +23,7 @@ class DistanceClient {
  public:
   struct Options {
     std::chrono::milliseconds timeout{200};  ///< per attempt
-    int attempts{3};                          ///< total attempts before giving up
+    int attempts{3};                         ///< total attempts before giving up
   };
   struct Outcome {
     bool ok{false};

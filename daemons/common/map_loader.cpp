@@ -245,7 +245,8 @@ LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
     return loadMapFromNode(node["map"], base_dir, options, where + ": map");
   fail(where,
        "neither a ROS map (key 'image'), a walls map (keys 'walls', 'boxes') nor a scenario "
-       "(key 'map')" + lineOf(node));
+       "(key 'map')" +
+           lineOf(node));
 }
 
 }  // namespace

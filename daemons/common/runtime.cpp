@@ -22,7 +22,8 @@ int g_signal_pipe[2] = {-1, -1};
 void onSignal(int) {
   const int saved = errno;
   const char c = 's';
-  if (g_signal_pipe[1] >= 0) [[maybe_unused]] auto n = ::write(g_signal_pipe[1], &c, 1);
+  if (g_signal_pipe[1] >= 0) [[maybe_unused]]
+    auto n = ::write(g_signal_pipe[1], &c, 1);
   errno = saved;
 }
 
@@ -191,7 +192,8 @@ int Runtime::spinFor(int timeout_ms) {
 void Runtime::requestStop() {
   stop_ = true;
   const char c = 'q';
-  if (stop_pipe_[1] >= 0) [[maybe_unused]] auto n = ::write(stop_pipe_[1], &c, 1);
+  if (stop_pipe_[1] >= 0) [[maybe_unused]]
+    auto n = ::write(stop_pipe_[1], &c, 1);
 }
 
 int Runtime::run() {

@@ -6,12 +6,11 @@
 /// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
 /// request timeouts) use the monotonic clock: they are about liveness, never about decisions.
 
-#include <lcm/lcm-cpp.hpp>
-
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -41,10 +40,10 @@ class DroppedMessage : public std::runtime_error {
 
 /// Process exit codes, documented in every daemon's --help.
 enum ExitCode : int {
-  kExitOk = 0,         ///< clean stop on SIGINT/SIGTERM
-  kExitRuntime = 1,    ///< LCM unavailable or an unexpected failure
-  kExitUsage = 2,      ///< bad command line or config
-  kExitBadInput = 3,   ///< bad map or scenario file
+  kExitOk = 0,        ///< clean stop on SIGINT/SIGTERM
+  kExitRuntime = 1,   ///< LCM unavailable or an unexpected failure
+  kExitUsage = 2,     ///< bad command line or config
+  kExitBadInput = 3,  ///< bad map or scenario file
 };
 
 struct RuntimeCounters {
@@ -147,8 +146,7 @@ struct Runtime::Subscription {
 
 template <class Msg>
 void Runtime::subscribe(const std::string& channel,
-                        std::function<void(const Msg&, std::int64_t)> handler,
-                        int queue_capacity) {
+                        std::function<void(const Msg&, std::int64_t)> handler, int queue_capacity) {
   auto sub = std::make_unique<Subscription>();
   sub->runtime = this;
   sub->channel = channel;
@@ -163,7 +161,8 @@ void Runtime::subscribe(const std::string& channel,
           } catch (const std::exception& e) {
             throw RejectedMessage(std::string("decode threw: ") + e.what());
           }
-          if (used < 0) throw RejectedMessage("cannot decode as " + std::string(Msg::getTypeName()));
+          if (used < 0)
+            throw RejectedMessage("cannot decode as " + std::string(Msg::getTypeName()));
           if (used != static_cast<int>(rbuf->data_size))
             throw RejectedMessage("trailing bytes after " + std::string(Msg::getTypeName()));
           handler(msg, rbuf->recv_utime);

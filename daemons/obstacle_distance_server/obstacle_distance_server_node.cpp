@@ -27,8 +27,8 @@ ObstacleDistanceServerNode::ObstacleDistanceServerNode(const Config& config, Run
   }
   const auto& g = field_->grid();
   const std::string detail = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
-                             std::to_string(g.height()) + " @ " +
-                             std::to_string(g.resolution_m()) + " m";
+                             std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) +
+                             " m";
   log().info("obstacle_distance_server: {}, {} occupied cells, octree {} leaves", detail,
              g.count(CellState::kOccupied), map.tree ? map.tree->getNumLeafNodes() : 0);
   runtime_.setRunning(detail);

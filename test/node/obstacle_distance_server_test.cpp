@@ -29,14 +29,17 @@ const std::string kMap = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
 class ServerTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    server_ = new test::ChildProcess(test::daemonPath("obstacle_distance_server"),
-                                     {"--lcm-url", test::testLcmUrl(), "--set",
-                                      "map_file=" + kMap, "--log-level", "warn"});
+    server_ = new test::ChildProcess(
+        test::daemonPath("obstacle_distance_server"),
+        {"--lcm-url", test::testLcmUrl(), "--set", "map_file=" + kMap, "--log-level", "warn"});
     // Ready = it answers.
     DistanceQuery q;
     q.point = {10.0, 6.5};
     ASSERT_TRUE(test::waitFor(
-        [&] { return DistanceClient::querySync(test::testLcmUrl(), {q}, {200ms, 1}).ok; }, 20s));
+        [&] {
+          return DistanceClient::querySync(test::testLcmUrl(), {q}, {200ms, 1}).ok;
+        },
+        20s));
     field_ = new GridDistanceField(loadMap(kMap, {}).grid, UnknownPolicy::kObstacle);
   }
   static void TearDownTestSuite() {
@@ -167,11 +170,10 @@ TEST_F(ServerTest, GarbageAndTruncatedRequestsAreRejectedAndTheServerKeepsAnswer
   auto req = toLcm(1, 99, "COOPNAV_DIST_REP_TEST_TRUNC", {q, q, q});
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(req.getEncodedSize()));
   req.encode(buf.data(), 0, static_cast<int>(buf.size()));
-  rt.lcm().publish(channels::kDistanceRequest, buf.data(),
-                   static_cast<unsigned>(buf.size() - 11));
+  rt.lcm().publish(channels::kDistanceRequest, buf.data(), static_cast<unsigned>(buf.size() - 11));
 
-  ASSERT_TRUE(test::waitFor([&] { return rejected_after >= base + 2; }, 4s,
-                            [&] { rt.spinFor(5); }));
+  ASSERT_TRUE(
+      test::waitFor([&] { return rejected_after >= base + 2; }, 4s, [&] { rt.spinFor(5); }));
   EXPECT_TRUE(server_->running());
   const auto out = DistanceClient::querySync(test::testLcmUrl(), {q}, {1000ms, 3});
   EXPECT_TRUE(out.ok) << out.error;
@@ -205,7 +207,10 @@ TEST(ServerStartTest, SigtermStopsWithinOneSecond) {
   DistanceQuery q;
   q.point = {10.0, 6.5};
   ASSERT_TRUE(test::waitFor(
-      [&] { return DistanceClient::querySync(test::testLcmUrl(), {q}, {200ms, 1}).ok; }, 20s));
+      [&] {
+        return DistanceClient::querySync(test::testLcmUrl(), {q}, {200ms, 1}).ok;
+      },
+      20s));
   p.signal(SIGTERM);
   EXPECT_EQ(p.waitExit(1000ms), kExitOk);
 }

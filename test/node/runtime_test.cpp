@@ -46,7 +46,8 @@ TEST(RuntimeTest, TruncatedAndCorruptCountsAreRejected) {
   m.encode(buf.data(), 0, static_cast<int>(buf.size()));
   rt.lcm().publish("RT_TEST_TRUNC", buf.data(), static_cast<unsigned>(buf.size() - 9));
   // Negative human count: the generated decoder would throw on resize.
-  const std::size_t count_offset = 8 + 8 + 8 + static_cast<std::size_t>(m.robot._getEncodedSizeNoHash());
+  const std::size_t count_offset =
+      8 + 8 + 8 + static_cast<std::size_t>(m.robot._getEncodedSizeNoHash());
   buf[count_offset] = 0xff;
   buf[count_offset + 1] = 0xf0;
   rt.lcm().publish("RT_TEST_TRUNC", buf.data(), static_cast<unsigned>(buf.size()));

@@ -27,8 +27,9 @@ inline std::string daemonPath(const std::string& name) {
 }
 
 /// Polls `pred` until true or `timeout`; returns pred's last value.
-inline bool waitFor(const std::function<bool()>& pred, std::chrono::milliseconds timeout,
-                    const std::function<void()>& between = [] {}) {
+inline bool waitFor(
+    const std::function<bool()>& pred, std::chrono::milliseconds timeout,
+    const std::function<void()>& between = [] {}) {
   const auto end = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < end) {
     if (pred()) return true;

@@ -22,12 +22,21 @@ TEST(ChannelsTest, TextListMatchesTheHeaderAndFitsLcmLimit) {
     s >> name;
     listed.insert(name);
   }
-  const std::set<std::string> header{
-      channels::kAgentStates,    channels::kGoals,          channels::kBands,
-      channels::kReferencePaths, channels::kRobotCmd,       channels::kDistanceRequest,
-      channels::kDistanceReplyPrefix, channels::kSituation, channels::kPathAssessment,
-      channels::kPathAssessorControl, channels::kUtterance, channels::kRobotAction,
-      channels::kStatus,         channels::kStepAck,        channels::kSimStatus};
+  const std::set<std::string> header{channels::kAgentStates,
+                                     channels::kGoals,
+                                     channels::kBands,
+                                     channels::kReferencePaths,
+                                     channels::kRobotCmd,
+                                     channels::kDistanceRequest,
+                                     channels::kDistanceReplyPrefix,
+                                     channels::kSituation,
+                                     channels::kPathAssessment,
+                                     channels::kPathAssessorControl,
+                                     channels::kUtterance,
+                                     channels::kRobotAction,
+                                     channels::kStatus,
+                                     channels::kStepAck,
+                                     channels::kSimStatus};
   EXPECT_EQ(listed, header);
   for (const auto& c : header) EXPECT_LE(c.size(), 40u) << c;  // room for reply suffixes (63 max)
 }

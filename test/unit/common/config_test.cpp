@@ -37,8 +37,9 @@ struct SampleConfig {
 
 std::string writeTemp(const std::string& text) {
   static int n = 0;
-  const auto p = std::filesystem::temp_directory_path() /
-                 ("coopnav_cfg_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ".yaml");
+  const auto p =
+      std::filesystem::temp_directory_path() /
+      ("coopnav_cfg_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ".yaml");
   std::ofstream(p) << text;
   return p.string();
 }
@@ -61,7 +62,8 @@ TEST(ConfigTest, FileOverridesOnlyWhatItNames) {
 }
 
 TEST(ConfigTest, ErrorsNameTheKeyTheValueAndTheRange) {
-  const auto path = writeTemp("speed_m_s: 5\nrate_hz: abc\nmode: fast\nbogus: 1\ninner: {gain: -1}\n");
+  const auto path =
+      writeTemp("speed_m_s: 5\nrate_hz: abc\nmode: fast\nbogus: 1\ninner: {gain: -1}\n");
   try {
     loadConfig<SampleConfig>(path);
     FAIL() << "expected ConfigError";

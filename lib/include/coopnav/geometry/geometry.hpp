@@ -24,11 +24,11 @@ inline Eigen::Vector2d headingVector(double theta_rad) {
 
 /// Result of projecting a point onto a polyline.
 struct PathProjection {
-  double distance_m{0.0};       ///< unsigned distance from the point to the polyline
+  double distance_m{0.0};         ///< unsigned distance from the point to the polyline
   double signed_distance_m{0.0};  ///< > 0 when the point lies left of the path's direction
   Eigen::Vector2d closest{0.0, 0.0};
-  std::size_t segment{0};       ///< index of the segment holding the closest point
-  double arc_length_m{0.0};     ///< arc length from the path start to the closest point
+  std::size_t segment{0};    ///< index of the segment holding the closest point
+  double arc_length_m{0.0};  ///< arc length from the path start to the closest point
 };
 
 /// Projects p onto a polyline of >= 1 points. Returns nullopt for an empty path or a non-finite p.

@@ -55,17 +55,14 @@ done
 "$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
   --timeout-s 60 >/dev/null
 sleep 0.5
+# Listening before the first message goes out: done = the dialogue manager (the last stage) has
+# acknowledged the log's last step, however long a loaded machine takes to get there.
+"$ctl" wait-step dialogue_manager --log "$log" --timeout-s 300 &
+waiter=$!
 lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
   -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log" \
   >"$outdir/lcm-logplayer.log" 2>&1
-# The daemons may still be working through queued steps (a loaded machine): wait until the
-# recording stops growing (the logger flushes every 100 ms), at most 60 s.
-last=-1
-for _ in $(seq 120); do
-  sleep 0.5
-  size=$(stat -c %s "$outdir/replay.lcm" 2>/dev/null || echo 0)
-  [ "$size" = "$last" ] && break
-  last=$size
-done
+wait "$waiter" || echo "replay.sh: the replay did not reach the log's last step" >&2
+sleep 0.3  # the logger flushes every 100 ms
 coopnav_stop_all
 "$ctl" transcript "$outdir/replay.lcm"

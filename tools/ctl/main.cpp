@@ -1,7 +1,9 @@
 // coopnav_ctl: small commands the scripts and users need, in C++ so they start in milliseconds.
 //   coopnav_ctl wait-ready NAME... [--timeout-s S]     wait for each daemon's status message
-//   coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
+//   coopnav_ctl wait-step NAME --log LOG [--timeout-s S]  wait until NAME acknowledged LOG's last
+//   step coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -11,7 +13,9 @@
 #include "common/log.hpp"
 #include "common/runtime.hpp"
 #include "coopnav/daemon_status_t.hpp"
+#include "coopnav/step_ack_t.hpp"
 #include "ctl_commands.hpp"
+#include "log_reader.hpp"
 
 namespace coopnav {
 namespace {
@@ -30,6 +34,33 @@ int waitReady(const std::string& url, const std::vector<std::string>& names, dou
     std::string list;
     for (const auto& m : missing) list += " " + m;
     std::cerr << "coopnav_ctl: no status within " << timeout_s << " s from:" << list << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+// A replay is over when the last participant has finished the log's last step: waiting for
+// its acknowledgement, not for a quiet period, is what makes it hold on a loaded machine.
+int waitStep(const std::string& url, const std::string& name, const std::string& log_path,
+             double timeout_s) {
+  Runtime rt("coopnav_ctl", url);
+  std::int64_t acked = -1;
+  rt.subscribe<step_ack_t>(channels::kStepAck, [&](const step_ack_t& a, std::int64_t) {
+    if (a.participant == name) acked = std::max(acked, a.step);
+  });
+  const ctl::RunLog run = ctl::readRunLog(log_path);
+  std::int64_t last = -1;
+  for (const auto& s : run.agent_states) last = std::max(last, s.step);
+  if (last < 0) {
+    std::cerr << "coopnav_ctl wait-step: no lockstep agent states in " << log_path << "\n";
+    return 1;
+  }
+  const auto end = std::chrono::steady_clock::now() +
+                   std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
+  while (acked < last && std::chrono::steady_clock::now() < end) rt.spinFor(20);
+  if (acked < last) {
+    std::cerr << "coopnav_ctl wait-step: " << name << " acknowledged step " << acked
+              << ", not the log's last step " << last << ", within " << timeout_s << " s\n";
     return 1;
   }
   return 0;
@@ -83,6 +114,14 @@ int main(int argc, char** argv) {
   wait->add_option("names", names)->required();
   wait->add_option("--timeout-s", timeout_s);
 
+  auto* wait_step = app.add_subcommand(
+      "wait-step", "wait until a daemon acknowledged the last lockstep step of a log");
+  std::string step_name, step_log;
+  double step_timeout_s = 120.0;
+  wait_step->add_option("name", step_name)->required();
+  wait_step->add_option("--log", step_log)->required()->check(CLI::ExistingFile);
+  wait_step->add_option("--timeout-s", step_timeout_s);
+
   auto* q = app.add_subcommand("query", "ask the obstacle distance server and print the answers");
   std::vector<double> nearest, side, ray;
   double range_m = 10.0;
@@ -101,6 +140,7 @@ int main(int argc, char** argv) {
   coopnav::setLogLevel("warn");
   try {
     if (*wait) return coopnav::waitReady(url, names, timeout_s);
+    if (*wait_step) return coopnav::waitStep(url, step_name, step_log, step_timeout_s);
     if (*q) return coopnav::query(url, nearest, side, ray, range_m);
     return coopnav::runCtlCommands(app, url);
   } catch (const std::exception& e) {

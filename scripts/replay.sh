@@ -9,7 +9,7 @@
 #   MAP defaults to the scenario recorded next to the log by run.sh (scenario.path).
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
-log="" map="" speed="4.0" outdir="" build=1
+log="" map="" speed="1.0" outdir="" build=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --map) map="$2"; shift 2 ;;

@@ -63,7 +63,7 @@ sys.exit(1 if bad else 0)
 PY
 
 # Replay: the recorded world into fresh assessors + dialogue manager gives the same transcript.
-COOPNAV_REPLAY_PORT=7949 bash "$src/scripts/replay.sh" --no-build --out-dir "$tmp/replay" \
+COOPNAV_REPLAY_PORT=7949 bash "$src/scripts/replay.sh" --no-build --speed 1 --out-dir "$tmp/replay" \
   "$tmp/a/narrow_minimal/narrow_minimal.lcm" >"$tmp/replay.txt" 2>"$tmp/replay.err" ||
   { cat "$tmp/replay.err"; echo "FAIL: replay.sh"; fail=1; }
 if ! cmp -s "$tmp/replay.txt" "$tmp/a/narrow_minimal/transcript.txt"; then

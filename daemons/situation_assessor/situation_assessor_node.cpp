@@ -33,26 +33,6 @@ void prependReason(std::string& reason, const std::string& what) {
 
 }  // namespace
 
-assessment::SituationThresholds SituationAssessorConfig::thresholds() const {
-  assessment::SituationThresholds t;
-  t.tau_h_m = tau_h_m;
-  t.tau_oh_m = tau_oh_m;
-  t.tau_or_m = tau_or_m;
-  t.tau_hr_m = tau_hr_m;
-  t.robot_radius_m = robot_radius_m;
-  t.human_radius_m = human_radius_m;
-  t.coincident_tolerance_m = coincident_tolerance_m;
-  return t;
-}
-
-assessment::CrossingConfig SituationAssessorConfig::crossingConfig() const {
-  assessment::CrossingConfig c;
-  c.grid_dt_s = grid_dt_s;
-  c.dir_tolerance_m = dir_tolerance_m;
-  c.dir_lookahead_s = dir_lookahead_s;
-  return c;
-}
-
 SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),

@@ -26,17 +26,9 @@
 namespace coopnav {
 
 struct SituationAssessorConfig {
-  // Defaults come from the lib structs so that there is one place for each.
-  double tau_h_m{assessment::SituationThresholds{}.tau_h_m};
-  double tau_oh_m{assessment::SituationThresholds{}.tau_oh_m};
-  double tau_or_m{assessment::SituationThresholds{}.tau_or_m};
-  double tau_hr_m{assessment::SituationThresholds{}.tau_hr_m};
-  double robot_radius_m{assessment::SituationThresholds{}.robot_radius_m};
-  double human_radius_m{assessment::SituationThresholds{}.human_radius_m};
-  double coincident_tolerance_m{assessment::SituationThresholds{}.coincident_tolerance_m};
-  double grid_dt_s{assessment::CrossingConfig{}.grid_dt_s};
-  double dir_tolerance_m{assessment::CrossingConfig{}.dir_tolerance_m};
-  double dir_lookahead_s{assessment::CrossingConfig{}.dir_lookahead_s};
+  // The lib's own structs, read in place: their in-class initialisers are the only defaults.
+  assessment::SituationThresholds situation;
+  assessment::CrossingConfig crossing;
   /// [m] search range of the SIDE queries; an obstacle farther is "none" (+inf, not constrained).
   double query_range_m{10.0};
   /// [ms] wall time one distance request attempt may take (liveness only, never logic).
@@ -49,24 +41,24 @@ struct SituationAssessorConfig {
 
   template <class V>
   void visit(V& v) {
-    v("tau_h_m", tau_h_m, Range{0.0, 10.0});
-    v("tau_oh_m", tau_oh_m, Range{0.0, 10.0});
-    v("tau_or_m", tau_or_m, Range{0.0, 10.0});
-    v("tau_hr_m", tau_hr_m, Range{0.0, 10.0});
-    v("robot_radius_m", robot_radius_m, Range{0.0, 5.0});
-    v("human_radius_m", human_radius_m, Range{0.0, 5.0});
-    v("coincident_tolerance_m", coincident_tolerance_m, Range{1e-6, 1.0});
-    v("grid_dt_s", grid_dt_s, Range{1e-3, 1.0});
-    v("dir_tolerance_m", dir_tolerance_m, Range{0.0, 1.0});
-    v("dir_lookahead_s", dir_lookahead_s, Range{0.0, 30.0});
+    v("tau_h_m", situation.tau_h_m, Range{0.0, 10.0});
+    v("tau_oh_m", situation.tau_oh_m, Range{0.0, 10.0});
+    v("tau_or_m", situation.tau_or_m, Range{0.0, 10.0});
+    v("tau_hr_m", situation.tau_hr_m, Range{0.0, 10.0});
+    v("robot_radius_m", situation.robot_radius_m, Range{0.0, 5.0});
+    v("human_radius_m", situation.human_radius_m, Range{0.0, 5.0});
+    v("coincident_tolerance_m", situation.coincident_tolerance_m, Range{1e-6, 1.0});
+    v("grid_dt_s", crossing.grid_dt_s, Range{1e-3, 1.0});
+    v("dir_tolerance_m", crossing.dir_tolerance_m, Range{0.0, 1.0});
+    v("dir_lookahead_s", crossing.dir_lookahead_s, Range{0.0, 30.0});
     v("query_range_m", query_range_m, Range{0.1, 100.0});
     v("distance_timeout_ms", distance_timeout_ms, Range{1, 5000});
     v("distance_attempts", distance_attempts, Range{1, 10});
     v("free_running_queue_max", free_running_queue_max, Range{1, 1000});
   }
 
-  assessment::SituationThresholds thresholds() const;
-  assessment::CrossingConfig crossingConfig() const;
+  const assessment::SituationThresholds& thresholds() const { return situation; }
+  const assessment::CrossingConfig& crossingConfig() const { return crossing; }
 };
 
 class SituationAssessorNode {

@@ -209,8 +209,8 @@ TEST_F(SituationAssessorTest, PublishedNumbersMatchTheLibraryWithTheRealServer) 
   EXPECT_TRUE(std::isfinite(s1->d_or_m));
   EXPECT_NE(s1->human_is_constrained, situation_t::PRED_UNKNOWN);
   EXPECT_NE(s1->robot_is_constrained, situation_t::PRED_UNKNOWN);
-  EXPECT_DOUBLE_EQ(s1->tau_h_m, config_.tau_h_m);
-  EXPECT_DOUBLE_EQ(s1->tau_hr_m, config_.tau_hr_m);
+  EXPECT_DOUBLE_EQ(s1->tau_h_m, config_.thresholds().tau_h_m);
+  EXPECT_DOUBLE_EQ(s1->tau_hr_m, config_.thresholds().tau_hr_m);
 }
 
 TEST_F(SituationAssessorTest, ServerStoppedGivesUnknownWithinTheBoundAndKeepsStepOrder) {

@@ -8,16 +8,6 @@
 
 namespace coopnav {
 
-assessment::PathAssessorConfig PathAssessorNodeConfig::recorderConfig() const {
-  assessment::PathAssessorConfig c;
-  c.sample_period_s = sample_period_s;
-  c.gamma = gamma;
-  c.tau_m = tau_m;
-  c.side_deadband_m = side_deadband_m;
-  c.history_s = history_s;
-  return c;
-}
-
 PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),
@@ -138,8 +128,8 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
     rec.human_id = a.id;
     rec.snapshot = h.recorder.snapshot();
     rec.window_ca_m = h.recorder.windowCa();
-    rec.gamma = config_.gamma;
-    rec.tau_m = config_.tau_m;
+    rec.gamma = config_.recorder.gamma;
+    rec.tau_m = config_.recorder.tau_m;
     runtime_.publish(channels::kPathAssessment, toLcm(rec));
   }
   runtime_.ackStep(states.utime, states.step);

@@ -22,26 +22,22 @@
 namespace coopnav {
 
 struct PathAssessorNodeConfig {
-  // Defaults come from the lib struct so that there is one place for each.
-  double sample_period_s{assessment::PathAssessorConfig{}.sample_period_s};
-  double gamma{assessment::PathAssessorConfig{}.gamma};
-  double tau_m{assessment::PathAssessorConfig{}.tau_m};
-  double side_deadband_m{assessment::PathAssessorConfig{}.side_deadband_m};
-  double history_s{assessment::PathAssessorConfig{}.history_s};
+  /// The lib recorder's own settings, read in place: its initialisers are the only defaults.
+  assessment::PathAssessorConfig recorder;
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
   template <class V>
   void visit(V& v) {
-    v("sample_period_s", sample_period_s, Range{1e-3, 10.0});
-    v("gamma", gamma, Range{1e-6, 1.0});
-    v("tau_m", tau_m, Range{-10.0, 10.0});
-    v("side_deadband_m", side_deadband_m, Range{0.0, 5.0});
-    v("history_s", history_s, Range{0.0, 60.0});
+    v("sample_period_s", recorder.sample_period_s, Range{1e-3, 10.0});
+    v("gamma", recorder.gamma, Range{1e-6, 1.0});
+    v("tau_m", recorder.tau_m, Range{-10.0, 10.0});
+    v("side_deadband_m", recorder.side_deadband_m, Range{0.0, 5.0});
+    v("history_s", recorder.history_s, Range{0.0, 60.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
   }
 
-  assessment::PathAssessorConfig recorderConfig() const;
+  const assessment::PathAssessorConfig& recorderConfig() const { return recorder; }
 };
 
 class PathAssessorNode {

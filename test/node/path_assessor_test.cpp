@@ -151,8 +151,8 @@ TEST_F(PathAssessorTest, PublishedNumbersMatchALibraryRecorderFedTheSameInput) {
   EXPECT_EQ(m->is_contributing, static_cast<std::int8_t>(snap.is_contributing_window));
   EXPECT_EQ(m->is_contributing_interaction,
             static_cast<std::int8_t>(snap.is_contributing_interaction));
-  EXPECT_DOUBLE_EQ(m->gamma, config_.gamma);
-  EXPECT_DOUBLE_EQ(m->tau_m, config_.tau_m);
+  EXPECT_DOUBLE_EQ(m->gamma, config_.recorder.gamma);
+  EXPECT_DOUBLE_EQ(m->tau_m, config_.recorder.tau_m);
   // Hand check: 10 Hz from t(2) = 0.1 s to t(20) = 1.0 s -> 10 samples; the reset at t(13) =
   // 0.65 s leaves the 4 samples at 0.7 .. 1.0 s in the window. The human drifts away from the
   // robot's side, so its CA grows positive.

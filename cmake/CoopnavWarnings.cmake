@@ -11,7 +11,11 @@ if(COOPNAV_WERROR)
                                                     $<$<CXX_COMPILER_ID:GNU>:-Wno-error=maybe-uninitialized>)
 endif()
 if(COOPNAV_SANITIZE)
+  # -fno-sanitize-recover: a UBSan finding aborts the process (a failed test), not a line in a log
+  # nobody reads. Runtime options (halt_on_error, suppressions) are set by scripts/test.sh.
   target_compile_options(coopnav_warnings INTERFACE -fsanitize=${COOPNAV_SANITIZE}
+                                                    -fno-sanitize-recover=all
                                                     -fno-omit-frame-pointer)
-  target_link_options(coopnav_warnings INTERFACE -fsanitize=${COOPNAV_SANITIZE})
+  target_link_options(coopnav_warnings INTERFACE -fsanitize=${COOPNAV_SANITIZE}
+                                                 -fno-sanitize-recover=all)
 endif()

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <stdexcept>
@@ -134,7 +135,30 @@ class Runtime {
   int stop_pipe_[2]{-1, -1};
 };
 
+/// Decodes one received payload as Msg the way every subscription does: a payload that does not
+/// decode (wrong type, truncated, negative count), or has bytes left over, throws RejectedMessage.
+/// Public so that the fuzzers (test/fuzz) drive exactly the daemons' decoding.
+template <class Msg>
+void decodeOrReject(const void* data, std::size_t size, Msg& msg);
+
 // ---- template implementation ----
+
+template <class Msg>
+void decodeOrReject(const void* data, std::size_t size, Msg& msg) {
+  // LCM's decoders take an int length; a bigger payload cannot be a message of ours (2^28 max).
+  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw RejectedMessage("payload too large for " + std::string(Msg::getTypeName()));
+  // The generated decoder may throw (std::length_error on a negative count) or fail.
+  int used = -1;
+  try {
+    used = msg.decode(data, 0, static_cast<int>(size));
+  } catch (const std::exception& e) {
+    throw RejectedMessage(std::string("decode threw: ") + e.what());
+  }
+  if (used < 0) throw RejectedMessage("cannot decode as " + std::string(Msg::getTypeName()));
+  if (used != static_cast<int>(size))
+    throw RejectedMessage("trailing bytes after " + std::string(Msg::getTypeName()));
+}
 
 struct Runtime::Subscription {
   Runtime* runtime{nullptr};
@@ -154,17 +178,7 @@ void Runtime::subscribe(const std::string& channel,
     dispatch(
         [&] {
           Msg msg;
-          // The generated decoder may throw (std::length_error on a negative count) or fail.
-          int used = -1;
-          try {
-            used = msg.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size));
-          } catch (const std::exception& e) {
-            throw RejectedMessage(std::string("decode threw: ") + e.what());
-          }
-          if (used < 0)
-            throw RejectedMessage("cannot decode as " + std::string(Msg::getTypeName()));
-          if (used != static_cast<int>(rbuf->data_size))
-            throw RejectedMessage("trailing bytes after " + std::string(Msg::getTypeName()));
+          decodeOrReject(rbuf->data, rbuf->data_size, msg);
           handler(msg, rbuf->recv_utime);
         },
         channel);

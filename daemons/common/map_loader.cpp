@@ -264,7 +264,9 @@ PgmImage readPgm(const std::string& path) {
       !cur.nextUnsigned(&maxval, "maxval")) {
     fail(path, "truncated PGM header");
   }
-  if (w <= 0 || h <= 0 || w * h > (1LL << 30)) {
+  // Each side is bounded before the product: the tokeniser clamps a number to 2^40, and the
+  // product of two such numbers overflows long long (found by fuzz_map_pgm).
+  if (w <= 0 || h <= 0 || w > (1LL << 30) || h > (1LL << 30) || w * h > (1LL << 30)) {
     fail(path, "bad PGM size " + std::to_string(w) + " x " + std::to_string(h));
   }
   if (maxval <= 0 || maxval > 65535) {

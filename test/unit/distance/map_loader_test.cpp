@@ -323,5 +323,15 @@ TEST(MapLoaderTest, BadInputsGiveClearErrors) {
               HasSubstr("'file'"));
 }
 
+// Found by fuzz_map_pgm: sides near the tokeniser's 2^40 clamp made the size check's product
+// overflow (UB; under UBSan an abort) instead of giving "bad PGM size".
+TEST(MapLoaderTest, HugePgmSidesAreRejectedWithoutOverflow) {
+  TempDir tmp;
+  EXPECT_THAT(errorOf([&] { readPgm(tmp.write("a.pgm", "P2\n1099511627776 64294967296\n255\n")); }),
+              HasSubstr("bad PGM size"));
+  EXPECT_THAT(errorOf([&] { readPgm(tmp.write("b.pgm", "P5\n99999999999999 3\n255\n")); }),
+              HasSubstr("bad PGM size"));
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -233,8 +233,18 @@ LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
   return map;
 }
 
+// A scenario's map may name a file that is itself a scenario, and so on; a file that names itself
+// (or a cycle) recursed until the stack overflowed (found by fuzz_map_yaml). Real chains are one
+// or two files long.
+constexpr int kMaxMapFileNesting = 8;
+
+LoadedMap loadMapNested(const std::string& path, const MapLoadOptions& options, int nesting);
+LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& base_dir,
+                                const MapLoadOptions& options, const std::string& where,
+                                int nesting);
+
 LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
-                      const MapLoadOptions& options, const std::string& where) {
+                      const MapLoadOptions& options, const std::string& where, int nesting) {
   if (!node.IsMap()) fail(where, "expected a YAML mapping, got " + scalarOf(node));
   if (node["image"]) return fromGrid(loadRosMap(node, base_dir, where), options, where);
   if (node["walls"] || node["boxes"])
@@ -242,7 +252,7 @@ LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
   // A scenario file: its `map:` (a file or walls) is the map, so every daemon of a run can be
   // pointed at the scenario itself and is sure to load what the simulator loads.
   if (node["map"] && node["map"].IsMap())
-    return loadMapFromNode(node["map"], base_dir, options, where + ": map");
+    return loadMapFromNodeNested(node["map"], base_dir, options, where + ": map", nesting);
   fail(where,
        "neither a ROS map (key 'image'), a walls map (keys 'walls', 'boxes') nor a scenario "
        "(key 'map')" +
@@ -474,24 +484,43 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
   return grid;
 }
 
-LoadedMap loadMap(const std::string& path, const MapLoadOptions& options) {
+namespace {
+
+LoadedMap loadMapNested(const std::string& path, const MapLoadOptions& options, int nesting) {
   if (hasSuffix(path, ".bt")) return loadBt(path, options);
   if (hasSuffix(path, ".ot")) fail(path, "'.ot' trees are not supported (convert to .bt)");
   const YAML::Node node = loadYamlFile(path);
-  return loadYamlMap(node, fs::path(path).parent_path().string(), options, path);
+  return loadYamlMap(node, fs::path(path).parent_path().string(), options, path, nesting);
 }
 
-LoadedMap loadMapFromNode(const YAML::Node& map_node, const std::string& base_dir,
-                          const MapLoadOptions& options, const std::string& where) {
+LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& base_dir,
+                                const MapLoadOptions& options, const std::string& where,
+                                int nesting) {
   if (!map_node || !map_node.IsMap()) {
     fail(where, "expected a mapping with 'file' or walls/boxes, got " + scalarOf(map_node));
   }
   if (const YAML::Node file = map_node["file"]) {
     const std::string f = requireString(map_node, "file", where);
+    if (nesting >= kMaxMapFileNesting) {
+      fail(where, "key 'file'" + lineOf(file) + " = '" + f + "': map files nest more than " +
+                      std::to_string(kMaxMapFileNesting) +
+                      " deep (a scenario whose map names itself, or a cycle)");
+    }
     const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : fs::path(base_dir) / f;
-    return loadMap(p.string(), options);
+    return loadMapNested(p.string(), options, nesting + 1);
   }
-  return loadYamlMap(map_node, base_dir, options, where);
+  return loadYamlMap(map_node, base_dir, options, where, nesting);
+}
+
+}  // namespace
+
+LoadedMap loadMap(const std::string& path, const MapLoadOptions& options) {
+  return loadMapNested(path, options, 0);
+}
+
+LoadedMap loadMapFromNode(const YAML::Node& map_node, const std::string& base_dir,
+                          const MapLoadOptions& options, const std::string& where) {
+  return loadMapFromNodeNested(map_node, base_dir, options, where, 0);
 }
 
 void writeBt(const octomap::OcTree& tree, const std::string& path) {

@@ -333,5 +333,17 @@ TEST(MapLoaderTest, HugePgmSidesAreRejectedWithoutOverflow) {
               HasSubstr("bad PGM size"));
 }
 
+// Found by fuzz_map_yaml: a scenario whose map section names the scenario itself recursed until
+// the stack overflowed (a crash of every map-loading daemon at start, instead of exit 3).
+TEST(MapLoaderTest, MapFilesNamingThemselvesAreRejected) {
+  TempDir tmp;
+  EXPECT_THAT(
+      errorOf([&] { loadMap(tmp.write("self.yaml", "name: s\nmap: {file: self.yaml}\n")); }),
+      HasSubstr("nest more than"));
+  tmp.write("a.yaml", "map: {file: b.yaml}\n");
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.write("b.yaml", "map: {file: a.yaml}\n")); }),
+              HasSubstr("nest more than"));
+}
+
 }  // namespace
 }  // namespace coopnav

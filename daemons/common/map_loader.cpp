@@ -287,7 +287,8 @@ PgmImage readPgm(const std::string& path) {
   img.height = static_cast<int>(h);
   img.maxval = static_cast<int>(maxval);
   const std::size_t n = static_cast<std::size_t>(w * h);
-  img.pixels.resize(n);
+  // The raster is only allocated once the data is known to hold it: a header alone may claim 2^30
+  // pixels, and a 20-byte file made the loader allocate and clear 2 GB (found by fuzz_map_pgm).
   if (binary) {
     // Exactly one whitespace byte separates maxval from the raster (which may begin with bytes
     // that look like whitespace or '#').
@@ -300,6 +301,7 @@ PgmImage readPgm(const std::string& path) {
                      std::to_string(w) + " x " + std::to_string(h) + ", got " +
                      std::to_string(have));
     }
+    img.pixels.resize(n);
     const auto* raw = reinterpret_cast<const unsigned char*>(data.data() + cur.pos());
     for (std::size_t k = 0; k < n; ++k) {
       img.pixels[k] = bytes_per_px == 1
@@ -307,6 +309,13 @@ PgmImage readPgm(const std::string& path) {
                           : static_cast<std::uint16_t>((raw[2 * k] << 8) | raw[2 * k + 1]);
     }
   } else {
+    // n values need a digit each and a separator between two.
+    const std::size_t have = data.size() > cur.pos() ? data.size() - cur.pos() : 0;
+    if (n > (have + 1) / 2) {
+      fail(path, "truncated PGM pixel data: expected " + std::to_string(n) +
+                     " values, the file has room for at most " + std::to_string((have + 1) / 2));
+    }
+    img.pixels.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
       long long v = 0;
       if (!cur.nextUnsigned(&v, "pixel")) {

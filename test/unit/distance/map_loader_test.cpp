@@ -345,5 +345,18 @@ TEST(MapLoaderTest, MapFilesNamingThemselvesAreRejected) {
               HasSubstr("nest more than"));
 }
 
+// Found by fuzz_map_pgm: a header claiming 2^30 pixels made readPgm allocate and clear the raster
+// (2 GB for 16 bit) before it found the data missing. Now the data is checked first; the ASCII
+// message says so ("room for at most").
+TEST(MapLoaderTest, PgmHeaderClaimingAHugeImageFailsBeforeAllocating) {
+  TempDir tmp;
+  EXPECT_THAT(
+      errorOf([&] { readPgm(tmp.write("a.pgm", "P5\n32768 32768\n65535\n\x01\x02")); }),
+      AllOf(HasSubstr("truncated"), HasSubstr("expected 2147483648 bytes"), HasSubstr("got 2")));
+  EXPECT_THAT(errorOf([&] { readPgm(tmp.write("b.pgm", "P2\n32768 32768\n255\n1 2 3\n")); }),
+              AllOf(HasSubstr("truncated"), HasSubstr("expected 1073741824 values"),
+                    HasSubstr("room for at most 4")));
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -132,6 +132,15 @@ void PathRecorder::sampleDue() {
     // Bracketing observations a.t <= t_k <= b.t; interpolate linearly between them.
     std::size_t b = 0;
     while (history_[b].t_s < t_k - kTimeEps_s) ++b;
+    if (b > 0 && history_[b].t_s - history_[b - 1].t_s > config_.max_gap_s &&
+        history_[b].t_s > t_k + kTimeEps_s) {
+      // Nothing is known of the human inside a gap: go to the first grid time at its end (one
+      // step, not one per grid time: a clock jumping years ahead must not mean 10^10 samples).
+      next_k_ = std::max(next_k_ + 1,
+                         static_cast<long>(std::ceil(
+                             (history_[b].t_s - start_t_s_) / config_.sample_period_s - 1e-6)));
+      continue;
+    }
     const Observation& ob = history_[b];
     Eigen::Vector2d human_m = ob.human_m;
     Eigen::Vector2d robot_m = ob.robot_m;

@@ -186,5 +186,23 @@ TEST(PathRecorder, RejectsBadInput) {
   EXPECT_EQ(rec.interactionSamples().size(), 1u);
 }
 
+TEST(PathRecorder, AGapOrAClockJumpIsSkippedInOneStepNotInterpolatedOver) {
+  PathRecorder rec;
+  ASSERT_TRUE(rec.start(0.0, kPath));
+  const Eigen::Vector2d human{5.0, -0.3}, robot{8.0, 0.5};
+  for (int k = 0; k <= 10; ++k) ASSERT_TRUE(rec.observe(0.1 * k, human, robot));
+  ASSERT_EQ(rec.interactionSamples().size(), 11u);
+  // The tracker loses the human for 20 s (more than max_gap_s): no samples inside the gap.
+  ASSERT_TRUE(rec.observe(21.0, human, robot));
+  ASSERT_EQ(rec.interactionSamples().size(), 12u);
+  EXPECT_NEAR(rec.interactionSamples().back().t_s, 21.0, 1e-9);
+  // A clock jumping 32 years ahead costs one step, not 10^10 samples (a hostile input must not
+  // hang the path assessor); observations of the old clock after it are ignored.
+  ASSERT_TRUE(rec.observe(1e9, human, robot));
+  EXPECT_LE(rec.interactionSamples().size(), 13u);  // 13 if 1e9 falls on the grid to the ulp
+  EXPECT_FALSE(rec.observe(21.1, human, robot));
+  EXPECT_TRUE(std::isfinite(*rec.snapshot().cm_window_m));
+}
+
 }  // namespace
 }  // namespace coopnav::assessment

@@ -52,6 +52,10 @@ struct PathAssessorConfig {
   double tau_m{0.4};            ///< [m] τ on CM, paper §III
   double side_deadband_m{0.1};  ///< [m] robot this close to the path: side undecided (see @file)
   double history_s{2.0};        ///< [s] observations kept for commands stamped in the past
+  /// [s] observations farther apart are a tracking gap (or a clock jump): the grid times inside it
+  /// get no sample instead of positions interpolated over the gap, and skipping them costs O(1)
+  /// however long the gap.
+  double max_gap_s{5.0};
 };
 
 enum class RecorderState : std::int8_t { kIdle = 0, kRecording = 1, kStopped = 2 };

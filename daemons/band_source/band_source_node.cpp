@@ -171,7 +171,7 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
     const double period_us = 1e6 / config_.control_hz;
     if (last_cycle_utime_ &&
-        static_cast<double>(s.utime - *last_cycle_utime_) < period_us * (1.0 - kThrottleSlack))
+        utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 < period_us * (1.0 - kThrottleSlack))
       return;
     last_cycle_utime_ = s.utime;
   }
@@ -376,7 +376,7 @@ void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const P
   }
   const bool due =
       config_.reference_paths_republish_s > 0.0 && last_refs_utime_ &&
-      utimeToSeconds(s.utime - *last_refs_utime_) >= config_.reference_paths_republish_s;
+      utimeDiffSeconds(s.utime, *last_refs_utime_) >= config_.reference_paths_republish_s;
   if (!changed && !due) return;
   ReferencePaths out;
   out.utime = s.utime;

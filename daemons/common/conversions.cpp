@@ -87,6 +87,9 @@ band_t bandToLcm(std::int32_t id, std::int8_t kind, const Band& band) {
 }  // namespace
 
 double utimeToSeconds(std::int64_t utime) { return static_cast<double>(utime) * 1e-6; }
+double utimeDiffSeconds(std::int64_t later_utime, std::int64_t earlier_utime) {
+  return (static_cast<double>(later_utime) - static_cast<double>(earlier_utime)) * 1e-6;
+}
 std::int64_t secondsToUtime(double t_s) {
   return static_cast<std::int64_t>(std::llround(t_s * 1e6));
 }

@@ -24,6 +24,9 @@ namespace coopnav {
 /// Seconds <-> LCM utime (microseconds). Rounds to the nearest microsecond.
 double utimeToSeconds(std::int64_t utime);
 std::int64_t secondsToUtime(double t_s);
+/// [s] later - earlier. In double, so that no pair of stamps overflows (a hostile stamp may be
+/// INT64_MIN or INT64_MAX); exact, like the integer difference, while both are below 2^53 us.
+double utimeDiffSeconds(std::int64_t later_utime, std::int64_t earlier_utime);
 
 /// All agents at one instant (coopnav_agent_states_t).
 struct AgentStatesSnapshot {

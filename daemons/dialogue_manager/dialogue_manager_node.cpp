@@ -184,7 +184,7 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
       if (h.decision.ended()) continue;
       const Tracked& t = tracked_[id];
       const double absent_s =
-          t.last_seen_utime < 0 ? 0.0 : utimeToSeconds(latest_agents_utime_ - t.last_seen_utime);
+          t.last_seen_utime < 0 ? 0.0 : utimeDiffSeconds(latest_agents_utime_, t.last_seen_utime);
       if (absent_s <= config_.human_gone_s) continue;
       const std::string why =
           fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);

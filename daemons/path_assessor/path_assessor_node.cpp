@@ -41,7 +41,7 @@ PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
 
 double PathAssessorNode::seconds(std::int64_t utime) {
   if (!base_utime_) base_utime_ = utime;
-  return utimeToSeconds(utime - *base_utime_);
+  return utimeDiffSeconds(utime, *base_utime_);
 }
 
 void PathAssessorNode::onReferencePaths(const reference_paths_t& msg) {

@@ -142,6 +142,8 @@ void Runtime::publishStatus() {
     cycle_ms_.clear();
   }
   s.detail = detail_;
+  s.backlog = max_backlog_;
+  max_backlog_ = 0;
   publish(channels::kStatus, s);
 }
 
@@ -221,8 +223,10 @@ int Runtime::run() {
     if (fds[2].revents & POLLIN) break;
     if (fds[0].revents & POLLIN) {
       // Drain what is queued without blocking, so a burst does not starve the status timer.
-      for (int i = 0; i < 1000 && lcm_->handleTimeout(0) > 0; ++i) {
-      }
+      // How many were waiting is the daemon's backlog (a queue that grows when it cannot keep up).
+      int handled = 0;
+      while (handled < 1000 && lcm_->handleTimeout(0) > 0) ++handled;
+      max_backlog_ = std::max(max_backlog_, handled - 1);
     }
   }
   state_ = daemon_status_t::STATE_STOPPING;

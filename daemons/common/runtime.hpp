@@ -131,6 +131,7 @@ class Runtime {
   std::string detail_;
   std::int64_t last_logic_utime_{-1};
   std::vector<double> cycle_ms_;
+  int max_backlog_{0};  ///< most messages waiting at one wake-up since the last status
   std::atomic<bool> stop_{false};
   int stop_pipe_[2]{-1, -1};
 };

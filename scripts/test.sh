@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
 # Installs what is missing (Debian 12), builds, and runs the whole test suite (unit, node, e2e).
 # Extra arguments go to ctest, e.g. scripts/test.sh -L unit
+# Without extra arguments (CI) the suite then runs again under sanitizers (docs/sanitizers.md):
+# build-asan (ASan + UBSan: unit, node, e2e_lifecycle_test) and build-tsan (TSan: node,
+# e2e_lifecycle_test). COOPNAV_SANITIZERS=0 skips them.
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 coopnav_install_deps
 coopnav_build
 coopnav_ensure_multicast
-cd "$COOPNAV_BUILD_DIR"
-ctest --output-on-failure --timeout 900 -j"$(nproc)" "$@"
+(cd "$COOPNAV_BUILD_DIR" && ctest --output-on-failure --timeout 900 -j"$(nproc)" "$@")
+if [ "$#" -eq 0 ] && [ "${COOPNAV_SANITIZERS:-1}" != 0 ]; then
+  source "$COOPNAV_ROOT/scripts/sanitizers.sh"
+  rc=0
+  coopnav_sanitizer_pass asan address,undefined -L 'unit|node' || rc=1
+  coopnav_sanitizer_pass tsan thread -L node || rc=1
+  exit "$rc"
+fi

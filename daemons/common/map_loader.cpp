@@ -222,7 +222,14 @@ LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
   map.tree = std::make_unique<octomap::OcTree>(0.1);  // readBinary takes the file's resolution
   if (!map.tree->readBinary(in)) fail(path, "not a readable OctoMap binary (.bt) file");
   map.tree_origin_m = options.bt_origin_m;
-  map.grid = octreeToGrid(*map.tree, options.bt_z_min_m, options.bt_z_max_m, options.bt_origin_m);
+  try {
+    map.grid = octreeToGrid(*map.tree, options.bt_z_min_m, options.bt_z_max_m, options.bt_origin_m,
+                            kMaxMapCells);
+  } catch (const std::invalid_argument& e) {
+    // Too large, or a resolution that is not a number > 0: a bad file (exit 3), not a crash of
+    // the loader's caller with an exception it does not expect.
+    fail(path, e.what());
+  }
   if (map.grid.empty()) {
     std::ostringstream os;
     os << "no known voxel in the height band [" << options.bt_z_min_m << ", " << options.bt_z_max_m
@@ -397,6 +404,11 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
                     ") not found");
   }
   const PgmImage img = readPgm(image_path.string());
+  if (std::int64_t{img.width} * img.height > kMaxMapCells) {
+    fail(where, "image '" + image_path.string() + "' of " + std::to_string(img.width) + " x " +
+                    std::to_string(img.height) + " pixels is larger than " +
+                    std::to_string(kMaxMapCells) + " cells");
+  }
 
   // ROS map_server trinary semantics: p = (maxval - v) / maxval (v / maxval when negated);
   // occupied if p > occupied_thresh, free if p < free_thresh, else unknown. Image row 0 is the
@@ -475,7 +487,12 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
   // The 1e-9 keeps an extent that is an exact multiple of res from gaining a column.
   const double w = std::ceil(size.x() / res - 1e-9);
   const double h = std::ceil(size.y() / res - 1e-9);
-  if (w * h > static_cast<double>(1LL << 30)) fail(where, "walls map too large for resolution_m");
+  if (w * h > static_cast<double>(kMaxMapCells)) {
+    std::ostringstream os;
+    os << "walls map of " << w << " x " << h << " cells at resolution_m " << res
+       << " is larger than " << kMaxMapCells << " cells";
+    fail(where, os.str());
+  }
   OccupancyGrid2 grid(std::max(1, static_cast<int>(w)), std::max(1, static_cast<int>(h)), res,
                       origin, CellState::kFree);
   for (const Wall& wall : walls) rasteriseSegment(&grid, wall.a, wall.b, wall.half_m);

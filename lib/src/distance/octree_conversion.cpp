@@ -4,6 +4,7 @@
 #include <climits>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace coopnav {
@@ -40,7 +41,7 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
 }
 
 OccupancyGrid2 octreeToGrid(const octomap::OcTree& tree, double z_min_m, double z_max_m,
-                            const Eigen::Vector2d& frame_origin_m) {
+                            const Eigen::Vector2d& frame_origin_m, std::int64_t max_cells) {
   const double res = tree.getResolution();
   struct Leaf {
     int i0, j0, size;  // cell range [i0, i0 + size) x [j0, j0 + size) in tree-frame cells
@@ -66,6 +67,16 @@ OccupancyGrid2 octreeToGrid(const octomap::OcTree& tree, double z_min_m, double 
     leaves.push_back(leaf);
   }
   if (leaves.empty()) return OccupancyGrid2();
+  // Checked here, before the grid and the cell loops below: a tree read from a file may hold a
+  // few coarse or far-apart leaves spanning 2^30 cells, and filling them took minutes and GBs
+  // (found by fuzz_map_bt).
+  const std::int64_t width = std::int64_t{max_i} - min_i + 1;
+  const std::int64_t height = std::int64_t{max_j} - min_j + 1;
+  if (width * height > max_cells) {
+    throw std::invalid_argument("octreeToGrid: the leaves span " + std::to_string(width) + " x " +
+                                std::to_string(height) + " cells, more than " +
+                                std::to_string(max_cells));
+  }
   OccupancyGrid2 grid(max_i - min_i + 1, max_j - min_j + 1, res,
                       frame_origin_m + res * Eigen::Vector2d(min_i, min_j), CellState::kUnknown);
   for (const Leaf& leaf : leaves) {

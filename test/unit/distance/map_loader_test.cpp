@@ -358,5 +358,34 @@ TEST(MapLoaderTest, PgmHeaderClaimingAHugeImageFailsBeforeAllocating) {
                     HasSubstr("room for at most 4")));
 }
 
+// Found by fuzz_map_bt: a 759-byte .bt whose leaves spanned ~2^26 cells took 43 s and 1.1 GB to
+// load, and leaves farther apart made OccupancyGrid2 throw std::invalid_argument past the
+// loader (exit 1, not 3). Both are now a MapLoadError naming the cell count.
+TEST(MapLoaderTest, BtWhoseLeavesSpanTooManyCellsIsABadMap) {
+  TempDir tmp;
+  for (const double corner_m : {300.0, 3000.0}) {
+    octomap::OcTree tree(0.1);
+    tree.updateNode(octomap::point3d(-corner_m, -corner_m, 0.05f), true);
+    tree.updateNode(octomap::point3d(corner_m, corner_m, 0.05f), true);
+    const std::string path = tmp.dir() + "/far.bt";
+    ASSERT_TRUE(tree.writeBinary(path));
+    EXPECT_THAT(errorOf([&] { loadMap(path); }),
+                AllOf(HasSubstr("far.bt"), HasSubstr("cells, more than 16777216")))
+        << corner_m;
+  }
+}
+
+// Found by fuzz_map_yaml's kind of input: a few lines of walls YAML at a tiny resolution asked for
+// up to 2^30 cells.
+TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {
+  TempDir tmp;
+  EXPECT_THAT(errorOf([&] {
+                loadMap(tmp.write("fine.yaml",
+                                  "resolution_m: 0.001\nboxes:\n"
+                                  "  - {min_x_m: 0, min_y_m: 0, max_x_m: 10, max_y_m: 10}\n"));
+              }),
+              AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 16777216 cells")));
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -8,6 +8,7 @@
 #include <octomap/OcTree.h>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 
 #include "coopnav/distance/occupancy_grid.hpp"
@@ -26,8 +27,11 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
 /// occupied, else free if any is free, else unknown. The grid spans the x-y bounding box of those
 /// leaves; frame_origin_m [m] is the world position of the tree frame's origin (the grid origin
 /// the tree was built from), so the result's origin is frame_origin_m + (lowest cell) * res.
-/// Returns an empty grid when no leaf overlaps the band.
+/// Returns an empty grid when no leaf overlaps the band. Throws std::invalid_argument, before
+/// allocating, when the grid would exceed max_cells cells (a few coarse or far-apart leaves span
+/// billions of cells), or when the tree's resolution is not a finite number > 0.
 OccupancyGrid2 octreeToGrid(const octomap::OcTree& tree, double z_min_m, double z_max_m,
-                            const Eigen::Vector2d& frame_origin_m = Eigen::Vector2d::Zero());
+                            const Eigen::Vector2d& frame_origin_m = Eigen::Vector2d::Zero(),
+                            std::int64_t max_cells = std::int64_t{1} << 30);
 
 }  // namespace coopnav

@@ -28,10 +28,11 @@ class MapLoadError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Most cells a loaded map may have (4096 x 4096: 204 m square at 5 cm). The distance field costs
-/// about 14 bytes and a few passes per cell; a walls YAML of a few lines or a .bt of a few coarse
-/// leaves could otherwise ask for 2^30 cells, minutes and GBs at start (found by the fuzzers).
-inline constexpr std::int64_t kMaxMapCells = std::int64_t{1} << 24;
+/// Most cells a loaded map may have (2048 x 2048: 102 m square at 5 cm). Loading one that large
+/// (grid, OctoMap of record, distance field) takes a few seconds and ~0.5 GB; a walls YAML of a
+/// few lines or a .bt of a few coarse leaves could otherwise ask for up to 2^30 cells, minutes
+/// and GBs at start (found by the fuzzers).
+inline constexpr std::int64_t kMaxMapCells = std::int64_t{1} << 22;
 
 struct MapLoadOptions {
   /// Voxel layers of the OcTree built from a 2-D source (even numbers let the tree prune).

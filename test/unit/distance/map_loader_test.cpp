@@ -363,14 +363,14 @@ TEST(MapLoaderTest, PgmHeaderClaimingAHugeImageFailsBeforeAllocating) {
 // loader (exit 1, not 3). Both are now a MapLoadError naming the cell count.
 TEST(MapLoaderTest, BtWhoseLeavesSpanTooManyCellsIsABadMap) {
   TempDir tmp;
-  for (const double corner_m : {300.0, 3000.0}) {
+  for (const double corner_m : {150.0, 3000.0}) {
     octomap::OcTree tree(0.1);
     tree.updateNode(octomap::point3d(-corner_m, -corner_m, 0.05f), true);
     tree.updateNode(octomap::point3d(corner_m, corner_m, 0.05f), true);
     const std::string path = tmp.dir() + "/far.bt";
     ASSERT_TRUE(tree.writeBinary(path));
     EXPECT_THAT(errorOf([&] { loadMap(path); }),
-                AllOf(HasSubstr("far.bt"), HasSubstr("cells, more than 16777216")))
+                AllOf(HasSubstr("far.bt"), HasSubstr("cells, more than 4194304")))
         << corner_m;
   }
 }
@@ -384,7 +384,7 @@ TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {
                                   "resolution_m: 0.001\nboxes:\n"
                                   "  - {min_x_m: 0, min_y_m: 0, max_x_m: 10, max_y_m: 10}\n"));
               }),
-              AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 16777216 cells")));
+              AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 4194304 cells")));
 }
 
 }  // namespace

@@ -91,7 +91,15 @@ class ConfigReader {
   void rejectUnknownKeys() {
     if (!node_ || !node_.IsMap()) return;
     for (const auto& kv : node_) {
-      const auto k = kv.first.as<std::string>();
+      // A key that is no name ("[a, b]: 1", "{x: 1}: 2") is not one of ours; as<std::string>()
+      // on it threw YAML::TypedBadConversion past loadConfig, and the daemon aborted instead of
+      // exiting 2 (found by fuzz_config).
+      if (!kv.first.IsScalar()) {
+        error("", "has a key that is not a name (line " + std::to_string(kv.first.Mark().line + 1) +
+                      ")");
+        continue;
+      }
+      const auto k = kv.first.Scalar();
       if (!seen_.count(k)) error(k, "is not a known key");
     }
   }

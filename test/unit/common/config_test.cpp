@@ -90,6 +90,21 @@ TEST(ConfigTest, MissingFileAndSyntaxErrorsAreClear) {
   }
 }
 
+// Found by fuzz_config: a non-scalar key made rejectUnknownKeys throw YAML::TypedBadConversion,
+// which no daemon catches (abort instead of exit 2).
+TEST(ConfigTest, KeysThatAreNotNamesAreConfigErrors) {
+  for (const char* text : {"[a, b]: 1\n", "? {x: 1}\n: 2\n", "inner: {[g]: 1}\n"}) {
+    try {
+      loadConfig<SampleConfig>(writeTemp(text));
+      FAIL() << "expected ConfigError for " << text;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("has a key that is not a name (line "),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(ConfigTest, NonFiniteNumbersAreRejected) {
   EXPECT_THROW(loadConfig<SampleConfig>(writeTemp("speed_m_s: .nan\n")), ConfigError);
 }

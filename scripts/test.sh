@@ -9,6 +9,11 @@ coopnav_install_deps
 coopnav_build
 coopnav_ensure_multicast
 (cd "$COOPNAV_BUILD_DIR" && ctest --output-on-failure --timeout 900 -j"$(nproc)" "$@")
+# Without extra arguments (CI) every libFuzzer target also runs briefly (build-fuzz, clang;
+# test/fuzz/README.md); a finding fails the run. COOPNAV_FUZZ=0 skips it.
+if [ "$#" -eq 0 ] && [ "${COOPNAV_FUZZ:-1}" != 0 ]; then
+  bash "$COOPNAV_ROOT/scripts/fuzz.sh" --short
+fi
 if [ "$#" -eq 0 ] && [ "${COOPNAV_SANITIZERS:-1}" != 0 ]; then
   source "$COOPNAV_ROOT/scripts/sanitizers.sh"
   rc=0

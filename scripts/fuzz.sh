@@ -1,0 +1,149 @@
+#!/usr/bin/env bash
+# libFuzzer targets of test/fuzz (test/fuzz/README.md). Builds them into build-fuzz/ (clang-14,
+# ASan + UBSan + coverage) and runs each on its committed corpus.
+#
+#   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15)
+#   scripts/fuzz.sh --long  [TARGET...]  each target for COOPNAV_FUZZ_LONG_RUNS executions (10M)
+#   scripts/fuzz.sh --seed               regenerate the generated seeds and copy the repo's configs,
+#                                        scenarios and maps into test/fuzz/corpus/
+#   scripts/fuzz.sh --build              build only
+#
+# Any finding (crash, sanitizer report, leak, timeout, out-of-memory) fails the run; libFuzzer
+# writes the input to build-fuzz/findings/<target>/ (reproduce: README.md). New corpus entries go to
+# build-fuzz/corpus/<target>/, never into the committed seeds.
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+
+FUZZ_BUILD_DIR="${COOPNAV_FUZZ_BUILD_DIR:-$COOPNAV_ROOT/build-fuzz}"
+FUZZ_SRC="$COOPNAV_ROOT/test/fuzz"
+SHORT_S="${COOPNAV_FUZZ_SHORT_S:-15}"
+LONG_RUNS="${COOPNAV_FUZZ_LONG_RUNS:-10000000}"
+# Limits of every run: a single input may take at most TIMEOUT_S seconds and RSS_MB of memory; an
+# input past either is a finding (a hostile file or message must not hang or exhaust a daemon).
+TIMEOUT_S="${COOPNAV_FUZZ_TIMEOUT_S:-10}"
+RSS_MB="${COOPNAV_FUZZ_RSS_MB:-2048}"
+MAX_LEN="${COOPNAV_FUZZ_MAX_LEN:-8192}"
+
+NICE=()
+TARGETS=(fuzz_lcm_band_source fuzz_lcm_situation_assessor fuzz_lcm_path_assessor
+  fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_run_log
+  fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
+
+fuzz_build() {
+  command -v clang++-14 >/dev/null || {
+    echo "fuzz: clang++-14 missing (Debian: clang-14 libclang-rt-14-dev)" >&2
+    exit 1
+  }
+  # Tests and benchmarks stay out: only the fuzz targets and what they link are built.
+  # -O1 with line tables: the usual fuzzing trade-off (fast enough to run, stacks with file:line),
+  # and it compiles much faster than -O2 -g on CI's two cores.
+  cmake -S "$COOPNAV_ROOT" -B "$FUZZ_BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=None \
+    -DCMAKE_CXX_FLAGS="-O1 -gline-tables-only" -DCMAKE_CXX_COMPILER=clang++-14 -DCOOPNAV_FUZZ=ON -DCOOPNAV_BUILD_TESTS=OFF \
+    -DCOOPNAV_BUILD_BENCH=OFF >/dev/null
+  cmake --build "$FUZZ_BUILD_DIR" --target coopnav_fuzz -j"${COOPNAV_FUZZ_JOBS:-$(nproc)}"
+}
+
+fuzz_seed() {
+  local c="$FUZZ_SRC/corpus"
+  "$FUZZ_BUILD_DIR/test/fuzz/fuzz_seed_gen" "$c"
+  # Configs: selector byte (the daemon, as fuzz_config.cpp numbers them) + the repo's YAML.
+  local i=0 d
+  for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
+    world_sim; do
+    mkdir -p "$c/fuzz_config"
+    { printf "\\$(printf '%03o' "$i")"; cat "$COOPNAV_ROOT/config/$d.yaml"; } >"$c/fuzz_config/$d.yaml"
+    i=$((i + 1))
+  done
+  mkdir -p "$c/fuzz_scenario"
+  cp "$COOPNAV_ROOT"/config/scenarios/*.yaml "$c/fuzz_scenario/"
+  local s
+  for s in "$COOPNAV_ROOT"/test/data/scenarios/*.yaml; do
+    cp "$s" "$c/fuzz_scenario/test_$(basename "$s")"
+  done
+  cp "$COOPNAV_ROOT"/config/scenarios/narrow_minimal.yaml "$c/fuzz_map_yaml/scenario_narrow.yaml"
+}
+
+# run_target NAME ARGS...: runs one fuzzer on its committed corpus; non-zero on a finding.
+run_target() {
+  local name="$1"
+  shift
+  local bin="$FUZZ_BUILD_DIR/test/fuzz/$name"
+  local work="$FUZZ_BUILD_DIR/corpus/$name" findings="$FUZZ_BUILD_DIR/findings/$name"
+  local dict="$FUZZ_SRC/$name.dict" extra=()
+  mkdir -p "$work" "$findings"
+  [ -f "$dict" ] && extra+=(-dict="$dict")
+  # <target>.options: that target's own limits, after (and so over) the defaults.
+  if [ -f "$FUZZ_SRC/$name.options" ]; then
+    local opts
+    read -r -a opts <"$FUZZ_SRC/$name.options"
+    extra+=("${opts[@]}")
+  fi
+  echo "fuzz: $name $*"
+  # New inputs go to the work corpus (first directory); the committed seeds are only read.
+  (cd "$findings" && ${NICE[@]+"${NICE[@]}"} "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
+    -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
+    "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1
+  local rc=$?
+  grep -a -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::average_exec_per_sec|stat::peak_rss_mb)' \
+    "$findings/log.txt" | sed "s/^/fuzz:   /"
+  if [ $rc -ne 0 ]; then
+    echo "fuzz: $name FAILED (rc $rc); log: $findings/log.txt" >&2
+    grep -a -E '==ERROR|ERROR: libFuzzer|SUMMARY|invariant|Test unit written|runtime error|terminate' \
+      "$findings/log.txt" | head -20 >&2
+  fi
+  return $rc
+}
+
+# Left out of --short (CI) while it has an open finding outside this script's reach:
+# fuzz_scenario aborts within seconds on a scenario with a non-scalar key (world_sim's scenario
+# Reader throws YAML::TypedBadConversion from its destructor; test/fuzz/README.md). It still runs
+# in --long and when named.
+SHORT_SKIP=(fuzz_scenario)
+
+mode="${1:---short}"
+[ $# -gt 0 ] && shift
+selected=("$@")
+if [ ${#selected[@]} -eq 0 ]; then
+  for t in "${TARGETS[@]}"; do
+    if [ "$mode" = --short ] && [[ " ${SHORT_SKIP[*]} " == *" $t "* ]]; then
+      echo "fuzz: $t skipped in --short (open finding, see test/fuzz/README.md)"
+      continue
+    fi
+    selected+=("$t")
+  done
+fi
+
+case "$mode" in
+  --build)
+    fuzz_build
+    ;;
+  --seed)
+    fuzz_build
+    fuzz_seed
+    ;;
+  --short | --long)
+    fuzz_build
+    failed=()
+    for t in "${selected[@]}"; do
+      set +e
+      if [ "$mode" = --short ]; then
+        run_target "$t" -max_total_time="$SHORT_S"
+      else
+        # Long runs share the machine: niced, one target at a time, one process each.
+        NICE=(nice -n 10)
+        run_target "$t" -runs="$LONG_RUNS"
+      fi
+      rc=$?
+      set -e
+      [ $rc -ne 0 ] && failed+=("$t")
+    done
+    if [ ${#failed[@]} -gt 0 ]; then
+      echo "fuzz: findings in ${failed[*]} (inputs in $FUZZ_BUILD_DIR/findings/)" >&2
+      exit 1
+    fi
+    echo "fuzz: ${#selected[@]} targets, no finding"
+    ;;
+  *)
+    sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    exit 2
+    ;;
+esac

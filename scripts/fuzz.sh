@@ -3,7 +3,8 @@
 # ASan + UBSan + coverage) and runs each on its committed corpus.
 #
 #   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15)
-#   scripts/fuzz.sh --long  [TARGET...]  each target for COOPNAV_FUZZ_LONG_RUNS executions (10M)
+#   scripts/fuzz.sh --long  [TARGET...]  each target for COOPNAV_FUZZ_LONG_RUNS executions (10M),
+#                                        or COOPNAV_FUZZ_LONG_S seconds if set and reached first
 #   scripts/fuzz.sh --seed               regenerate the generated seeds and copy the repo's configs,
 #                                        scenarios and maps into test/fuzz/corpus/
 #   scripts/fuzz.sh --build              build only
@@ -17,6 +18,8 @@ FUZZ_BUILD_DIR="${COOPNAV_FUZZ_BUILD_DIR:-$COOPNAV_ROOT/build-fuzz}"
 FUZZ_SRC="$COOPNAV_ROOT/test/fuzz"
 SHORT_S="${COOPNAV_FUZZ_SHORT_S:-15}"
 LONG_RUNS="${COOPNAV_FUZZ_LONG_RUNS:-10000000}"
+# Optional wall-time cap of each --long target [s] (0 = none): whichever of runs / time comes first.
+LONG_S="${COOPNAV_FUZZ_LONG_S:-0}"
 # Limits of every run: a single input may take at most TIMEOUT_S seconds and RSS_MB of memory; an
 # input past either is a finding (a hostile file or message must not hang or exhaust a daemon).
 TIMEOUT_S="${COOPNAV_FUZZ_TIMEOUT_S:-10}"
@@ -130,7 +133,7 @@ case "$mode" in
       else
         # Long runs share the machine: niced, one target at a time, one process each.
         NICE=(nice -n 10)
-        run_target "$t" -runs="$LONG_RUNS"
+        run_target "$t" -runs="$LONG_RUNS" -max_total_time="$LONG_S"
       fi
       rc=$?
       set -e
@@ -143,7 +146,7 @@ case "$mode" in
     echo "fuzz: ${#selected[@]} targets, no finding"
     ;;
   *)
-    sed -n '2,14p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

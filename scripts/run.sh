@@ -7,6 +7,7 @@
 #   scripts/run.sh [--out DIR] [--no-build] [scenario.yaml ...]
 #   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml)
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+source "$COOPNAV_ROOT/scripts/scenario.sh"
 
 out=""
 build=1
@@ -45,7 +46,6 @@ else
 fi
 out="$(cd "$out" && pwd)"
 ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
-cfg="$COOPNAV_ROOT/config"
 # Port base: CI runs several suites at once; each scenario gets its own port from here.
 port="${COOPNAV_RUN_PORT_BASE:-7670}"
 
@@ -58,38 +58,14 @@ for scenario in "${scenarios[@]}"; do
   scenario="$(cd "$(dirname "$scenario")" && pwd)/$(basename "$scenario")"
   name="$(basename "$scenario" .yaml)"
   dir="$out/$name"
-  mkdir -p "$dir"
-  echo "$scenario" >"$dir/scenario.path"  # replay.sh finds the map through it
-  export LCM_DEFAULT_URL="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=4194304"
-  port=$((port + 1))
   echo "== $name  ($scenario)"
-
-  coopnav_spawn "$dir/lcm-logger.log" \
-    lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$dir/$name.lcm"
-  coopnav_spawn "$dir/obstacle_distance_server.log" "$(coopnav_bin obstacle_distance_server)" \
-    -c "$cfg/obstacle_distance_server.yaml" --set "map_file=$scenario"
-  coopnav_spawn "$dir/band_source.log" "$(coopnav_bin band_source)" -c "$cfg/band_source.yaml" \
-    --set "map_file=$scenario"
-  for d in situation_assessor path_assessor dialogue_manager; do
-    coopnav_spawn "$dir/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml"
-  done
-  if ! "$ctl" wait-ready obstacle_distance_server band_source situation_assessor path_assessor \
-    dialogue_manager --timeout-s 60; then
-    echo "run.sh: daemons did not come up for $name; see $dir/*.log" >&2
-    coopnav_stop_all
-    failed=1
-    continue
-  fi
-  sleep 0.3  # the logger subscribes before the first step
   start_s=$(date +%s.%N)
   rc=0
-  "$(coopnav_bin world_sim)" -c "$cfg/world_sim.yaml" --set "scenario=$scenario" \
-    >"$dir/world_sim.log" 2>&1 || rc=$?
+  coopnav_run_scenario "$scenario" "$dir" "$port" || rc=$?
   end_s=$(date +%s.%N)
-  sleep 0.3  # last messages reach the logger
-  coopnav_stop_all
+  port=$((port + 1))
   if [ "$rc" -ne 0 ]; then
-    echo "run.sh: world_sim failed (exit $rc) for $name; see $dir/world_sim.log" >&2
+    echo "run.sh: the run failed (exit $rc) for $name; see $dir/*.log" >&2
     tail -5 "$dir/world_sim.log" >&2 || true
     failed=1
     continue

@@ -86,7 +86,7 @@ std::string idList(const std::set<std::int32_t>& ids) {
 void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePaths(base_dir); }
 
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
-    : config_(config), runtime_(runtime) {
+    : config_(config), runtime_(runtime), outputs_(runtime) {
   map_ = loadDistanceField(config_.map).field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
@@ -102,10 +102,21 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   modes_ = DockModeMachine(mo);
 
   StepGateOptions gate;
-  gate.requirements = {{kDialogueParticipant, -1}};
+  // Step k plans with every robot action of k-1 and the goals of k (a lost one is re-sent when
+  // the world publishes the step again; docs/lockstep.md "Loss and restarts").
+  gate.requirements = {{kDialogueParticipant, -1, {channels::kRobotAction}},
+                       {"world_sim", 0, {}, true}};
   gate.timeout = std::chrono::milliseconds(
       static_cast<std::int64_t>(std::llround(config_.step_gate_timeout_s * 1e3)));
   gate_ = std::make_unique<StepGate>(runtime_, gate);
+  gate_->setCondition([this](std::int64_t step) -> std::string {
+    const auto it = step_utime_.find(step);
+    if (it == step_utime_.end() || gate_->lastAck("world_sim") < step) return "";
+    return goal_utimes_.count(it->second) ? "" : "goals of step " + std::to_string(step);
+  });
+  runtime_.setLostStateNote(
+      "its dock mode, reference-path revisions and planner memory (bands and reference paths "
+      "restart from the current poses)");
 
   const auto& g = map_->grid();
   detail_ = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
@@ -137,8 +148,7 @@ BandSourceNode::~BandSourceNode() {
 
 void BandSourceNode::ackInOrder(std::int64_t utime, std::int64_t step) {
   if (step < 0) return;
-  gate_->submit(step,
-                [this, utime, step](bool, const std::string&) { runtime_.ackStep(utime, step); });
+  gate_->submit(step, [this, utime, step](bool, const std::string&) { outputs_.ack(utime, step); });
 }
 
 void BandSourceNode::onAgentStates(const agent_states_t& msg) {
@@ -154,11 +164,16 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
   }
   if (s.step >= 0) {
     if (s.step <= last_step_) {
-      ackInOrder(s.utime, s.step);
-      throw DroppedMessage("agent states step " + std::to_string(s.step) + " after step " +
-                           std::to_string(last_step_));
+      // The world published a step again: someone misses an answer of ours (or of the dialogue
+      // manager's, which holds our next step). Send the kept ones again, never recompute.
+      outputs_.republishRecent(s.step);
+      runtime_.countDropped();  // not planned again: counted as a stale input
+      log().debug("band_source: agent states of step {} again (latest {}): answers re-sent", s.step,
+                  last_step_);
+      return;
     }
     last_step_ = s.step;
+    step_utime_[s.step] = s.utime;
   }
   if (last_utime_ && s.utime < *last_utime_) {
     ackInOrder(s.utime, s.step);
@@ -181,12 +196,26 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
 }
 
 void BandSourceNode::onGoals(const goals_t& msg) {
-  goals_ = fromLcm(msg);  // full state: replaces the previous goals
+  GoalsSnapshot g = fromLcm(msg);  // throws RejectedMessage
+  // A repeat of an older step's goals never replaces newer ones.
+  if (goals_ && msg.utime < goals_->utime) return;
+  goals_ = std::move(g);  // full state: replaces the previous goals
+  goal_utimes_.insert(msg.utime);
+  while (goal_utimes_.size() > 64) goal_utimes_.erase(goal_utimes_.begin());
+  gate_->poke();
 }
 
 void BandSourceNode::onRobotAction(const robot_action_t& msg) {
   if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME)
     throw RejectedMessage("unknown robot action " + std::to_string(msg.action));
+  // A repeat (the dialogue manager answered a re-published step again) is applied once.
+  if (!gate_->noteReceived(kDialogueParticipant, channels::kRobotAction, msg.step,
+                           std::to_string(msg.action) + "/" + std::to_string(msg.human_id)))
+    return;
+  struct Poke {
+    StepGate& g;
+    ~Poke() { g.poke(); }
+  } poke{*gate_};
   log().info("band_source: robot action {} for human {} at step {} ({})",
              msg.action == robot_action_t::ACTION_DOCK ? "DOCK" : "RESUME", msg.human_id, msg.step,
              msg.reason);
@@ -207,7 +236,8 @@ void BandSourceNode::cycle(const AgentStatesSnapshot& s, bool degraded,
   } else {
     runtime_.setRunning(detail_);
   }
-  runtime_.ackStep(s.utime, s.step);
+  outputs_.ack(s.utime, s.step);
+  step_utime_.erase(s.step);
 }
 
 void BandSourceNode::plan(const AgentStatesSnapshot& s) {
@@ -340,14 +370,14 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
   b.robot_id = s.robot.id;
   b.robot = r.agent_band;
   for (const auto& o : r.others) b.humans.emplace_back(o.id, o.band);
-  runtime_.publish(channels::kBands, toLcm(b));
+  outputs_.publish(s.step, channels::kBands, toLcm(b));
 
   VelocityCommand c;
   c.utime = s.utime;
   c.step = s.step;
   c.mode = cmd_mode;
   if (r.status == PlanStatus::kOk && !hold && !idle) c.body = r.command_body;
-  runtime_.publish(channels::kRobotCmd, toLcm(c));
+  outputs_.publish(s.step, channels::kRobotCmd, toLcm(c));
 }
 
 void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const PlanResult& r,
@@ -388,7 +418,7 @@ void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const P
     e.path = ref.path;
     out.paths.push_back(std::move(e));
   }
-  runtime_.publish(channels::kReferencePaths, toLcm(out));
+  outputs_.publish(s.step, channels::kReferencePaths, toLcm(out));
   last_refs_utime_ = s.utime;
 }
 

@@ -19,6 +19,7 @@
 #include "common/map_source.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
+#include "common/step_outputs.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
@@ -109,6 +110,9 @@ class BandSourceNode {
   std::unique_ptr<DualBandPlanner> planner_;
   DockModeMachine modes_;
   std::unique_ptr<StepGate> gate_;
+  StepOutputs outputs_;
+  std::map<std::int64_t, std::int64_t> step_utime_;  ///< utime of each step queued in the gate
+  std::set<std::int64_t> goal_utimes_;               ///< utimes of the latest goals received
 
   std::optional<GoalsSnapshot> goals_;
   std::vector<PendingAction> actions_;         ///< robot actions not yet applied

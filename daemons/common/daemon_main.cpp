@@ -26,6 +26,9 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts) {
   app.add_option(
       "--set", opts.overrides,
       "override a setting of the config: key=value (dotted keys for nested; repeatable)");
+  app.add_option("--state-dir", opts.state_dir,
+                 "restart journal directory, one per run: a daemon started again with it "
+                 "rebuilds its state (docs/lockstep.md)");
   app.add_flag("--print-config", opts.print_config, "print the effective config as YAML and exit");
 }
 

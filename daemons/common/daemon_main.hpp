@@ -7,12 +7,14 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
 #include "common/config.hpp"
+#include "common/journal.hpp"
 #include "common/log.hpp"
 #include "common/runtime.hpp"
 
@@ -30,6 +32,8 @@ struct CommonOptions {
   std::string log_level{"info"};
   bool print_config{false};
   std::vector<std::string> overrides;  ///< --set key=value, applied over the config file
+  /// --state-dir: restart journal directory (journal.hpp); "" = none, a restart loses the state.
+  std::string state_dir;
 };
 
 /// Adds the common options to `app` (a daemon may add its own before calling runDaemon).
@@ -86,6 +90,13 @@ int runDaemon(int argc, char** argv, const std::string& name, const std::string&
   try {
     Runtime runtime(name, opts.lcm_url);
     Node node(config, runtime);
+    // After the node subscribed (its handlers rebuild the state), before the loop (no live
+    // message is handled before the recorded ones).
+    std::unique_ptr<Journal> journal;
+    if (!opts.state_dir.empty()) {
+      journal = std::make_unique<Journal>(runtime, opts.state_dir);
+      journal->replayAndRecord();
+    }
     return runtime.run();
   } catch (const LcmUnavailable& e) {
     log().critical("{}: {}", name, e.what());

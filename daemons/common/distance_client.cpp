@@ -14,8 +14,9 @@ DistanceClient::DistanceClient(Runtime& runtime, const std::string& client_name,
     reply_channel_ = reply_channel_.substr(reply_channel_.size() - 63);
   // Unique per process and attempt: pid in the high bits.
   next_id_ = (static_cast<std::int64_t>(::getpid()) << 32) + 1;
+  // Not journaled: answers to this process's own requests mean nothing to a restarted one.
   runtime_.subscribe<distance_reply_t>(
-      reply_channel_, [this](const distance_reply_t& m, std::int64_t) { onReply(m); });
+      reply_channel_, [this](const distance_reply_t& m, std::int64_t) { onReply(m); }, 0, false);
   runtime_.addTimer(std::chrono::milliseconds(10), [this] { checkTimeouts(); });
 }
 
@@ -40,6 +41,11 @@ void DistanceClient::send(std::int64_t id, Pending& p) {
 
 void DistanceClient::onReply(const distance_reply_t& msg) {
   auto it = pending_.find(msg.request_id);
+  // A late answer to an earlier attempt of a request still pending answers it: the same
+  // queries (a lost or slow datagram must not turn into "unknown" when an answer did come).
+  for (auto a = retried_.find(msg.request_id); it == pending_.end() && a != retried_.end();
+       a = retried_.find(a->second))
+    it = pending_.find(a->second);
   if (it == pending_.end()) throw DroppedMessage("stale or unknown distance reply id");
   Pending p = std::move(it->second);
   pending_.erase(it);
@@ -69,6 +75,8 @@ void DistanceClient::checkTimeouts() {
     pending_.erase(id);
     if (p.attempts_used < options_.attempts) {
       const std::int64_t fresh = next_id_++;
+      retried_[id] = fresh;
+      while (retried_.size() > kMaxRetried) retried_.erase(retried_.begin());
       auto& slot = pending_[fresh] = std::move(p);
       send(fresh, slot);
     } else {

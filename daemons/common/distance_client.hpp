@@ -1,6 +1,7 @@
 #pragma once
 /// @file Client of the obstacle distance server: request/reply over LCM with a timeout and retries
-/// (each attempt a fresh request id; stale replies are ignored).
+/// (each attempt a fresh request id; a late reply to an earlier attempt of a pending request
+/// answers it, replies to finished requests are ignored).
 ///
 /// Asynchronous use inside a daemon (shares the daemon's Runtime and loop):
 ///   DistanceClient client(runtime, "situation_assessor", {});
@@ -67,6 +68,9 @@ class DistanceClient {
   std::string reply_channel_;
   std::int64_t next_id_;
   std::map<std::int64_t, Pending> pending_;  // keyed by the current attempt's id
+  /// Earlier attempt id -> the id that replaced it (bounded: only recent ones matter).
+  std::map<std::int64_t, std::int64_t> retried_;
+  static constexpr std::size_t kMaxRetried = 256;
 };
 
 }  // namespace coopnav

@@ -97,11 +97,63 @@ void Runtime::dispatch(const std::function<void()>& body, const std::string& cha
 
 void Runtime::ackStep(std::int64_t utime, std::int64_t step) {
   if (step < 0) return;  // free-running: nobody waits
-  step_ack_t ack;
+  step_ack_t ack{};
   ack.utime = utime;
   ack.step = step;
   ack.participant = name_;
+  fillRestart(ack);
   publish(channels::kStepAck, ack);
+}
+
+bool Runtime::publishRaw(const std::string& channel, const std::vector<std::uint8_t>& bytes) {
+  if (muted_) return true;
+  if (lcm_->publish(channel, bytes.data(), static_cast<unsigned int>(bytes.size())) != 0)
+    return false;
+  ++counters_.published;
+  return true;
+}
+
+void Runtime::fillRestart(step_ack_t& ack) {
+  // Decided at the first live ack once the world was heard (or a journal was replayed): a test or
+  // a log replay without a world never counts as a restart.
+  if (!muted_ && !restart_decided_ && ack.step >= 0 &&
+      (restart_ != step_ack_t::RESTART_NONE || world_heard_)) {
+    restart_decided_ = true;
+    if (restart_ == step_ack_t::RESTART_NONE && joinedLate()) {
+      // Whatever it had learnt before is gone: say so, never silently.
+      restart_ = step_ack_t::RESTART_STATE_LOST;
+      restart_note_ = "joined mid-run without " + lost_state_note_;
+      setDegraded("restarted at step " + std::to_string(ack.step) + ": " + restart_note_);
+    }
+    if (restart_ != step_ack_t::RESTART_NONE) {
+      restart_step_ = ack.step;
+      log().warn("{}: restarted; first step acknowledged {}: {}", name_, ack.step, restart_note_);
+    }
+  }
+  ack.restart = restart_;
+  ack.restart_step = restart_step_;
+  ack.restart_note = restart_note_;
+}
+
+void Runtime::setRestarted(bool recovered, const std::string& note) {
+  restart_ = recovered ? step_ack_t::RESTART_RECOVERED : step_ack_t::RESTART_STATE_LOST;
+  recovered_ = recovered;
+  restart_note_ = note;
+  if (recovered) {
+    setRunning("restarted: " + note);
+  } else {
+    setDegraded("restarted: " + note);
+  }
+}
+
+void Runtime::dispatchRaw(const std::string& channel, const void* data, std::size_t size,
+                          std::int64_t recv_utime) {
+  lcm::ReceiveBuffer rbuf{};
+  rbuf.data = const_cast<void*>(data);  // LCM's type; handlers only read it
+  rbuf.data_size = static_cast<std::uint32_t>(size);
+  rbuf.recv_utime = recv_utime;
+  for (auto& s : subscriptions_)
+    if (s->channel == channel) s->on_message(&rbuf);
 }
 
 void Runtime::addTimer(std::chrono::milliseconds period, std::function<void()> fn) {
@@ -148,6 +200,7 @@ void Runtime::publishStatus() {
 }
 
 void Runtime::runDueTimers() {
+  if (muted_) return;
   const auto now = std::chrono::steady_clock::now();
   for (auto& t : timers_) {
     if (now >= t.next) {

@@ -10,8 +10,8 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <limits>
 #include <lcm/lcm-cpp.hpp>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -20,6 +20,8 @@
 #include "coopnav/channels.hpp"
 
 namespace coopnav {
+
+class step_ack_t;
 
 /// Thrown when LCM cannot be used (bad URL, no multicast route, self-test failure).
 class LcmUnavailable : public std::runtime_error {
@@ -70,17 +72,52 @@ class Runtime {
   /// truncated, corrupt count) is counted as rejected and logged, never crashes the daemon.
   /// The handler may throw RejectedMessage or DroppedMessage to have the message counted so.
   /// `queue_capacity` 0 = unlimited (request/reply servers must never drop silently).
+  /// `journaled` = false keeps the channel out of the restart journal (journal.hpp): inputs
+  /// that are answers to this process's own requests, or that it may recompute on demand.
   template <class Msg>
   void subscribe(const std::string& channel,
                  std::function<void(const Msg&, std::int64_t recv_utime)> handler,
-                 int queue_capacity = 0);
+                 int queue_capacity = 0, bool journaled = true);
 
   /// Encodes and publishes; counts it. Returns false (and logs) on a publish failure.
   template <class Msg>
   bool publish(const std::string& channel, const Msg& msg);
 
-  /// Publishes a lockstep acknowledgement of step `step` stamped `utime`.
+  /// Publishes already encoded bytes (a cached output sent again); counts it.
+  bool publishRaw(const std::string& channel, const std::vector<std::uint8_t>& bytes);
+
+  /// Publishes a lockstep acknowledgement of step `step` stamped `utime` (no output counts: a
+  /// node that publishes per-step outputs acknowledges through StepOutputs instead).
   void ackStep(std::int64_t utime, std::int64_t step);
+
+  /// Fills an acknowledgement's restart fields, and notes the first step acknowledged live.
+  void fillRestart(step_ack_t& ack);
+
+  // ---- restarts (journal.hpp, docs/lockstep.md "Loss and restarts") ----
+  /// While muted (replaying the journal) nothing is sent and no timer runs.
+  void setMuted(bool muted) { muted_ = muted; }
+  bool muted() const { return muted_; }
+  /// Called with every message received on a journaled channel, before it is handled.
+  using ReceiveHook = std::function<void(const std::string& channel, const void* data,
+                                         std::size_t size, std::int64_t recv_utime)>;
+  void setReceiveHook(ReceiveHook hook) { receive_hook_ = std::move(hook); }
+  /// Hands a recorded message to the subscriptions of `channel`, as if just received.
+  void dispatchRaw(const std::string& channel, const void* data, std::size_t size,
+                   std::int64_t recv_utime);
+  /// This process restarted mid-run: `recovered` (state rebuilt from the journal) or not; the
+  /// note says what was recovered or lost. Reported in every later ack and in the status.
+  void setRestarted(bool recovered, const std::string& note);
+  /// What a restart without its state loses (the node says; used when it joins mid-run).
+  void setLostStateNote(const std::string& note) { lost_state_note_ = note; }
+  /// Notes an ack of the world simulator (the step gates call this). The first one heard tells
+  /// whether this process was there when the run started (step -1 "here" acks, or step 0) or
+  /// joined it later: a restart without its journal, which then says so in its acks.
+  void noteWorldAck(std::int64_t step) {
+    if (!world_heard_) first_world_ack_step_ = step;
+    world_heard_ = true;
+  }
+  /// Heard the world first after its step 0 (and rebuilt nothing from a journal).
+  bool joinedLate() const { return world_heard_ && first_world_ack_step_ > 0 && !recovered_; }
 
   /// Runs `fn` every `period` of monotonic time from the loop (liveness work only).
   void addTimer(std::chrono::milliseconds period, std::function<void()> fn);
@@ -134,6 +171,16 @@ class Runtime {
   int max_backlog_{0};  ///< most messages waiting at one wake-up since the last status
   std::atomic<bool> stop_{false};
   int stop_pipe_[2]{-1, -1};
+  bool muted_{false};
+  ReceiveHook receive_hook_;
+  std::int8_t restart_{0};
+  std::int64_t restart_step_{-1};
+  bool restart_decided_{false};
+  bool recovered_{false};
+  bool world_heard_{false};
+  std::int64_t first_world_ack_step_{-1};
+  std::string restart_note_;
+  std::string lost_state_note_{"its state"};
 };
 
 /// Decodes one received payload as Msg the way every subscription does: a payload that does not
@@ -166,15 +213,22 @@ struct Runtime::Subscription {
   std::string channel;
   std::function<void(const lcm::ReceiveBuffer*)> on_message;
   lcm::Subscription* handle{nullptr};
-  void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) { on_message(rbuf); }
+  bool journaled{true};
+  void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    if (journaled && runtime->receive_hook_)
+      runtime->receive_hook_(channel, rbuf->data, rbuf->data_size, rbuf->recv_utime);
+    on_message(rbuf);
+  }
 };
 
 template <class Msg>
 void Runtime::subscribe(const std::string& channel,
-                        std::function<void(const Msg&, std::int64_t)> handler, int queue_capacity) {
+                        std::function<void(const Msg&, std::int64_t)> handler, int queue_capacity,
+                        bool journaled) {
   auto sub = std::make_unique<Subscription>();
   sub->runtime = this;
   sub->channel = channel;
+  sub->journaled = journaled;
   sub->on_message = [this, channel, handler](const lcm::ReceiveBuffer* rbuf) {
     dispatch(
         [&] {
@@ -192,6 +246,7 @@ void Runtime::subscribe(const std::string& channel,
 
 template <class Msg>
 bool Runtime::publish(const std::string& channel, const Msg& msg) {
+  if (muted_) return true;
   if (lcm_->publish(channel, &msg) != 0) return false;
   ++counters_.published;
   return true;

@@ -1,5 +1,7 @@
 #include "common/step_gate.hpp"
 
+#include <algorithm>
+
 #include "common/log.hpp"
 #include "coopnav/step_ack_t.hpp"
 
@@ -10,10 +12,15 @@ StepGate::StepGate(Runtime& runtime, StepGateOptions options)
   for (const auto& r : options_.requirements) {
     if (r.offset > 0 || r.offset < -1)
       throw std::invalid_argument("step requirement offset must be 0 or -1 for " + r.participant);
-    peers_[r.participant].present = options_.wait_for_unseen;
+    peers_[r.participant].present = options_.wait_for_unseen && !r.optional_until_seen;
   }
   runtime_.subscribe<step_ack_t>(channels::kStepAck, [this](const step_ack_t& ack, std::int64_t) {
-    onAck(ack.participant, ack.step);
+    std::map<std::string, int> counts;
+    const auto n = std::min(ack.output_channels.size(), ack.output_counts.size());
+    for (std::size_t i = 0; i < n; ++i) counts[ack.output_channels[i]] = ack.output_counts[i];
+    if (ack.participant == "world_sim" && runtime_.name() != "world_sim")
+      runtime_.noteWorldAck(ack.step);
+    onAck(ack.participant, ack.step, counts);
   });
   runtime_.addTimer(std::chrono::milliseconds(50),
                     [this] { checkTimeouts(std::chrono::steady_clock::now()); });
@@ -29,11 +36,40 @@ void StepGate::submit(std::int64_t step, Work work) {
   drain();
 }
 
-void StepGate::onAck(const std::string& participant, std::int64_t step) {
+namespace {
+/// Steps of counts and received keys kept behind a peer's latest ack (a repeat older than that
+/// is of a step long done).
+constexpr std::int64_t kKeepSteps = 64;
+}  // namespace
+
+void StepGate::prune(Peer& p) {
+  const std::int64_t keep_from = p.last_ack - kKeepSteps;
+  while (!p.acked_counts.empty() && p.acked_counts.begin()->first < keep_from)
+    p.acked_counts.erase(p.acked_counts.begin());
+  while (!p.received.empty() && p.received.begin()->first < keep_from)
+    p.received.erase(p.received.begin());
+}
+
+bool StepGate::noteReceived(const std::string& participant, const std::string& channel,
+                            std::int64_t step, const std::string& key) {
+  if (step < 0) return true;  // free-running: no repeats to tell apart
+  auto it = peers_.find(participant);
+  if (it == peers_.end()) return true;
+  Peer& p = it->second;
+  if (step < p.last_ack - kKeepSteps) return false;  // long done: a late repeat
+  return p.received[step][channel].insert(key).second;
+}
+
+void StepGate::onAck(const std::string& participant, std::int64_t step,
+                     const std::map<std::string, int>& counts) {
   auto it = peers_.find(participant);
   if (it == peers_.end()) return;  // not one we depend on
   Peer& p = it->second;
-  if (step > p.last_ack) p.last_ack = step;
+  if (step >= 0 && !counts.empty()) p.acked_counts[step] = counts;
+  if (step > p.last_ack) {
+    p.last_ack = step;
+    prune(p);
+  }
   if (!p.present) {
     p.present = true;
     log().info("{}: {} acknowledges steps (now at {})", runtime_.name(), participant, step);
@@ -52,9 +88,39 @@ std::string StepGate::missingFor(std::int64_t step) const {
   for (const auto& r : options_.requirements) {
     const Peer& p = peers_.at(r.participant);
     const std::int64_t needed = step + r.offset;
-    if (needed < 0 || !p.present || p.last_ack >= needed) continue;
+    if (needed < 0 || !p.present) continue;
+    std::string what;
+    if (p.last_ack < needed) {
+      what = r.participant + " (step " + std::to_string(needed) + ")";
+    } else if (!r.channels.empty()) {
+      // Acknowledged: are all of its messages of that step here? Unknown counts (an older
+      // peer, or the ack of a step long gone) cannot be checked and do not hold the step.
+      const auto ac = p.acked_counts.find(needed);
+      if (ac != p.acked_counts.end()) {
+        const auto rc = p.received.find(needed);
+        for (const auto& ch : r.channels) {
+          const auto want = ac->second.find(ch);
+          const int wanted = want == ac->second.end() ? 0 : want->second;
+          int got = 0;
+          if (rc != p.received.end()) {
+            const auto g = rc->second.find(ch);
+            if (g != rc->second.end()) got = static_cast<int>(g->second.size());
+          }
+          if (got < wanted) {
+            what += (what.empty() ? "" : ", ") + r.participant + " " + ch + " of step " +
+                    std::to_string(needed) + " (" + std::to_string(got) + "/" +
+                    std::to_string(wanted) + ")";
+          }
+        }
+      }
+    }
+    if (what.empty()) continue;
     if (!missing.empty()) missing += ", ";
-    missing += r.participant + " (step " + std::to_string(needed) + ")";
+    missing += what;
+  }
+  if (condition_) {
+    const std::string c = condition_(step);
+    if (!c.empty()) missing += (missing.empty() ? "" : ", ") + c;
   }
   return missing;
 }

@@ -15,6 +15,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -22,10 +23,16 @@
 
 namespace coopnav {
 
-/// Step k needs `participant` to have acknowledged step k + offset (offset 0 or -1).
+/// Step k needs `participant` to have acknowledged step k + offset (offset 0 or -1), and, for
+/// each of `channels`, to have been received (noteReceived) as many messages of that step as the
+/// ack counts: a lost datagram holds the step until the world re-publishes it (docs/lockstep.md).
 struct StepRequirement {
   std::string participant;
   int offset{0};
+  std::vector<std::string> channels{};
+  /// Never wait for this participant before it was heard from, whatever wait_for_unseen says
+  /// (world_sim for a daemon that may also run without it: replay, tests).
+  bool optional_until_seen{false};
 };
 
 struct StepGateOptions {
@@ -48,11 +55,29 @@ class StepGate {
   void submit(std::int64_t step, Work work);
 
   /// Feeds an acknowledgement (the gate's own subscription calls this; tests may too).
-  void onAck(const std::string& participant, std::int64_t step);
+  /// `counts`: messages per channel the participant published for the step (empty = unknown).
+  void onAck(const std::string& participant, std::int64_t step,
+             const std::map<std::string, int>& counts = {});
+
+  /// Notes a message of `participant` on `channel` for `step`, identified by `key` (e.g. the
+  /// human id). Returns false when that message was already noted (a repeat: handle it once).
+  /// Does not run queued work: call poke() once the message is stored.
+  bool noteReceived(const std::string& participant, const std::string& channel, std::int64_t step,
+                    const std::string& key);
+  /// Runs what became runnable (after noteReceived and storing the message).
+  void poke() { drain(); }
+
+  /// An extra condition of a step: returns what is missing ("" = nothing). Checked with the
+  /// requirements; covered by the same timeout.
+  void setCondition(std::function<std::string(std::int64_t step)> condition) {
+    condition_ = std::move(condition);
+  }
 
   /// Latest step acknowledged by `participant`; -1 if none.
   std::int64_t lastAck(const std::string& participant) const;
   std::size_t pending() const { return queue_.size(); }
+  /// What step `step` still waits for ("" = nothing), for log lines.
+  std::string missing(std::int64_t step) const { return missingFor(step); }
 
   /// Runs the head of the queue if it has waited longer than the timeout (called by the timer;
   /// public so tests can drive it with a fake clock).
@@ -67,7 +92,11 @@ class StepGate {
   struct Peer {
     std::int64_t last_ack{-1};
     bool present{false};
+    /// Per step: the ack's counts per channel; and the keys of the messages noted per channel.
+    std::map<std::int64_t, std::map<std::string, int>> acked_counts;
+    std::map<std::int64_t, std::map<std::string, std::set<std::string>>> received;
   };
+  void prune(Peer& p);
   std::string missingFor(std::int64_t step) const;
   void runItem(Pending& item, bool degraded, const std::string& missing);
   void drain();
@@ -77,6 +106,7 @@ class StepGate {
   std::map<std::string, Peer> peers_;
   std::deque<Pending> queue_;
   bool draining_{false};
+  std::function<std::string(std::int64_t)> condition_;
 };
 
 }  // namespace coopnav

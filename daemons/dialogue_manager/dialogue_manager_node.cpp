@@ -36,9 +36,14 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
     : config_(config),
       decision_config_(config.decisionConfig()),
       runtime_(runtime),
+      outputs_(runtime),
       speech_(config.speech) {
+  // Step k is decided with every situation and path assessment of k and the world's agent
+  // states of k (a lost one holds the step until the world publishes it again).
   StepGateOptions gate;
-  gate.requirements = {{kSituationAssessor, 0}, {kPathAssessor, 0}};
+  gate.requirements = {{kSituationAssessor, 0, {channels::kSituation}},
+                       {kPathAssessor, 0, {channels::kPathAssessment}},
+                       {"world_sim", 0, {channels::kAgentStates}, true}};
   gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
   gate.wait_for_unseen = config_.gate_wait_for_unseen;
   gate_ = std::make_unique<StepGate>(runtime_, gate);
@@ -53,6 +58,8 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
                                  [this](const step_ack_t& a, std::int64_t) { onStepAck(a); });
   if (config_.speech.enabled)
     runtime_.addTimer(std::chrono::milliseconds(50), [this] { speech_.poll(); });
+  runtime_.setLostStateNote(
+      "which rounds it already fired: no utterance, dock or thanks for the humans already there");
   runtime_.setRunning(speech_.usable() ? "speech on" : "");
 }
 
@@ -64,11 +71,29 @@ const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) co
 // ---- input ----
 
 template <class Fill>
-void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, Fill fill) {
+void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, const char* publisher,
+                               const char* channel, const std::string& key, Fill fill) {
   if (step < -1) throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
+  const bool world = std::string(channel) == channels::kAgentStates;
+  if (step >= 0) {
+    const bool fresh = gate_->noteReceived(publisher, channel, step, key);
+    if (!fresh) {
+      // A repeat. The world's repeat of a step means someone waits: send our answers again.
+      if (world) outputs_.republishRecent(step);
+      runtime_.countDropped();
+      return;
+    }
+    if (step <= last_done_step_)
+      throw RejectedMessage("step " + std::to_string(step) + " goes backwards (already decided " +
+                            std::to_string(last_done_step_) + ")");
+  }
+  struct Poke {
+    StepGate& g;
+    ~Poke() { g.poke(); }
+  } poke{*gate_};
   const bool is_new = steps_.find(step) == steps_.end();
-  // A step already acted on (its bucket is gone) that is older than the newest one seen goes
-  // backwards; the newest one itself may still receive late inputs (they run as a repeat of it).
+  // A step never seen that is older than the newest one seen goes backwards (a step already
+  // decided was answered above).
   if (is_new && step >= 0 && step < newest_step_)
     throw RejectedMessage("step " + std::to_string(step) + " goes backwards (newest " +
                           std::to_string(newest_step_) + ")");
@@ -85,26 +110,30 @@ void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, Fill fill)
 }
 
 void DialogueManagerNode::onSituation(const situation_t& msg) {
-  file(msg.step, msg.utime, [&](StepInputs& b) {
-    b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
-                                  situationSnapshotFromLcm(msg)};
-  });
+  file(msg.step, msg.utime, kSituationAssessor, channels::kSituation, std::to_string(msg.human_id),
+       [&](StepInputs& b) {
+         b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
+                                       situationSnapshotFromLcm(msg)};
+       });
 }
 
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
-  file(msg.step, msg.utime,
+  file(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment, std::to_string(msg.human_id),
        [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
-  file(msg.step, msg.utime, [&](StepInputs& b) { b.agents = fromLcm(msg); });
+  file(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
+       [&](StepInputs& b) { b.agents = fromLcm(msg); });
 }
 
 void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
   // An upstream ack of a step we have no input for (no humans this step, or inputs lost) still
   // needs a work item, or the step would never be acknowledged downstream.
   if (ack.participant != kSituationAssessor && ack.participant != kPathAssessor) return;
-  if (ack.step < 0 || ack.step <= newest_step_ || steps_.count(ack.step)) return;
+  if (ack.step < 0 || ack.step <= newest_step_ || ack.step <= last_done_step_ ||
+      steps_.count(ack.step))
+    return;
   newest_step_ = ack.step;
   steps_[ack.step].utime = ack.utime;
   submit(ack.step);
@@ -123,6 +152,23 @@ void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::s
   if (it == steps_.end()) return;  // cannot happen: one work item per bucket
   StepInputs in = std::move(it->second);
   steps_.erase(it);
+  if (step >= 0 && !first_step_seen_) {
+    first_step_seen_ = true;
+    // A journal replay starts at step 0, muted; a live first step after 0 is a restart that
+    // lost what was said before.
+    joined_late_ = step > 0 && !runtime_.muted() && runtime_.joinedLate();
+    if (joined_late_) {
+      for (const auto& [id, s] : in.situations) history_unknown_.insert(id);
+      if (in.agents)
+        for (const auto& h : in.agents->humans) history_unknown_.insert(h.id);
+      std::string ids;
+      for (const auto id : history_unknown_) ids += (ids.empty() ? "" : ",") + std::to_string(id);
+      log().warn(
+          "dialogue_manager: joined the run at step {} without its state: no decisions for "
+          "humans {} (rounds already fired unknown)",
+          step, ids.empty() ? "-" : ids);
+    }
+  }
   if (degraded) {
     degraded_ = true;
     runtime_.setDegraded("step " + std::to_string(step) + " ran without " + missing);
@@ -138,9 +184,12 @@ void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::s
     log().error("dialogue_manager: step {} failed: {}", step, e.what());
   }
   runtime_.noteLogicTime(in.utime);
-  runtime_.ackStep(in.utime, step);
-  // Speech only after everything of the step is out: it must never delay a message.
-  for (const auto& s : speech_pending_) speech_.say(s.text, s.wav_stem);
+  outputs_.ack(in.utime, step);
+  if (step > last_done_step_) last_done_step_ = step;
+  // Speech only after everything of the step is out: it must never delay a message. Never
+  // while rebuilding the state from the journal: that was said before the restart.
+  if (!runtime_.muted())
+    for (const auto& s : speech_pending_) speech_.say(s.text, s.wav_stem);
   speech_pending_.clear();
 }
 
@@ -196,6 +245,7 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
 
 void DialogueManagerNode::decide(std::int64_t step, std::int32_t id, const DialogueStamp& stamp,
                                  const dialogue::SituationSnapshot& situation) {
+  if (history_unknown_.count(id)) return;  // see joined_late_: never a round or dock on a guess
   auto hit = humans_.find(id);
   if (hit == humans_.end()) {
     hit = humans_.emplace(id, Human(decision_config_)).first;
@@ -230,19 +280,19 @@ void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::Decis
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
   for (const auto& u : out.utterances) {
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
-    runtime_.publish(channels::kUtterance, toLcm(stamp, u, t));
+    outputs_.publish(stamp.step, channels::kUtterance, toLcm(stamp, u, t));
     log().info("dialogue_manager: to human {}: \"{}\" ({}, round {})", stamp.human_id, u.text,
                dialogue::toString(u.act), u.round);
     speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id,
                                                    u.round, dialogue::toString(u.act))});
   }
   for (const auto a : out.robot_actions) {
-    runtime_.publish(channels::kRobotAction, toLcm(stamp, a, why));
+    outputs_.publish(stamp.step, channels::kRobotAction, toLcm(stamp, a, why));
     log().info("dialogue_manager: robot action {} for human {}", dialogue::toString(a),
                stamp.human_id);
   }
   for (const auto c : out.recorder_commands) {
-    runtime_.publish(channels::kPathAssessorControl,
+    outputs_.publish(stamp.step, channels::kPathAssessorControl,
                      toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, c, why}));
     log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
                 stamp.human_id);

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "common/conversions_dialogue.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
+#include "common/step_outputs.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/path_assessment_t.hpp"
@@ -124,8 +126,12 @@ class DialogueManagerNode {
   /// the step's work is submitted once, after the first input is filed, also when it was
   /// rejected, so that the step is acknowledged whatever happens. Throws RejectedMessage for a
   /// step that goes backwards.
+  /// `publisher`/`channel`/`key` identify the message for the step gate's counts: a repeat of
+  /// one already filed is not filed again (a repeat of the world's agent states re-sends our
+  /// answers of the latest steps instead).
   template <class Fill>
-  void file(std::int64_t step, std::int64_t utime, Fill fill);
+  void file(std::int64_t step, std::int64_t utime, const char* publisher, const char* channel,
+            const std::string& key, Fill fill);
   void submit(std::int64_t step);
   void runStep(std::int64_t step, bool degraded, const std::string& missing);
   void process(std::int64_t step, StepInputs& in);
@@ -138,6 +144,14 @@ class DialogueManagerNode {
   dialogue::DecisionConfig decision_config_;
   Runtime& runtime_;
   std::unique_ptr<StepGate> gate_;
+  StepOutputs outputs_;
+  std::int64_t last_done_step_{-1};  ///< latest lockstep step acted on
+  /// Joined a run after its step 0 without a journal (a restart that lost its state): the humans
+  /// already there may have heard rounds this process does not know of, so it decides nothing
+  /// for them (no repeated round, no dock on a guess) and says so.
+  bool joined_late_{false};
+  bool first_step_seen_{false};
+  std::set<std::int32_t> history_unknown_;
   SpeechOutput speech_;
   std::map<std::int64_t, StepInputs> steps_;
   std::int64_t newest_step_{-1};

@@ -11,9 +11,16 @@ namespace coopnav {
 PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),
-      gate_(runtime, StepGateOptions{{{"dialogue_manager", -1}},
+      // Step k assesses after every recorder control of k-1 and every reference path up to k-1
+      // are here (a lost one holds the step until the world publishes it again).
+      gate_(runtime, StepGateOptions{{{"dialogue_manager", -1, {channels::kPathAssessorControl}},
+                                      {"band_source", -1, {channels::kReferencePaths}, true}},
                                      std::chrono::milliseconds(config.gate_timeout_ms),
-                                     false}) {
+                                     false}),
+      outputs_(runtime) {
+  runtime_.setLostStateNote(
+      "the CA history of the interactions in progress (their IsContributing stays unknown "
+      "until the next START)");
   runtime_.setRunning();
   runtime_.subscribe<reference_paths_t>(
       channels::kReferencePaths,
@@ -33,9 +40,8 @@ const assessment::PathRecorder* PathAssessorNode::recorder(std::int32_t human_id
 PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
   if (it == humans_.end())
-    it =
-        humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, 0, false})
-            .first;
+    it = humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, false})
+             .first;
   return it->second;
 }
 
@@ -45,17 +51,61 @@ double PathAssessorNode::seconds(std::int64_t utime) {
 }
 
 void PathAssessorNode::onReferencePaths(const reference_paths_t& msg) {
+  if (!gate_.noteReceived("band_source", channels::kReferencePaths, msg.step, "refs")) return;
+  struct Poke {
+    StepGate& g;
+    ~Poke() { g.poke(); }
+  } poke{gate_};
   const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
   for (auto& e : paths.paths) {
     Human& h = human(e.agent_id);
     if (e.path.empty()) continue;  // nothing to measure CA against; keep the previous one
-    h.reference = e.path;
-    h.reference_revision = e.revision;
+    h.references[paths.step] = e.path;
+    // The START of a step still waiting needs at most the paths of a few steps back.
+    while (h.references.size() > 16) h.references.erase(h.references.begin());
   }
 }
 
 void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
+  // A repeat (the dialogue manager answered a re-published step again) is applied once.
+  if (!gate_.noteReceived("dialogue_manager", channels::kPathAssessorControl, msg.step,
+                          std::to_string(msg.human_id) + "/" + std::to_string(msg.command)))
+    return;
+  struct Poke {
+    StepGate& g;
+    ~Poke() { g.poke(); }
+  } poke{gate_};
   const RecorderControl c = fromLcm(msg);  // throws RejectedMessage on an unknown command
+  if (c.step >= 0) {
+    // Lockstep: applied at the start of step c.step + 1, in the gate's order, so that a control
+    // re-sent after a loss has the effect it would have had (docs/lockstep.md).
+    controls_.push_back(c);
+    return;
+  }
+  applyControl(c);
+}
+
+void PathAssessorNode::applyControlsBefore(std::int64_t step) {
+  std::vector<RecorderControl> later;
+  for (const RecorderControl& c : controls_) {
+    if (step >= 0 && c.step >= step) {
+      later.push_back(c);
+      continue;
+    }
+    try {
+      applyControl(c);
+    } catch (const RejectedMessage& e) {
+      runtime_.countRejected();
+      log().warn("path_assessor: control of step {} rejected: {}", c.step, e.what());
+    } catch (const DroppedMessage& e) {
+      runtime_.countDropped();
+      log().info("path_assessor: control of step {} dropped: {}", c.step, e.what());
+    }
+  }
+  controls_ = std::move(later);
+}
+
+void PathAssessorNode::applyControl(const RecorderControl& c) {
   const auto it = humans_.find(c.human_id);
   if (it == humans_.end() || !it->second.seen_in_states || !base_utime_)
     throw DroppedMessage("control for unknown human id " + std::to_string(c.human_id));
@@ -65,15 +115,21 @@ void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
     case dialogue::RecorderCommand::kStart:
       // Paper §II-C: CA is measured from the human's initial shortest path: the reference path
       // in force when the recording starts.
-      if (!h.reference)
-        throw DroppedMessage("START for human " + std::to_string(c.human_id) +
-                             " without a reference path: recording not started");
-      if (!h.recorder.start(t_s, *h.reference))
-        throw RejectedMessage("START for human " + std::to_string(c.human_id) +
-                              ": unusable reference path or time");
-      log().info("path_assessor: human {} recording started at step {} ({})", c.human_id, c.step,
-                 c.reason);
-      break;
+      {
+        // The latest reference path published at or before the control's step.
+        const Path2* ref = nullptr;
+        for (const auto& [step, path] : h.references)
+          if (c.step < 0 || step <= c.step) ref = &path;
+        if (!ref)
+          throw DroppedMessage("START for human " + std::to_string(c.human_id) +
+                               " without a reference path: recording not started");
+        if (!h.recorder.start(t_s, *ref))
+          throw RejectedMessage("START for human " + std::to_string(c.human_id) +
+                                ": unusable reference path or time");
+        log().info("path_assessor: human {} recording started at step {} ({})", c.human_id, c.step,
+                   c.reason);
+        break;
+      }
     case dialogue::RecorderCommand::kStop:
       h.recorder.stop(t_s);
       log().info("path_assessor: human {} recording stopped at step {} ({})", c.human_id, c.step,
@@ -88,6 +144,13 @@ void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
 }
 
 void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
+  if (msg.step >= 0 && msg.step <= last_states_step_) {
+    // The world published a step again: send our kept answers again, never recompute.
+    outputs_.republishRecent(msg.step);
+    runtime_.countDropped();  // not assessed again: counted as a stale input
+    return;
+  }
+  if (msg.step >= 0) last_states_step_ = msg.step;
   AgentStatesSnapshot states;
   try {
     states = fromLcm(msg);
@@ -96,7 +159,7 @@ void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
     const std::int64_t utime = msg.utime;
     const std::int64_t step = msg.step;
     gate_.submit(step,
-                 [this, utime, step](bool, const std::string&) { runtime_.ackStep(utime, step); });
+                 [this, utime, step](bool, const std::string&) { outputs_.ack(utime, step); });
     throw;
   }
   gate_.submit(states.step, [this, states](bool degraded, const std::string& missing) {
@@ -110,6 +173,7 @@ void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
 }
 
 void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
+  applyControlsBefore(states.step);
   runtime_.noteLogicTime(states.utime);
   const double t_s = seconds(states.utime);
   const Eigen::Vector2d robot_m = states.robot.pose.position();
@@ -130,9 +194,9 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
     rec.window_ca_m = h.recorder.windowCa();
     rec.gamma = config_.recorder.gamma;
     rec.tau_m = config_.recorder.tau_m;
-    runtime_.publish(channels::kPathAssessment, toLcm(rec));
+    outputs_.publish(states.step, channels::kPathAssessment, toLcm(rec));
   }
-  runtime_.ackStep(states.utime, states.step);
+  outputs_.ack(states.utime, states.step);
 }
 
 }  // namespace coopnav

@@ -9,11 +9,14 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/config.hpp"
 #include "common/conversions.hpp"
+#include "common/conversions_assessment.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
+#include "common/step_outputs.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
@@ -51,14 +54,19 @@ class PathAssessorNode {
  private:
   struct Human {
     assessment::PathRecorder recorder;
-    std::optional<Path2> reference;  ///< latest reference path (used at the next START)
-    std::int32_t reference_revision{0};
+    /// Reference paths by the step they were published at (-1 free-running); a START of step j
+    /// uses the latest one published at or before j, whatever arrived since.
+    std::map<std::int64_t, Path2> references;
     bool seen_in_states{false};
   };
 
   void onAgentStates(const agent_states_t& msg);
   void onReferencePaths(const reference_paths_t& msg);
   void onControl(const path_assessor_control_t& msg);
+  /// Applies one recorder control; throws RejectedMessage / DroppedMessage as a handler does.
+  void applyControl(const RecorderControl& c);
+  /// Lockstep: the controls of steps before `step`, in arrival order (each logged on failure).
+  void applyControlsBefore(std::int64_t step);
   void assess(const AgentStatesSnapshot& states);
   Human& human(std::int32_t id);
   /// [s] message time on the node's time base (utime of the first message seen), so the
@@ -68,6 +76,9 @@ class PathAssessorNode {
   Config config_;
   Runtime& runtime_;
   StepGate gate_;
+  StepOutputs outputs_;
+  std::vector<RecorderControl> controls_;  ///< lockstep controls not yet applied
+  std::int64_t last_states_step_{-1};      ///< highest lockstep agent-states step received
   std::map<std::int32_t, Human> humans_;
   std::optional<std::int64_t> base_utime_;
 };

@@ -40,16 +40,37 @@ SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runt
       crossing_config_(config.crossingConfig()),
       client_(runtime, "situation_assessor",
               DistanceClient::Options{std::chrono::milliseconds(config.distance_timeout_ms),
-                                      config.distance_attempts}) {
+                                      config.distance_attempts}),
+      outputs_(runtime) {
+  // Lockstep: the bands of step k are assessed with every reference path published up to k (a
+  // lost one holds the step until the world publishes it again). Without a band source that
+  // acknowledges (a log replay), nothing is waited for.
+  StepGateOptions gate;
+  gate.requirements = {{"band_source",
+                        0,
+                        {channels::kReferencePaths, channels::kBands},
+                        /*optional_until_seen=*/true}};
+  gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
+  gate_ = std::make_unique<StepGate>(runtime_, gate);
+  runtime_.setLostStateNote(
+      "the humans' reference paths until the band source publishes them again (d_h unknown "
+      "meanwhile)");
   runtime_.setRunning();
   runtime_.subscribe<reference_paths_t>(
       channels::kReferencePaths,
       [this](const reference_paths_t& m, std::int64_t) { onReferencePaths(m); });
-  runtime_.subscribe<bands_t>(channels::kBands,
-                              [this](const bands_t& m, std::int64_t) { onBands(m); });
+  // Bands are not journaled: a restarted assessor assesses a re-published step afresh, with the
+  // same references and distances, which gives the same answer.
+  runtime_.subscribe<bands_t>(
+      channels::kBands, [this](const bands_t& m, std::int64_t) { onBands(m); }, 0, false);
 }
 
 void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
+  if (!gate_->noteReceived("band_source", channels::kReferencePaths, msg.step, "refs")) return;
+  struct Poke {
+    StepGate& g;
+    ~Poke() { g.poke(); }
+  } poke{*gate_};
   const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
   for (const auto& e : paths.paths) {
     auto it = references_.find(e.agent_id);
@@ -72,17 +93,39 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
 }
 
 void SituationAssessorNode::onBands(const bands_t& msg) {
+  // A repeat is the same bytes for the same step (the band source re-published it because the
+  // world waits for someone downstream): send our kept answers again, never assess twice. Other
+  // bands of an old step (a clock or step going backwards) are assessed in arrival order.
+  std::uint64_t hash = 1469598103934665603ull;
+  if (msg.step >= 0) {
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
+    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+    for (const auto b : bytes) hash = (hash ^ b) * 1099511628211ull;
+    const auto seen = bands_hash_.find(msg.step);
+    if (seen != bands_hash_.end() && seen->second == hash) {
+      outputs_.republishRecent(msg.step);
+      runtime_.countDropped();  // not assessed again: counted as a stale input
+      return;
+    }
+    bands_hash_[msg.step] = hash;
+    while (bands_hash_.size() > 64) bands_hash_.erase(bands_hash_.begin());
+  }
+  gate_->noteReceived("band_source", channels::kBands, msg.step, "bands");
   Job job;
   job.utime = msg.utime;
   job.step = msg.step;
+  bool rejected = false;
+  std::string why;
   try {
     job.bands = fromLcm(msg);
-  } catch (const RejectedMessage&) {
+  } catch (const RejectedMessage& e) {
     // Still acknowledged, in its turn, so that a lockstep run goes on (docs/lockstep.md).
-    enqueue(std::move(job));
-    throw;
+    rejected = true;
+    why = e.what();
   }
-  enqueue(std::move(job));
+  gate_->submit(job.step,
+                [this, job](bool, const std::string&) mutable { enqueue(std::move(job)); });
+  if (rejected) throw RejectedMessage(why);
 }
 
 void SituationAssessorNode::enqueue(Job job) {
@@ -115,7 +158,7 @@ void SituationAssessorNode::pump() {
   while (!busy_ && !queue_.empty()) {
     Job& job = queue_.front();
     if (!job.bands) {
-      runtime_.ackStep(job.utime, job.step);
+      outputs_.ack(job.utime, job.step);
       queue_.pop_front();
       continue;
     }
@@ -212,10 +255,10 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
     // Paper §II-B: d_h, d_OH, d_OR, d_HR and the three predicates.
     rec.assessment = assessment::assessSituation(w.crossing, path, d_oh_m, d_or_m, thresholds_);
     prependReason(rec.assessment.reason, reason);
-    runtime_.publish(channels::kSituation, toLcm(rec));
+    outputs_.publish(job.step, channels::kSituation, toLcm(rec));
   }
   work_.clear();
-  runtime_.ackStep(job.utime, job.step);
+  outputs_.ack(job.utime, job.step);
 }
 
 }  // namespace coopnav

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <deque>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,8 @@
 #include "common/conversions.hpp"
 #include "common/distance_client.hpp"
 #include "common/runtime.hpp"
+#include "common/step_gate.hpp"
+#include "common/step_outputs.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/situation.hpp"
 #include "coopnav/bands_t.hpp"
@@ -38,6 +41,9 @@ struct SituationAssessorConfig {
   /// Free-running (step -1) bands messages waiting behind the one in progress beyond this are
   /// superseded by newer ones and dropped; lockstep messages are never dropped.
   int free_running_queue_max{2};
+  /// [ms] lockstep: how long the bands of step k wait for band_source's ack of k (with the
+  /// reference paths it published for k) before they are assessed without it (liveness only).
+  int gate_timeout_ms{2000};
 
   template <class V>
   void visit(V& v) {
@@ -55,6 +61,7 @@ struct SituationAssessorConfig {
     v("distance_timeout_ms", distance_timeout_ms, Range{1, 5000});
     v("distance_attempts", distance_attempts, Range{1, 10});
     v("free_running_queue_max", free_running_queue_max, Range{1, 1000});
+    v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
   }
 
   const assessment::SituationThresholds& thresholds() const { return situation; }
@@ -100,6 +107,9 @@ class SituationAssessorNode {
   assessment::SituationThresholds thresholds_;
   assessment::CrossingConfig crossing_config_;
   DistanceClient client_;
+  StepOutputs outputs_;
+  std::unique_ptr<StepGate> gate_;
+  std::map<std::int64_t, std::uint64_t> bands_hash_;  ///< recent steps: hash of their bands
   std::map<std::int32_t, Reference> references_;
   std::deque<Job> queue_;
   bool busy_{false};  ///< the head of the queue waits for its distance answers

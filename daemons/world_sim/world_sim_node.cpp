@@ -13,6 +13,7 @@
 #include "coopnav/sim/band_human_adapter.hpp"
 #include "coopnav/sim_status_t.hpp"
 #include "coopnav/situation_t.hpp"
+#include "coopnav/step_ack_t.hpp"
 
 namespace coopnav {
 
@@ -52,7 +53,7 @@ void WorldSimConfig::resolvePaths(const std::string& base_dir) {
 }
 
 WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
-    : config_(config), runtime_(runtime) {
+    : config_(config), runtime_(runtime), outputs_(runtime) {
   try {
     scenario_ = world_sim::loadScenario(config_.scenario);
     LoadedMap map = world_sim::loadScenarioMap(scenario_);
@@ -87,7 +88,13 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
   const auto& participants = scenario_.lockstep.participants;
   if (lockstep_ && !participants.empty()) {
     StepGateOptions opts;
-    for (const auto& p : participants) opts.requirements.push_back({p, 0});
+    for (const auto& p : participants) {
+      // What the world itself applies at the step's end must all be here, not only the ack.
+      std::vector<std::string> chans;
+      if (p == "band_source") chans = {channels::kRobotCmd, channels::kBands};
+      if (p == "dialogue_manager") chans = {channels::kUtterance};
+      opts.requirements.push_back({p, 0, chans});
+    }
     opts.timeout = std::chrono::milliseconds(
         static_cast<std::int64_t>(std::llround(scenario_.lockstep.step_timeout_s * 1000.0)));
     opts.wait_for_unseen = true;  // every participant is required from step 0
@@ -95,6 +102,8 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
   }
   phase_since_ = std::chrono::steady_clock::now();
   runtime_.addTimer(std::chrono::milliseconds(20), [this] { checkReady(); });
+  if (gate_ && config_.retransmit_period_s > 0.0)
+    runtime_.addTimer(std::chrono::milliseconds(20), [this] { retransmitIfOverdue(); });
   if (!lockstep_) {
     runtime_.addTimer(std::chrono::milliseconds(1), [this] { tickRealTime(); });
   } else if (!gate_) {
@@ -118,10 +127,26 @@ void WorldSimNode::onStatus(const daemon_status_t& msg) {
 }
 
 void WorldSimNode::onCommand(const velocity_command_t& msg) {
-  command_ = fromLcm(msg);  // throws RejectedMessage on a non-finite command
+  if (gate_ && !gate_->noteReceived("band_source", channels::kRobotCmd, msg.step, "cmd")) return;
+  VelocityCommand c = fromLcm(msg);  // throws RejectedMessage on a non-finite command
+  // A late repeat of an older step's command never replaces a newer one.
+  if (!command_ || c.step < 0 || c.step >= command_->step) command_ = c;
+  if (gate_) gate_->poke();
 }
 
 void WorldSimNode::onUtterance(const utterance_t& msg) {
+  // A repeat (the step re-published) is heard once.
+  if (gate_ &&
+      !gate_->noteReceived("dialogue_manager", channels::kUtterance, msg.step,
+                           std::to_string(msg.human_id) + "/" + std::to_string(msg.speech_act) +
+                               "/" + std::to_string(msg.round)))
+    return;
+  struct Poke {
+    StepGate* g;
+    ~Poke() {
+      if (g) g->poke();
+    }
+  } poke{gate_.get()};
   if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION || msg.speech_act > utterance_t::ACT_THANK)
     throw RejectedMessage("utterance with unknown speech_act " + std::to_string(msg.speech_act));
   if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
@@ -153,12 +178,21 @@ void WorldSimNode::onUtterance(const utterance_t& msg) {
 }
 
 void WorldSimNode::onBands(const bands_t& msg) {
-  BandsSnapshot b = fromLcm(msg);  // throws RejectedMessage
+  if (gate_ && !gate_->noteReceived("band_source", channels::kBands, msg.step, "bands")) return;
+  struct Poke {
+    StepGate* g;
+    ~Poke() {
+      if (g) g->poke();
+    }
+  } poke{gate_.get()};
+  if (msg.step >= 0 && msg.step < band_step_) return;  // a late repeat of an older step
+  BandsSnapshot b = fromLcm(msg);                      // throws RejectedMessage
   // A failed cycle tells nothing about where the robot goes: humans keep the last good band.
   if (b.status != bands_t::STATUS_OK || b.robot.poses.size() < 2) return;
   for (const auto& p : b.robot.poses)
     if (!std::isfinite(p.t_s) || !isFinite(p.pose))
       throw RejectedMessage("robot band with a non-finite pose");
+  band_step_ = msg.step;
   band_ = std::move(b);
 }
 
@@ -175,6 +209,7 @@ void WorldSimNode::checkReady() {
     start();
     return;
   }
+  announce();
   const double waited_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_since_).count();
   if (waited_s > config_.wait_ready_timeout_s) {
@@ -276,21 +311,53 @@ bool WorldSimNode::advance() {
   return true;
 }
 
+void WorldSimNode::announce() {
+  if (!lockstep_) return;
+  GoalsSnapshot goals;
+  goals.utime = secondsToUtime(sim_->time_s());
+  goals.goals.push_back({sim::kRobotId, AgentKind::kRobot, scenario_.robot.goal});
+  for (const auto& h : scenario_.humans) goals.goals.push_back({h.id, AgentKind::kHuman, h.goal});
+  runtime_.publish(channels::kGoals, toLcm(goals));
+  step_ack_t here{};
+  here.utime = goals.utime;
+  here.step = -1;
+  here.participant = runtime_.name();
+  runtime_.publish(channels::kStepAck, here);
+}
+
 void WorldSimNode::publishStep() {
   const std::int64_t utime = secondsToUtime(sim_->time_s());
+  const std::int64_t step = lockstep_ ? step_ : -1;
   GoalsSnapshot goals;
   goals.utime = utime;
   goals.goals.push_back({sim::kRobotId, AgentKind::kRobot, scenario_.robot.goal});
   for (const auto& h : scenario_.humans) goals.goals.push_back({h.id, AgentKind::kHuman, h.goal});
-  runtime_.publish(channels::kGoals, toLcm(goals));
+  outputs_.publish(step, channels::kGoals, toLcm(goals));
 
   AgentStatesSnapshot s;
   s.utime = utime;
-  s.step = lockstep_ ? step_ : -1;
+  s.step = step;
   s.robot = agents_.front();
   s.humans.assign(agents_.begin() + 1, agents_.end());
-  runtime_.publish(channels::kAgentStates, toLcm(s));
+  outputs_.publish(step, channels::kAgentStates, toLcm(s));
+  // The world's own ack: the daemons check with it that they have this step's goals and states.
+  outputs_.ack(utime, step);
+  step_published_at_ = std::chrono::steady_clock::now();
   runtime_.noteLogicTime(utime);
+}
+
+void WorldSimNode::retransmitIfOverdue() {
+  if (phase_ != Phase::kRunning || !gate_ || gate_->pending() == 0) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - step_published_at_).count() < config_.retransmit_period_s)
+    return;
+  if (retransmits_++ % 20 == 0)
+    log().info(
+        "world_sim: step {} not yet acknowledged by everyone ({}); publishing it again "
+        "({} repeats so far)",
+        step_, gate_->missing(step_), retransmits_);
+  outputs_.republish(step_);
+  step_published_at_ = now;
 }
 
 void WorldSimNode::publishSimStatus(std::int8_t state, const std::string& detail) {
@@ -318,6 +385,8 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
   }
   log().info("world_sim: '{}' ended at t = {} s (step {}): {}", scenario_.name, sim_->time_s(),
              step_, detail);
+  if (retransmits_ > 0)
+    log().info("world_sim: steps published again {} times (acks overdue)", retransmits_);
   if (config_.exit_at_end) runtime_.requestStop();
 }
 

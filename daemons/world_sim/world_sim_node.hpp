@@ -17,6 +17,7 @@
 #include "common/conversions.hpp"
 #include "common/runtime.hpp"
 #include "common/step_gate.hpp"
+#include "common/step_outputs.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
@@ -42,6 +43,11 @@ struct WorldSimConfig {
   /// Lockstep: wall seconds to wait for every participant's first status message before the run
   /// fails with STATE_PARTICIPANT_TIMEOUT (daemons start in any order; a few seconds suffice).
   double wait_ready_timeout_s{30.0};
+  /// Lockstep: wall seconds without every ack of the current step after which the step's
+  /// messages are published again, identical (a datagram was lost, or a participant restarted);
+  /// repeats go on until the scenario's lockstep.step_timeout_s ends the run. Liveness only: a
+  /// repeat never changes what is simulated. 0 = never.
+  double retransmit_period_s{0.25};
 
   template <class V>
   void visit(V& v) {
@@ -50,6 +56,7 @@ struct WorldSimConfig {
     v("real_time_factor", real_time_factor, Range{0.0, 1000.0});
     v("exit_at_end", exit_at_end);
     v("wait_ready_timeout_s", wait_ready_timeout_s, Range{0.01, 3600.0});
+    v("retransmit_period_s", retransmit_period_s, Range{0.0, 3600.0});
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
   }
   void resolvePaths(const std::string& base_dir);
@@ -90,6 +97,10 @@ class WorldSimNode {
   void applyInputs();
   void publishStep();
   void publishSimStatus(std::int8_t state, const std::string& detail);
+  /// Lockstep: publishes the current step again when its acks are overdue.
+  void retransmitIfOverdue();
+  /// Before step 0: goals and a "here" ack, so the daemons know the world before it starts.
+  void announce();
   void finish(std::int8_t state, const std::string& detail);
   std::string endDetail(const sim::StepResult& r) const;
 
@@ -102,6 +113,10 @@ class WorldSimNode {
   double real_time_factor_{1.0};
   double step_period_s_{0.1};
   std::unique_ptr<StepGate> gate_;
+  StepOutputs outputs_;
+  std::chrono::steady_clock::time_point step_published_at_;
+  std::int64_t retransmits_{0};
+  std::int64_t band_step_{-1};  ///< step of the latest bands applied or pending
 
   Phase phase_{Phase::kWaitingReady};
   std::set<std::string> ready_;

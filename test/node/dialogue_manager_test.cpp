@@ -173,7 +173,7 @@ class DialogueManagerTest : public ::testing::Test {
   }
 
   void ack(const std::string& participant, std::int64_t step) {
-    step_ack_t a;
+    step_ack_t a{};
     a.utime = utimeOf(step);
     a.step = step;
     a.participant = participant;

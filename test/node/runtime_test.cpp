@@ -22,7 +22,7 @@ TEST(RuntimeTest, WrongTypeOnAChannelIsRejectedAndCountedNotFatal) {
   int good = 0;
   rt.subscribe<agent_states_t>("RT_TEST_STATES",
                                [&](const agent_states_t&, std::int64_t) { ++good; });
-  step_ack_t wrong;
+  step_ack_t wrong{};
   wrong.participant = "x";
   rt.publish("RT_TEST_STATES", wrong);
   agent_states_t right{};
@@ -64,7 +64,7 @@ TEST(RuntimeTest, HandlerExceptionsAreCountedAndTheLoopGoesOn) {
     if (a.step == 2) throw DroppedMessage("stale");
   });
   for (int s = 1; s <= 3; ++s) {
-    step_ack_t a;
+    step_ack_t a{};
     a.step = s;
     rt.publish("RT_TEST_THROW", a);
   }

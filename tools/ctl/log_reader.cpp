@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "coopnav/channels.hpp"
 
@@ -58,7 +59,7 @@ bool decodeInto(const RawEvent& e, std::vector<Msg>& out) {
 
 bool isNotNeeded(const std::string& channel) {
   static const char* const kNames[] = {channels::kGoals, channels::kBands, channels::kRobotCmd,
-                                       channels::kDistanceRequest, channels::kStepAck};
+                                       channels::kDistanceRequest};
   for (const char* n : kNames)
     if (channel == n) return true;
   const std::string prefix = channels::kDistanceReplyPrefix;
@@ -75,6 +76,7 @@ std::string LogReadCounts::describe() const {
     s += " (" + channel + ": " + std::to_string(n) + ")";
   if (bad_headers > 0) s += ", bad headers " + std::to_string(bad_headers);
   if (skipped_bytes > 0) s += ", skipped bytes " + std::to_string(skipped_bytes);
+  if (repeats > 0) s += ", repeats " + std::to_string(repeats);
   if (truncated) s += ", truncated at the end";
   return s;
 }
@@ -166,6 +168,25 @@ void addEvent(const RawEvent& e, RunLog& run) {
     take(Kind::kReferencePaths, run.reference_paths);
   } else if (ch == channels::kStatus) {
     take(Kind::kDaemonStatus, run.daemon_status);
+  } else if (ch == channels::kStepAck) {
+    // Only a restart matters to the tools: its first ack, per daemon and restart step. Acks of an
+    // older shape (logs before the restart fields) do not decode: not needed, not corrupt.
+    std::vector<step_ack_t> acks;
+    if (!decodeInto(e, acks) || acks.front().restart == step_ack_t::RESTART_NONE) {
+      ++run.counts.not_needed;
+      return;
+    }
+    for (const auto& r : run.restarts) {
+      if (r.participant == acks.front().participant &&
+          r.restart_step == acks.front().restart_step) {
+        ++run.counts.not_needed;
+        return;
+      }
+    }
+    kind = Kind::kRestart;
+    index = run.restarts.size();
+    run.restarts.push_back(std::move(acks.front()));
+    ok = true;
   } else if (isNotNeeded(ch)) {
     ++run.counts.not_needed;
     return;
@@ -186,7 +207,22 @@ RunLog readRunLog(const std::string& path) {
   LogEventReader reader(path);
   RunLog run;
   RawEvent e;
-  while (reader.next(e)) addEvent(e, run);
+  // A step published again (after a loss or a restart) is the same bytes: read it once.
+  std::unordered_set<std::string> seen;
+  std::int64_t repeats = 0;
+  while (reader.next(e)) {
+    if (e.channel != channels::kStatus) {
+      std::string key = e.channel;
+      key.push_back('\0');
+      key.append(e.data.begin(), e.data.end());
+      if (!seen.insert(std::move(key)).second) {
+        ++repeats;
+        continue;
+      }
+    }
+    addEvent(e, run);
+  }
+  run.counts.repeats = repeats;
   // Framing counts come from the reader, decoding counts from addEvent.
   const LogReadCounts& framing = reader.counts();
   run.counts.events = framing.events;

@@ -23,6 +23,7 @@
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/sim_status_t.hpp"
 #include "coopnav/situation_t.hpp"
+#include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
 
 namespace coopnav::ctl {
@@ -36,7 +37,10 @@ struct LogReadCounts {
   std::int64_t undecodable{0};      ///< payload does not decode as its channel's type
   std::int64_t bad_headers{0};      ///< headers with impossible lengths (skipped, resynchronised)
   std::int64_t skipped_bytes{0};    ///< bytes passed over to find the next sync word
-  bool truncated{false};            ///< the file ends inside an event
+  /// Events identical (channel and payload) to an earlier one: a step published again after a
+  /// loss or a restart (docs/lockstep.md); read once.
+  std::int64_t repeats{0};
+  bool truncated{false};  ///< the file ends inside an event
   std::map<std::string, std::int64_t> undecodable_by_channel;
 
   /// True when anything was skipped for being broken (not for being foreign or unused).
@@ -86,6 +90,7 @@ struct RunLog {
     kSimStatus,
     kReferencePaths,
     kDaemonStatus,
+    kRestart,  ///< a step ack of a daemon that restarted mid-run (first one per restart)
   };
   struct Ref {
     Kind kind;
@@ -101,6 +106,7 @@ struct RunLog {
   std::vector<sim_status_t> sim_status;
   std::vector<reference_paths_t> reference_paths;
   std::vector<daemon_status_t> daemon_status;  ///< wall-clock reports: never in default outputs
+  std::vector<step_ack_t> restarts;            ///< first ack of each daemon's restart
   std::vector<Ref> order;
   LogReadCounts counts;
 };

@@ -1,7 +1,8 @@
 // coopnav_ctl: small commands the scripts and users need, in C++ so they start in milliseconds.
 //   coopnav_ctl wait-ready NAME... [--timeout-s S]     wait for each daemon's status message
-//   coopnav_ctl wait-step NAME --log LOG [--timeout-s S]  wait until NAME acknowledged LOG's last
-//   step coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
+//   coopnav_ctl wait-step NAME --log LOG | --step K [--timeout-s S]  wait until NAME acknowledged
+//   LOG's last step (or step K)
+//   coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -41,16 +42,20 @@ int waitReady(const std::string& url, const std::vector<std::string>& names, dou
 
 // A replay is over when the last participant has finished the log's last step: waiting for
 // its acknowledgement, not for a quiet period, is what makes it hold on a loaded machine.
+// With a step instead of a log: until NAME acknowledged that step (faults.sh kills a daemon when
+// the world has reached a chosen step).
 int waitStep(const std::string& url, const std::string& name, const std::string& log_path,
-             double timeout_s) {
+             std::int64_t step, double timeout_s) {
   Runtime rt("coopnav_ctl", url);
   std::int64_t acked = -1;
   rt.subscribe<step_ack_t>(channels::kStepAck, [&](const step_ack_t& a, std::int64_t) {
     if (a.participant == name) acked = std::max(acked, a.step);
   });
-  const ctl::RunLog run = ctl::readRunLog(log_path);
-  std::int64_t last = -1;
-  for (const auto& s : run.agent_states) last = std::max(last, s.step);
+  std::int64_t last = step;
+  if (!log_path.empty()) {
+    const ctl::RunLog run = ctl::readRunLog(log_path);
+    for (const auto& s : run.agent_states) last = std::max(last, s.step);
+  }
   if (last < 0) {
     std::cerr << "coopnav_ctl wait-step: no lockstep agent states in " << log_path << "\n";
     return 1;
@@ -115,11 +120,14 @@ int main(int argc, char** argv) {
   wait->add_option("--timeout-s", timeout_s);
 
   auto* wait_step = app.add_subcommand(
-      "wait-step", "wait until a daemon acknowledged the last lockstep step of a log");
+      "wait-step", "wait until a daemon acknowledged the last lockstep step of a log, or --step");
   std::string step_name, step_log;
+  std::int64_t step_number = -1;
   double step_timeout_s = 120.0;
   wait_step->add_option("name", step_name)->required();
-  wait_step->add_option("--log", step_log)->required()->check(CLI::ExistingFile);
+  auto* log_opt = wait_step->add_option("--log", step_log)->check(CLI::ExistingFile);
+  wait_step->add_option("--step", step_number, "a step number instead of a log's last step")
+      ->excludes(log_opt);
   wait_step->add_option("--timeout-s", step_timeout_s);
 
   auto* q = app.add_subcommand("query", "ask the obstacle distance server and print the answers");
@@ -140,7 +148,7 @@ int main(int argc, char** argv) {
   coopnav::setLogLevel("warn");
   try {
     if (*wait) return coopnav::waitReady(url, names, timeout_s);
-    if (*wait_step) return coopnav::waitStep(url, step_name, step_log, step_timeout_s);
+    if (*wait_step) return coopnav::waitStep(url, step_name, step_log, step_number, step_timeout_s);
     if (*q) return coopnav::query(url, nearest, side, ray, range_m);
     return coopnav::runCtlCommands(app, url);
   } catch (const std::exception& e) {

@@ -92,6 +92,21 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
                  jsonQuote(st.detail) + " (wall-clock status; time of the last step logged)";
         break;
       }
+      case RunLog::Kind::kRestart: {
+        // Said in the transcript, never silent: a restart whose state was lost degrades what
+        // follows (docs/lockstep.md "Loss and restarts").
+        const auto& a = run.restarts[ref.index];
+        e.kind = Kind::kRestart;
+        e.utime = a.utime;
+        e.t_cross_s = std::nan("");
+        e.what = a.participant;
+        e.text = a.restart_note;
+        e.line = "t=" + fixed(utimeToS(a.utime), 2) + "s  " +
+                 (a.restart == step_ack_t::RESTART_RECOVERED ? "RESTART " : "degraded: ") +
+                 a.participant + " restarted at step " + std::to_string(a.restart_step) + ", " +
+                 a.restart_note;
+        break;
+      }
       case RunLog::Kind::kUtterance: {
         const auto& u = run.utterances[ref.index];
         e.kind = Kind::kSay;

@@ -21,7 +21,8 @@ struct TranscriptEntry {
     kUnknown,
     kDaemonDegraded,
     kFinalCm,
-    kSimStatus
+    kSimStatus,
+    kRestart  ///< a daemon restarted mid-run: state recovered, or lost (degraded)
   };
   Kind kind{Kind::kSay};
   std::int64_t utime{0};

@@ -162,6 +162,21 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     ackInOrder(msg.utime, msg.step);
     throw;
   }
+  {
+    // A tracker glitch can put a human anywhere (10^300 m away): the planner would resample a
+    // path of that length and never finish. Humans farther from the map than its own size are
+    // left out of planning (no band, no reference path), with a log line.
+    const auto& g = map_->grid();
+    const Eigen::Vector2d size_m(g.width() * g.resolution_m(), g.height() * g.resolution_m());
+    const Eigen::AlignedBox2d reach(g.origin_m() - size_m, g.origin_m() + 2.0 * size_m);
+    const auto far = std::remove_if(s.humans.begin(), s.humans.end(), [&](const AgentState& h) {
+      return !reach.contains(h.pose.position());
+    });
+    for (auto it = far; it != s.humans.end(); ++it)
+      log().warn("band_source: human {} at ({:g}, {:g}) is far off the map: left out of planning",
+                 it->id, it->pose.x_m, it->pose.y_m);
+    s.humans.erase(far, s.humans.end());
+  }
   if (s.step >= 0) {
     if (s.step <= last_step_) {
       // The world published a step again: someone misses an answer of ours (or of the dialogue

@@ -223,6 +223,9 @@ void BandSourceNode::onGoals(const goals_t& msg) {
 void BandSourceNode::onRobotAction(const robot_action_t& msg) {
   if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME)
     throw RejectedMessage("unknown robot action " + std::to_string(msg.action));
+  if (msg.step < -1)
+    throw RejectedMessage("robot action step " + std::to_string(msg.step) +
+                          " is neither -1 nor >= 0");
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
   if (!gate_->noteReceived(kDialogueParticipant, channels::kRobotAction, msg.step,
                            std::to_string(msg.action) + "/" + std::to_string(msg.human_id)))

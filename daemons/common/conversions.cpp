@@ -220,6 +220,9 @@ GoalsSnapshot fromLcm(const goals_t& msg) {
     requireFinite(x.y_m, "goal");
     if (std::isinf(x.theta_rad)) reject("goal heading is infinite");
     if (!ids.insert(x.agent_id).second) reject("duplicate goal id");
+    if (x.kind != agent_state_t::KIND_ROBOT && x.kind != agent_state_t::KIND_HUMAN)
+      reject("goal of agent " + std::to_string(x.agent_id) + " has an unknown kind " +
+             std::to_string(x.kind));
     Goal goal;
     goal.agent_id = x.agent_id;
     goal.kind = x.kind == agent_state_t::KIND_ROBOT ? AgentKind::kRobot : AgentKind::kHuman;

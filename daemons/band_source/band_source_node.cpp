@@ -136,6 +136,8 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   runtime_.subscribe<robot_action_t>(
       channels::kRobotAction, [this](const robot_action_t& m, std::int64_t) { onRobotAction(m); },
       0);
+  // Free-running cycles run from the loop, after it has drained what is queued.
+  runtime_.addTimer(std::chrono::milliseconds(5), [this] { planLatestFreeRunning(); });
 }
 
 BandSourceNode::~BandSourceNode() {
@@ -204,7 +206,22 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
         utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 < period_us * (1.0 - kThrottleSlack))
       return;
     last_cycle_utime_ = s.utime;
+    // A state stream: when inputs come faster than cycles run, only the newest is planned (the
+    // loop drains what is queued before it runs its timers), so the daemon never falls further
+    // and further behind with its queue growing. The superseded ones count as dropped.
+    if (free_running_next_) runtime_.countDropped();
+    free_running_next_ = s;
+    return;
   }
+  gate_->submit(s.step, [this, s](bool degraded, const std::string& missing) {
+    cycle(s, degraded, missing);
+  });
+}
+
+void BandSourceNode::planLatestFreeRunning() {
+  if (!free_running_next_) return;
+  const AgentStatesSnapshot s = std::move(*free_running_next_);
+  free_running_next_.reset();
   gate_->submit(s.step, [this, s](bool degraded, const std::string& missing) {
     cycle(s, degraded, missing);
   });

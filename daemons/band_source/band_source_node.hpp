@@ -93,6 +93,8 @@ class BandSourceNode {
   };
 
   void onAgentStates(const agent_states_t& msg);
+  /// Free-running: plans the newest agent states received since the last cycle, if any.
+  void planLatestFreeRunning();
   void onGoals(const goals_t& msg);
   void onRobotAction(const robot_action_t& msg);
   /// Queues an ack of `step` behind any queued work (a dropped input still completes its step).
@@ -120,6 +122,7 @@ class BandSourceNode {
   std::int64_t last_step_{-1};                 ///< highest lockstep step received
   std::optional<std::int64_t> last_utime_;     ///< latest agent-states utime accepted
   std::optional<std::int64_t> last_cycle_utime_;  ///< free-running throttle
+  std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
   std::map<std::int32_t, RefPath> refs_;          ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;

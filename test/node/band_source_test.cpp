@@ -276,7 +276,11 @@ TEST_F(BandSourceNodeTest, FreeRunningPlansAtMostAtControlRateByMessageTime) {
     return probe_.bands.count(-1) && probe_.bands[-1].utime == kStart_us + 2 * kStep_us;
   }));
   probe_.rt.spinFor(100);
-  EXPECT_EQ(std::count(probe_.order.begin(), probe_.order.end(), "bands:-1"), 3);
+  // Three are due by message time; fewer when some arrived while a cycle ran (then only the
+  // newest is planned), never more.
+  const auto planned = std::count(probe_.order.begin(), probe_.order.end(), "bands:-1");
+  EXPECT_GE(planned, 1);
+  EXPECT_LE(planned, 3);
   EXPECT_TRUE(probe_.acks.empty());  // nobody waits in free-running
 }
 

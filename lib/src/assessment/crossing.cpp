@@ -32,6 +32,9 @@ const char* toString(CrossingStatus s) {
   return "?";
 }
 
+/// [m] bands beyond this are not of a robot's world (see validateBand).
+constexpr double kMaxCoordinate_m = 1e6;
+
 std::string validateBand(const Band& band) {
   if (band.poses.size() < 2) {
     return "band has " + std::to_string(band.poses.size()) + " poses (need >= 2)";
@@ -40,6 +43,12 @@ std::string validateBand(const Band& band) {
     const TimedPose& p = band.poses[i];
     if (!std::isfinite(p.t_s) || !isFinite(p.pose)) {
       return "non-finite pose or time at index " + std::to_string(i);
+    }
+    // Finite is not enough: a pose 10^300 m away (a tracker glitch) gave a crossing and a
+    // definite HumanNeedsToContribute. No corridor is a thousand kilometres long.
+    if (std::abs(p.pose.x_m) > kMaxCoordinate_m || std::abs(p.pose.y_m) > kMaxCoordinate_m) {
+      return "pose farther than " + std::to_string(static_cast<long>(kMaxCoordinate_m)) +
+             " m from the origin at index " + std::to_string(i);
     }
     if (i > 0 && !(p.t_s > band.poses[i - 1].t_s)) {
       return "times not increasing at index " + std::to_string(i);

@@ -176,6 +176,19 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
   applyControlsBefore(states.step);
   runtime_.noteLogicTime(states.utime);
   const double t_s = seconds(states.utime);
+  // A human absent for a minute of message time has left (the dialogue manager ended its
+  // interaction long before): its recorder is forgotten, so that memory does not grow with
+  // every person the robot ever met (docs/soak.md).
+  constexpr double kForgetAfter_s = 60.0;
+  for (const AgentState& a : states.humans) last_seen_utime_[a.id] = states.utime;
+  for (auto it = last_seen_utime_.begin(); it != last_seen_utime_.end();) {
+    if (utimeDiffSeconds(states.utime, it->second) > kForgetAfter_s) {
+      humans_.erase(it->first);
+      it = last_seen_utime_.erase(it);
+    } else {
+      ++it;
+    }
+  }
   const Eigen::Vector2d robot_m = states.robot.pose.position();
   for (const AgentState& a : states.humans) {
     Human& h = human(a.id);

@@ -81,6 +81,7 @@ class PathAssessorNode {
   std::int64_t last_states_step_{-1};      ///< highest lockstep agent-states step received
   std::map<std::int32_t, Human> humans_;
   std::optional<std::int64_t> base_utime_;
+  std::map<std::int32_t, std::int64_t> last_seen_utime_;  ///< per human: forget those gone
 };
 
 }  // namespace coopnav

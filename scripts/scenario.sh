@@ -100,7 +100,15 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
   local sim=$!
   if declare -F coopnav_scenario_hook >/dev/null; then coopnav_scenario_hook "$name" || true; fi
   wait "$sim" || rc=$?
-  sleep 0.3  # last messages reach the logger
+  # The last messages reach the logger: on a loaded machine it may lag behind; wait until its
+  # file stops growing (at most ~5 s).
+  local size=-1 now_size i
+  for i in $(seq 1 16); do
+    sleep 0.3
+    now_size=$(stat -c %s "$_cn_dir/$name.lcm" 2>/dev/null || echo 0)
+    [ "$now_size" = "$size" ] && break
+    size=$now_size
+  done
   if declare -F coopnav_scenario_after_hook >/dev/null; then coopnav_scenario_after_hook "$name"; fi
   coopnav_stop_all
   return "$rc"

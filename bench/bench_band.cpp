@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,12 +58,14 @@ struct Stats {
   double mean_human_poses{0.0};
 };
 
-Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans) {
+Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver) {
   std::vector<double> times;
   std::size_t robot_poses = 0, human_poses = 0;
   double solver_s = 0.0, iterations = 0.0, sum_robot = 0.0, sum_human = 0.0;
   for (int rep = 0; rep < kRepeats; ++rep) {
-    DualBandPlanner planner(BandPlannerConfig{}, map);
+    BandPlannerConfig cfg;
+    cfg.solver = solver;
+    DualBandPlanner planner(cfg, map);
     PlanRequest req;
     req.stamp_s = 0.0;
     req.agent.id = 0;
@@ -73,6 +76,10 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans) {
     req.goal = {20.5, 6.5, 0.0};
     // As band_source in lockstep: the iteration budget only (CoHAN 8 x 4), no time limit.
     req.time_budget_s = 0.0;
+    req.clock_s = [] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+          .count();
+    };
     const double ys[5] = {6.5, 5.0, 8.0, 4.2, 8.8};
     const double xs[5] = {20.5, 19.5, 19.0, 18.0, 17.5};
     for (int h = 0; h < n_humans; ++h) {
@@ -124,24 +131,45 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const std::string yaml = std::string(COOPNAV_SOURCE_DIR) + "/config/maps/open.yaml";
   LoadedMap loaded = loadMap(yaml);
   auto map = std::make_shared<GridDistanceField>(std::move(loaded.grid));
   // Warm-up: the global planner samples the map's clearance once per planner instance.
-  run(map, 1);
-  const Stats one = run(map, 1);
-  const Stats five = run(map, 5);
+  if (argc == 3) {
+    // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf.
+    const Stats s = run(map, std::atoi(argv[2]), argv[1]);
+    std::printf("%s, %s humans: p50 %.2f ms p99 %.2f ms, %.1f iterations\n", argv[1], argv[2],
+                s.p50_s * 1e3, s.p99_s * 1e3, s.mean_iterations);
+    return 0;
+  }
+  run(map, 1, "sparse_lm");
+  // Interleaved so that both solvers see the same machine load (this machine is shared).
+  const Stats one = run(map, 1, "sparse_lm");
+  const Stats one_ceres = run(map, 1, "ceres");
+  const Stats five = run(map, 5, "sparse_lm");
+  const Stats five_ceres = run(map, 5, "ceres");
   std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, kRepeats,
               kBudget_s * 1e3);
-  std::printf("1 human : first cycle %zu robot + %zu human poses; p50 %.2f ms p99 %.2f ms\n",
-              one.robot_poses, one.human_poses, one.p50_s * 1e3, one.p99_s * 1e3);
-  std::printf(
-      "1 human : mean %.1f robot + %.1f human poses, %.1f LM iterations, Ceres %.0f %% of plan()\n",
-      one.mean_robot_poses, one.mean_human_poses, one.mean_iterations, 100.0 * one.solver_share);
-  std::printf("5 humans: p50 %.2f ms p99 %.2f ms (p50 ratio %.2f, p99 ratio %.2f)\n",
-              five.p50_s * 1e3, five.p99_s * 1e3, five.p50_s / one.p50_s, five.p99_s / one.p99_s);
+  auto line = [](const char* what, const Stats& s) {
+    std::printf(
+        "%-20s p50 %7.2f ms  p99 %7.2f ms  | mean %.1f robot + %.1f human poses, %.1f LM "
+        "iterations, solver %.0f %% of plan()\n",
+        what, s.p50_s * 1e3, s.p99_s * 1e3, s.mean_robot_poses, s.mean_human_poses,
+        s.mean_iterations, 100.0 * s.solver_share);
+  };
+  std::printf("first cycle (1 human): %zu robot + %zu human poses\n", one.robot_poses,
+              one.human_poses);
+  line("1 human, sparse_lm", one);
+  line("1 human, ceres", one_ceres);
+  line("5 humans, sparse_lm", five);
+  line("5 humans, ceres", five_ceres);
+  std::printf("sparse_lm / ceres: 1 human p50 %.3f p99 %.3f; 5 humans p50 %.3f p99 %.3f\n",
+              one.p50_s / one_ceres.p50_s, one.p99_s / one_ceres.p99_s,
+              five.p50_s / five_ceres.p50_s, five.p99_s / five_ceres.p99_s);
   std::printf("RESULT band_p99_budget_fraction %.4f\n", one.p99_s / kBudget_s);
   std::printf("RESULT band_5humans_vs_1 %.3f\n", five.p50_s / one.p50_s);
+  std::printf("RESULT band_sparse_lm_vs_ceres_p50 %.3f\n", one.p50_s / one_ceres.p50_s);
+  std::printf("RESULT band_ceres_p99_budget_fraction %.4f\n", one_ceres.p99_s / kBudget_s);
   return 0;
 }

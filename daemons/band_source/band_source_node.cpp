@@ -351,6 +351,12 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
   req.goal = active_goal;
   req.max_iterations = config_.max_iterations;
   req.time_budget_s = s.step < 0 ? config_.free_running_time_budget_s : 0.0;
+  // Wall clock for the free-running time budget and the reported solve time only; the plan
+  // itself depends on message time alone (lockstep passes no budget).
+  req.clock_s = [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
   std::set<std::int32_t> with_goal, without_goal;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (const auto& h : s.humans) {

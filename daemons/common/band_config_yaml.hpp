@@ -77,6 +77,7 @@ struct BandPlannerConfigYaml {
     v("weight_adapt_factor", c.weight_adapt_factor);
     v("penalty_epsilon", c.penalty_epsilon);
     v("warm_start", c.warm_start);
+    v("solver", c.solver, OneOf{{"sparse_lm", "ceres"}});
     v("warm_start_reset_dist_m", c.warm_start_reset_dist_m);
     AgentKinematicsYaml robot{&c.robot};
     AgentKinematicsYaml human{&c.human};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <memory>
 
@@ -16,6 +17,7 @@
 #include "coopnav/band/costs/time_optimal_cost.hpp"
 #include "coopnav/band/costs/velocity_cost.hpp"
 #include "coopnav/band/costs/via_point_cost.hpp"
+#include "coopnav/band/sparse_lm.hpp"
 #include "coopnav/geometry/geometry.hpp"
 
 namespace coopnav {
@@ -75,16 +77,21 @@ class ProblemBuilder {
  public:
   ProblemBuilder(std::vector<BandAgent>& agents, const DistanceMap& map,
                  const BandPlannerConfig& cfg)
-      : agents_(agents), map_(map), cfg_(cfg) {
-    ceres::Problem::Options po;
-    po.enable_fast_removal = false;
-    // Parameter blocks are the bands' own storage, registered exactly once.
-    po.disable_all_safety_checks = true;
-    problem_ = std::make_unique<ceres::Problem>(po);
-  }
+      : agents_(agents), map_(map), cfg_(cfg) {}
 
-  ceres::Problem& problem() { return *problem_; }
-  const std::vector<ceres::ResidualBlockId>& blocks(int term) const { return blocks_[term]; }
+  struct ParamSpec {
+    double* values;
+    int size;
+    bool constant;
+  };
+  struct ResidualSpec {
+    std::unique_ptr<ceres::CostFunction> cost;
+    std::vector<double*> params;
+  };
+  const std::vector<ParamSpec>& params() const { return params_; }
+  const std::vector<ResidualSpec>& residuals() const { return residuals_; }
+  /// Indices into residuals() of one term family.
+  const std::vector<std::size_t>& blocks(int term) const { return blocks_[term]; }
 
   void build() {
     for (auto& a : agents_) addBand(a);
@@ -134,18 +141,21 @@ class ProblemBuilder {
     *out = ViaAnchor{proj->closest.x(), proj->closest.y(), -d.y() / n, d.x() / n};
   }
 
-  void add(int term, ceres::CostFunction* f, const std::vector<double*>& params) {
-    blocks_[term].push_back(problem_->AddResidualBlock(f, nullptr, params));
+  void add(int term, ceres::CostFunction* f, std::vector<double*> params) {
+    blocks_[term].push_back(residuals_.size());
+    residuals_.push_back({std::unique_ptr<ceres::CostFunction>(f), std::move(params)});
   }
 
   void addBand(BandAgent& a) {
     TimedElasticBand& b = *a.band;
     const std::size_t n = b.size();
     if (n < 2) return;
-    for (std::size_t i = 0; i < n; ++i) problem_->AddParameterBlock(b.poseData(i), 3);
-    for (std::size_t i = 0; i + 1 < n; ++i) problem_->AddParameterBlock(b.dtData(i), 1);
-    problem_->SetParameterBlockConstant(b.poseData(0));
-    problem_->SetParameterBlockConstant(b.poseData(n - 1));
+    // Interleaved pose, ΔT, pose, …: the unknowns of one band in time order, which keeps the
+    // normal equations banded before any fill-reducing ordering. First and last pose are fixed.
+    for (std::size_t i = 0; i < n; ++i) {
+      params_.push_back({b.poseData(i), 3, i == 0 || i + 1 == n});
+      if (i + 1 < n) params_.push_back({b.dtData(i), 1, false});
+    }
 
     const MotionLimits& lim = a.limits;
     const BandWeights& w = a.weights;
@@ -229,12 +239,18 @@ class ProblemBuilder {
       if (!pairs[i]) continue;
       const std::size_t j = pairs[i]->segment;
       const double s = pairs[i]->fraction;
+      const Eigen::Vector2d pb = (1.0 - s) * b.pose(j).position() + s * b.pose(j + 1).position();
+      const double clearance_m = (a.pose(i).position() - pb).norm() - radii;
       // Pose 0 is fixed: no safety term; its segment's relative velocity (the command) counts.
-      const bool safety = safety_on && i > 0 && i + 1 < a.size();
+      // A pose pair farther apart than the safety distance plus the prefilter margin gets no
+      // safety term: its hinge residual is zero and could not become active within one cycle,
+      // while a term over the whole horizon would couple every time slice of the two bands and
+      // fill the factorisation (5 humans: 3x the nonzeros of L, measured in bench_band).
+      const bool safety =
+          safety_on && i > 0 && i + 1 < a.size() && clearance_m < min_dist + kPairPrefilterMargin_m;
       bool rel_on = robot_pair && sw_rel > 0.0 && i + 1 < a.size();
       if (rel_on && cfg_.rel_vel_activation_dist_m > 0.0) {
-        const Eigen::Vector2d pb = (1.0 - s) * b.pose(j).position() + s * b.pose(j + 1).position();
-        rel_on = (a.pose(i).position() - pb).norm() - radii < cfg_.rel_vel_activation_dist_m;
+        rel_on = clearance_m < cfg_.rel_vel_activation_dist_m;
       }
       if (!safety && !rel_on) continue;
       const double* frac = pairing(a, i, b, *pairs[i]);
@@ -258,8 +274,9 @@ class ProblemBuilder {
   const DistanceMap& map_;
   const BandPlannerConfig& cfg_;
   double sqrt_mult_{1.0};
-  std::unique_ptr<ceres::Problem> problem_;
-  std::vector<ceres::ResidualBlockId> blocks_[kNumTerms];
+  std::vector<ParamSpec> params_;
+  std::vector<ResidualSpec> residuals_;
+  std::vector<std::size_t> blocks_[kNumTerms];
   // Deques: stable addresses for the pointers the cost terms hold.
   std::deque<Via> vias_;
   std::deque<ViaAnchor> anchors_;
@@ -267,16 +284,115 @@ class ProblemBuilder {
   std::deque<double> fractions_;
 };
 
-double evaluateTerms(ProblemBuilder& pb, std::vector<TermCost>* terms) {
+/// What one solve of the built problem reports back to the outer loop.
+struct SolveOutcome {
+  double initial_cost{0.0};
+  int iterations{0};  ///< linear solves (accepted or rejected steps)
+  bool out_of_time{false};
+};
+
+/// One least-squares solver over the residual blocks a ProblemBuilder made. Two exist so that
+/// bench_band can compare them on the same problem (issue 3); config `solver` picks one.
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual SolveOutcome solve(int max_iterations, const std::function<bool()>& out_of_time) = 0;
+  /// ½ Σ r² of residual block i at the current parameters.
+  virtual double blockCost(std::size_t i) = 0;
+};
+
+class SparseLmBackend final : public Backend {
+ public:
+  explicit SparseLmBackend(const ProblemBuilder& pb) {
+    for (const auto& p : pb.params()) lm_.addParameterBlock(p.values, p.size, p.constant);
+    for (const auto& r : pb.residuals()) lm_.addResidualBlock(r.cost.get(), r.params);
+  }
+  SolveOutcome solve(int max_iterations, const std::function<bool()>& out_of_time) override {
+    SparseLm::Options o;
+    o.max_iterations = max_iterations;
+    o.should_stop = out_of_time;
+    const SparseLm::Summary s = lm_.solve(o);
+    return {s.initial_cost, s.iterations, s.stopped};
+  }
+  double blockCost(std::size_t i) override { return lm_.blockCost(i); }
+
+ private:
+  SparseLm lm_;
+};
+
+class CeresBackend final : public Backend {
+ public:
+  explicit CeresBackend(const ProblemBuilder& pb) {
+    ceres::Problem::Options po;
+    po.enable_fast_removal = false;
+    // The builder owns the cost functions; parameter blocks are the bands' own storage,
+    // registered exactly once.
+    po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.disable_all_safety_checks = true;
+    problem_ = std::make_unique<ceres::Problem>(po);
+    for (const auto& p : pb.params()) {
+      problem_->AddParameterBlock(p.values, p.size);
+      if (p.constant) problem_->SetParameterBlockConstant(p.values);
+    }
+    for (const auto& r : pb.residuals())
+      ids_.push_back(problem_->AddResidualBlock(r.cost.get(), nullptr, r.params));
+    // Tuned as measured in notes §9: plain λI damping as g2o (no Jacobi scaling,
+    // min = max LM diagonal), initial trust radius 1, no line search, one thread; defaults were
+    // 3x slower and stalled in the flat θ/y directions.
+    opt_.minimizer_type = ceres::TRUST_REGION;
+    opt_.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    opt_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    opt_.jacobi_scaling = false;
+    opt_.min_lm_diagonal = 1.0;
+    opt_.max_lm_diagonal = 1.0;
+    opt_.initial_trust_region_radius = 1.0;
+    opt_.num_threads = 1;
+    opt_.logging_type = ceres::SILENT;
+    opt_.minimizer_progress_to_stdout = false;
+  }
+  SolveOutcome solve(int max_iterations, const std::function<bool()>& out_of_time) override {
+    struct Stop : ceres::IterationCallback {
+      const std::function<bool()>* f;
+      bool hit{false};
+      ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+        if (*f && (*f)()) {
+          hit = true;
+          return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+        }
+        return ceres::SOLVER_CONTINUE;
+      }
+    } stop;
+    stop.f = &out_of_time;
+    opt_.callbacks = {&stop};
+    opt_.max_num_iterations = max_iterations;
+    ceres::Solver::Summary sum;
+    ceres::Solve(opt_, problem_.get(), &sum);
+    // summary.iterations holds iteration 0 (the initial evaluation) plus every LM step.
+    return {sum.initial_cost, std::max(0, static_cast<int>(sum.iterations.size()) - 1), stop.hit};
+  }
+  double blockCost(std::size_t i) override {
+    double c = 0.0;
+    problem_->EvaluateResidualBlock(ids_[i], false, &c, nullptr, nullptr);
+    return c;
+  }
+
+ private:
+  std::unique_ptr<ceres::Problem> problem_;
+  std::vector<ceres::ResidualBlockId> ids_;
+  ceres::Solver::Options opt_;
+};
+
+std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg) {
+  if (cfg.solver == "ceres") return std::make_unique<CeresBackend>(pb);
+  return std::make_unique<SparseLmBackend>(pb);
+}
+
+double evaluateTerms(const ProblemBuilder& pb, Backend& backend, std::vector<TermCost>* terms) {
   double total = 0.0;
   terms->clear();
   for (int t = 0; t < kNumTerms; ++t) {
     double c = 0.0;
-    for (const auto id : pb.blocks(t)) {
-      double ci = 0.0;
-      pb.problem().EvaluateResidualBlock(id, false, &ci, nullptr, nullptr);
-      c += ci;
-    }
+    for (const auto i : pb.blocks(t)) c += backend.blockCost(i);
     terms->push_back({kTermNames[t], c});
     total += c;
   }
@@ -326,13 +442,18 @@ std::vector<std::optional<TimedElasticBand::Locator>> pairByTime(const TimedElas
 }
 
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
-                            const BandPlannerConfig& cfg, int max_iterations,
-                            double time_budget_s) {
+                            const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
+                            const std::function<double()>& clock_s) {
   OptimizeStats stats;
   if (agents.empty()) return stats;
   const int total_iter =
       max_iterations > 0 ? max_iterations : cfg.no_inner_iterations * cfg.no_outer_iterations;
-  double remaining_s = time_budget_s > 0.0 ? time_budget_s : 0.0;
+  // The budget needs the caller's clock (lib/ has none); without one it is ignored.
+  const bool budgeted = time_budget_s > 0.0 && static_cast<bool>(clock_s);
+  const double t0_s = clock_s ? clock_s() : 0.0;
+  const std::function<bool()> out_of_time = [&]() {
+    return budgeted && clock_s() - t0_s >= time_budget_s;
+  };
   // TEB resizes before every outer iteration; the problem is rebuilt only when that changed a
   // band (a warm-started band arrives with ΔT near dt_ref and usually keeps its structure for the
   // whole cycle, a cold one is re-shaped as in TEB).
@@ -349,63 +470,44 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
   resize();
   auto pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
   pb->build();
-  if (pb->problem().NumResidualBlocks() == 0) return stats;
-
-  ceres::Solver::Options opt;
-  // Tuned as measured in notes §9: plain λI damping as g2o (no Jacobi scaling,
-  // min = max LM diagonal), initial trust radius 1, no line search, one thread; defaults were
-  // 3x slower and stalled in the flat θ/y directions.
-  opt.minimizer_type = ceres::TRUST_REGION;
-  opt.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  opt.jacobi_scaling = false;
-  opt.min_lm_diagonal = 1.0;
-  opt.max_lm_diagonal = 1.0;
-  opt.initial_trust_region_radius = 1.0;
-  opt.num_threads = 1;
-  opt.logging_type = ceres::SILENT;
-  opt.minimizer_progress_to_stdout = false;
+  if (pb->residuals().empty()) return stats;
+  auto backend = makeBackend(*pb, cfg);
 
   double multiplier = 1.0;
   for (int outer = 0; outer < cfg.no_outer_iterations; ++outer) {
     const int left = total_iter - stats.iterations;
     if (left <= 0) break;
-    if (time_budget_s > 0.0 && remaining_s <= 0.0) {
+    if (out_of_time()) {
       stats.budget_exhausted = true;
       break;
     }
     if (outer > 0) {
       if (resize()) {
+        backend.reset();
         pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
         pb->build();
+        backend = makeBackend(*pb, cfg);
         ++stats.rebuilds;
       } else {
         pb->refresh();
       }
     }
     pb->setMultiplier(multiplier);
-    opt.max_num_iterations = std::min(cfg.no_inner_iterations, left);
-    // No time limit unless a budget is given: lockstep needs iteration counts that do not
-    // depend on the machine's load.
-    opt.max_solver_time_in_seconds = time_budget_s > 0.0 ? remaining_s : 1e9;
-    ceres::Solver::Summary sum;
-    ceres::Solve(opt, &pb->problem(), &sum);
-    if (outer == 0) stats.initial_cost = sum.initial_cost;
-    // summary.iterations holds iteration 0 (the initial evaluation) plus every LM step.
-    stats.iterations += std::max(0, static_cast<int>(sum.iterations.size()) - 1);
-    stats.solver_time_s += sum.total_time_in_seconds;
-    remaining_s -= sum.total_time_in_seconds;
+    const SolveOutcome o = backend->solve(std::min(cfg.no_inner_iterations, left), out_of_time);
+    if (outer == 0) stats.initial_cost = o.initial_cost;
+    stats.iterations += o.iterations;
     stats.outer_iterations = outer + 1;
     for (auto& a : agents) a.band->normalize(cfg.dt_min_s);
-    const bool last = outer + 1 == cfg.no_outer_iterations || stats.iterations >= total_iter ||
-                      (time_budget_s > 0.0 && remaining_s <= 0.0);
+    const bool last =
+        outer + 1 == cfg.no_outer_iterations || stats.iterations >= total_iter || o.out_of_time;
     if (last) {
-      stats.final_cost = evaluateTerms(*pb, &stats.terms);
-      if (time_budget_s > 0.0 && remaining_s <= 0.0) stats.budget_exhausted = true;
+      stats.final_cost = evaluateTerms(*pb, *backend, &stats.terms);
+      stats.budget_exhausted = o.out_of_time;
       break;
     }
     multiplier *= cfg.weight_adapt_factor;
   }
+  if (clock_s) stats.solver_time_s = clock_s() - t0_s;
   return stats;
 }
 

@@ -369,7 +369,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     agents.push_back(a);
   }
   const OptimizeStats stats =
-      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s);
+      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
   out.iterations = stats.iterations;
   out.final_cost = stats.final_cost;
   out.solver_time_s = stats.solver_time_s;

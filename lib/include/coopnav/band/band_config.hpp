@@ -99,6 +99,9 @@ struct BandPlannerConfig {
   double weight_adapt_factor{2.0};
   double penalty_epsilon{0.01};
   bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
+  /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp) or "ceres" (Ceres' sparse normal
+  /// Cholesky LM, tuned as notes §9). Same residual blocks; bench_band compares the two.
+  std::string solver{"sparse_lm"};
   /// Re-initialise a warm band whose start is farther than this from the agent [m].
   double warm_start_reset_dist_m{1.0};
 

@@ -1,13 +1,14 @@
 #pragma once
 /// @file Joint optimisation of several timed elastic bands (the planning agent's and one per
-/// anticipated agent) as ONE sparse nonlinear least-squares problem in Ceres, as CoHAN puts the
-/// robot and human bands in one g2o graph (Singamaneni et al. 2021). Outer loop as TEB
-/// (Rösmann et al. 2015) — autoResize, build, a few Levenberg–Marquardt iterations, obstacle and
-/// safety weights × weight_adapt_factor — except that the bands are resized and the problem is
+/// anticipated agent) as ONE sparse nonlinear least-squares problem (own sparse LM, or Ceres), as
+/// CoHAN puts the robot and human bands in one g2o graph (Singamaneni et al. 2021). Outer loop as
+/// TEB (Rösmann et al. 2015) — autoResize, build, a few Levenberg–Marquardt iterations, obstacle
+/// and safety weights × weight_adapt_factor — except that the bands are resized and the problem is
 /// built once per call: between outer iterations only the via-point projections, the pairing
 /// fractions and the weight multiplier change (notes §9, "built once + warm start").
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,17 +49,19 @@ struct OptimizeStats {
   int rebuilds{0};           ///< problems rebuilt after the first because autoResize changed a band
   double initial_cost{0.0};  ///< at the first outer iteration
   double final_cost{0.0};
-  double solver_time_s{0.0};  ///< as Ceres measured it
+  double solver_time_s{0.0};  ///< by the caller's clock (0 without one)
   bool budget_exhausted{false};
   std::vector<TermCost> terms;
 };
 
 /// Optimises agents[0..] jointly; agents[0] is the planning agent (coupled to every other), the
 /// others are coupled pairwise when their bands come close. Respects max_iterations (total LM
-/// iterations, <= 0: config inner × outer) and time_budget_s (Ceres' solver time, <= 0: none).
+/// iterations, <= 0: config inner × outer) and time_budget_s (<= 0: none), measured with the
+/// caller's monotonic clock_s (lib/ reads no clock; empty: no budget and no solver_time_s).
 /// Bands with < 2 poses are left untouched.
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
-                            const BandPlannerConfig& cfg, int max_iterations, double time_budget_s);
+                            const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
+                            const std::function<double()>& clock_s = {});
 
 /// Time pairing helper: for each pose time of band a, the segment and fraction of band b at the
 /// same time (nullopt past b's end). Exposed for tests and the crossing read-out.

@@ -12,6 +12,7 @@
 /// other_weights for `others`). Time comes only from request.stamp_s.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -41,7 +42,10 @@ struct PlanRequest {
   Pose2 goal;           ///< the planning agent's goal (theta used unless free_goal_heading)
   std::vector<OtherAgentInput> others;
   int max_iterations{0};      ///< total LM iterations; <= 0: config inner × outer
-  double time_budget_s{0.0};  ///< solver time budget (Ceres-measured); <= 0: unlimited
+  double time_budget_s{0.0};  ///< solver time budget; <= 0: unlimited
+  /// Monotonic clock [s] for the time budget and PlanResult::solver_time_s (lib/ reads no
+  /// clock); empty: no budget, solver_time_s 0.
+  std::function<double()> clock_s;
 };
 
 enum class PlanStatus : std::int8_t {

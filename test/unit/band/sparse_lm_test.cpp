@@ -1,0 +1,165 @@
+// Our sparse Levenberg–Marquardt against known optima and against Ceres on the same residual
+// blocks (issue 3: our solver may replace Ceres only on the same problem).
+#include "coopnav/band/sparse_lm.hpp"
+
+#include <ceres/ceres.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace coopnav {
+namespace {
+
+/// Rosenbrock as two residuals: (1 − x), 10 (y − x²); minimum 0 at (1, 1).
+struct Rosenbrock {
+  template <typename T>
+  bool operator()(const T* x, const T* y, T* r) const {
+    r[0] = T(1.0) - x[0];
+    r[1] = T(10.0) * (y[0] - x[0] * x[0]);
+    return true;
+  }
+};
+
+/// A chain of 2-D points between fixed ends, neighbours tied by linear springs and every point
+/// pulled down by a monotone nonlinear term: the band problem's shape (neighbour coupling, fixed
+/// ends) in miniature, with a single minimum so that both solvers must find the same one.
+struct Spring {
+  double rest;
+  template <typename T>
+  bool operator()(const T* a, const T* b, T* r) const {
+    r[0] = b[0] - a[0] - T(rest);
+    r[1] = b[1] - a[1];
+    return true;
+  }
+};
+struct Pull {
+  template <typename T>
+  bool operator()(const T* p, T* r) const {
+    using std::exp;
+    r[0] = T(0.3) * (exp(T(0.5) * p[1]) - T(0.5));
+    return true;
+  }
+};
+
+TEST(SparseLmTest, FindsTheRosenbrockMinimum) {
+  double x = -1.2, y = 1.0;
+  ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f(new Rosenbrock);
+  SparseLm lm;
+  lm.addParameterBlock(&x, 1, false);
+  lm.addParameterBlock(&y, 1, false);
+  lm.addResidualBlock(&f, {&x, &y});
+  SparseLm::Options o;
+  o.max_iterations = 200;
+  const auto s = lm.solve(o);
+  EXPECT_NEAR(x, 1.0, 1e-5);
+  EXPECT_NEAR(y, 1.0, 1e-5);
+  EXPECT_LT(s.final_cost, 1e-10);
+  EXPECT_GT(s.initial_cost, s.final_cost);
+  EXPECT_EQ(lm.numUnknowns(), 2u);
+}
+
+struct Chain {
+  static constexpr int kN = 30;
+  std::vector<std::array<double, 2>> pts;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs;
+  std::vector<std::vector<double*>> params;
+  Chain() {
+    for (int i = 0; i < kN; ++i) pts.push_back({0.1 * i, 0.05 * std::sin(i)});
+    for (int i = 0; i + 1 < kN; ++i) {
+      costs.emplace_back(new ceres::AutoDiffCostFunction<Spring, 2, 2, 2>(new Spring{0.08}));
+      params.push_back({pts[i].data(), pts[i + 1].data()});
+    }
+    for (int i = 1; i + 1 < kN; ++i) {
+      costs.emplace_back(new ceres::AutoDiffCostFunction<Pull, 1, 2>(new Pull));
+      params.push_back({pts[i].data()});
+    }
+  }
+  bool constant(int i) const { return i == 0 || i == kN - 1; }
+};
+
+TEST(SparseLmTest, AgreesWithCeresAndKeepsConstantBlocks) {
+  Chain ours, theirs;
+  SparseLm lm;
+  for (int i = 0; i < Chain::kN; ++i) lm.addParameterBlock(ours.pts[i].data(), 2, ours.constant(i));
+  for (std::size_t k = 0; k < ours.costs.size(); ++k)
+    lm.addResidualBlock(ours.costs[k].get(), ours.params[k]);
+  SparseLm::Options o;
+  o.max_iterations = 100;
+  o.function_tolerance = 1e-12;
+  const auto s = lm.solve(o);
+
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  for (int i = 0; i < Chain::kN; ++i) {
+    problem.AddParameterBlock(theirs.pts[i].data(), 2);
+    if (theirs.constant(i)) problem.SetParameterBlockConstant(theirs.pts[i].data());
+  }
+  for (std::size_t k = 0; k < theirs.costs.size(); ++k)
+    problem.AddResidualBlock(theirs.costs[k].get(), nullptr, theirs.params[k]);
+  ceres::Solver::Options co;
+  co.max_num_iterations = 100;
+  co.function_tolerance = 1e-12;
+  co.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  ceres::Solver::Summary cs;
+  ceres::Solve(co, &problem, &cs);
+
+  EXPECT_NEAR(s.final_cost, cs.final_cost, 1e-9 + 1e-6 * cs.final_cost);
+  for (int i = 0; i < Chain::kN; ++i) {
+    EXPECT_NEAR(ours.pts[i][0], theirs.pts[i][0], 1e-4) << i;
+    EXPECT_NEAR(ours.pts[i][1], theirs.pts[i][1], 1e-4) << i;
+  }
+  // The fixed ends did not move.
+  EXPECT_DOUBLE_EQ(ours.pts[0][1], 0.0);
+  EXPECT_DOUBLE_EQ(ours.pts[Chain::kN - 1][1], 0.05 * std::sin(Chain::kN - 1));
+  EXPECT_EQ(lm.numUnknowns(), 2u * (Chain::kN - 2));
+  // blockCost is the block's ½ r² at the solution.
+  double sum = 0.0;
+  for (std::size_t k = 0; k < lm.numResidualBlocks(); ++k) sum += lm.blockCost(k);
+  EXPECT_NEAR(sum, s.final_cost, 1e-12);
+}
+
+TEST(SparseLmTest, StopsWhenAskedAndCountsSolves) {
+  Chain c;
+  SparseLm lm;
+  for (int i = 0; i < Chain::kN; ++i) lm.addParameterBlock(c.pts[i].data(), 2, c.constant(i));
+  for (std::size_t k = 0; k < c.costs.size(); ++k)
+    lm.addResidualBlock(c.costs[k].get(), c.params[k]);
+  int polls = 0;
+  SparseLm::Options o;
+  o.max_iterations = 100;
+  o.function_tolerance = 0.0;
+  o.should_stop = [&] { return ++polls > 3; };
+  const auto s = lm.solve(o);
+  EXPECT_TRUE(s.stopped);
+  EXPECT_EQ(s.iterations, 3);
+  SparseLm::Options few;
+  few.max_iterations = 2;
+  few.function_tolerance = 0.0;
+  EXPECT_LE(lm.solve(few).iterations, 2);
+}
+
+TEST(SparseLmTest, RejectsMisuse) {
+  double x = 0.0, y = 0.0, z = 0.0;
+  ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f(new Rosenbrock);
+  SparseLm lm;
+  lm.addParameterBlock(&x, 1, false);
+  EXPECT_THROW(lm.addParameterBlock(&x, 1, false), std::logic_error);
+  EXPECT_THROW(lm.addResidualBlock(&f, {&x, &z}), std::logic_error);  // z undeclared
+  EXPECT_THROW(lm.addResidualBlock(&f, {&x}), std::logic_error);      // wrong count
+  lm.addParameterBlock(&y, 1, true);
+  lm.addResidualBlock(&f, {&x, &y});
+  SparseLm::Options o;
+  o.max_iterations = 50;
+  o.function_tolerance = 1e-15;
+  lm.solve(o);
+  EXPECT_DOUBLE_EQ(y, 0.0);  // constant
+  // With y held at 0 the cost is ½((1 − x)² + 100 x⁴): stationary where −(1 − x) + 200 x³ = 0.
+  EXPECT_NEAR(-(1.0 - x) + 200.0 * x * x * x, 0.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -1,7 +1,6 @@
 #include "coopnav/band/sparse_lm.hpp"
 
-#include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -18,6 +17,151 @@ constexpr double kInitialLambda = 1.0;
 constexpr double kMinRelativeDecrease = 1e-3;
 constexpr double kMinLambda = 1e-16;
 constexpr double kMaxLambda = 1e32;
+
+/// LDLᵀ of a symmetric positive definite matrix in row-envelope ("profile", skyline) storage:
+/// row i holds columns first(i)..i contiguously. Cholesky creates no fill outside the envelope,
+/// so the pattern is fixed by the ordering alone, and the work is dense dot products of row
+/// segments (George & Liu, "Computer solution of large sparse positive definite systems", 1981,
+/// ch. 4). With a reverse Cuthill–McKee order of the band problem the envelope is the time
+/// slices' width, and this is 2-4x faster than Eigen's scalar simplicial LDLᵀ (bench_band).
+class EnvelopeLdlt {
+ public:
+  /// first[i] <= i: leftmost column of row i.
+  void setPattern(std::vector<int> first) {
+    first_ = std::move(first);
+    const int n = static_cast<int>(first_.size());
+    row_start_.assign(n + 1, 0);
+    for (int i = 0; i < n; ++i) row_start_[i + 1] = row_start_[i] + (i - first_[i] + 1);
+    work_.assign(row_start_[n], 0.0);
+    d_.assign(n, 0.0);
+  }
+  std::size_t size() const { return first_.size(); }
+  std::size_t storage() const { return work_.size(); }
+  /// Storage index of entry (i, j), first(i) <= j <= i.
+  int slot(int i, int j) const { return row_start_[i] + (j - first_[i]); }
+
+  /// Factorises A + λI (A in this storage); false when not numerically positive definite.
+  bool factorize(const double* a, double lambda) {
+    const int n = static_cast<int>(first_.size());
+    std::copy(a, a + work_.size(), work_.begin());
+    for (int i = 0; i < n; ++i) {
+      const int fi = first_[i];
+      double* li = work_.data() + row_start_[i] - fi;  // li[j] = entry (i, j)
+      // li[k] becomes w_k = L(i,k) D(k) for k < i: w_j = A(i,j) − Σ_{k<j} w_k L(j,k).
+      for (int j = fi; j < i; ++j) {
+        const int fj = first_[j];
+        const double* lj = work_.data() + row_start_[j] - fj;
+        double s = li[j];
+        for (int k = std::max(fi, fj); k < j; ++k) s -= li[k] * lj[k];
+        li[j] = s;
+      }
+      double d = li[i] + lambda;
+      for (int j = fi; j < i; ++j) {
+        const double l = li[j] / d_[j];
+        d -= li[j] * l;
+        li[j] = l;
+      }
+      if (!(d > kMinPivot) || !std::isfinite(d)) return false;
+      d_[i] = d;
+      li[i] = 1.0;
+    }
+    return true;
+  }
+
+  /// x = (L D Lᵀ)⁻¹ b after a successful factorize().
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+    const int n = static_cast<int>(first_.size());
+    *x = b;
+    double* v = x->data();
+    for (int i = 0; i < n; ++i) {
+      const double* li = work_.data() + row_start_[i] - first_[i];
+      double s = v[i];
+      for (int j = first_[i]; j < i; ++j) s -= li[j] * v[j];
+      v[i] = s;
+    }
+    for (int i = 0; i < n; ++i) v[i] /= d_[i];
+    for (int i = n - 1; i >= 0; --i) {
+      const double* li = work_.data() + row_start_[i] - first_[i];
+      const double vi = v[i];
+      for (int j = first_[i]; j < i; ++j) v[j] -= li[j] * vi;
+    }
+  }
+
+  /// y = A x for a symmetric A stored as its lower envelope.
+  void multiply(const double* a, const Eigen::VectorXd& x, Eigen::VectorXd* y) const {
+    const int n = static_cast<int>(first_.size());
+    y->setZero(n);
+    for (int i = 0; i < n; ++i) {
+      const double* ai = a + row_start_[i] - first_[i];
+      double s = ai[i] * x[i];
+      for (int j = first_[i]; j < i; ++j) {
+        s += ai[j] * x[j];
+        (*y)[j] += ai[j] * x[i];
+      }
+      (*y)[i] += s;
+    }
+  }
+
+ private:
+  static constexpr double kMinPivot = 1e-300;
+  std::vector<int> first_;
+  std::vector<int> row_start_;
+  std::vector<double> work_;  ///< L below the diagonal (unit diagonal implied)
+  std::vector<double> d_;
+};
+
+/// Reverse Cuthill–McKee order of an undirected graph (adjacency lists): breadth-first from a
+/// pseudo-peripheral start per component, neighbours by increasing degree, reversed. Small
+/// envelope for a chain-like graph such as coupled bands. Deterministic (ties by index).
+std::vector<int> reverseCuthillMcKee(const std::vector<std::vector<int>>& adj) {
+  const int n = static_cast<int>(adj.size());
+  std::vector<int> order, level(n, -1);
+  order.reserve(n);
+  std::vector<char> placed(n, 0);
+  auto bfs = [&](int start, std::vector<int>* out) {  // returns the last level's min-degree node
+    std::vector<int> local;
+    std::fill(level.begin(), level.end(), -1);
+    level[start] = 0;
+    local.push_back(start);
+    for (std::size_t h = 0; h < local.size(); ++h) {
+      std::vector<int> next;
+      for (int v : adj[local[h]]) {
+        if (level[v] < 0 && !placed[v]) {
+          level[v] = level[local[h]] + 1;
+          next.push_back(v);
+        }
+      }
+      std::sort(next.begin(), next.end(), [&](int a, int b) {
+        return adj[a].size() != adj[b].size() ? adj[a].size() < adj[b].size() : a < b;
+      });
+      local.insert(local.end(), next.begin(), next.end());
+    }
+    int far = local.back();
+    for (int v : local) {
+      if (level[v] == level[local.back()] && adj[v].size() < adj[far].size()) far = v;
+    }
+    if (out != nullptr) *out = std::move(local);
+    return far;
+  };
+  for (int s = 0; s < n; ++s) {
+    if (placed[s]) continue;
+    // Start: a minimum-degree node of this component, moved to the far end twice.
+    int start = s;
+    std::vector<int> comp;
+    bfs(s, &comp);
+    for (int v : comp) {
+      if (adj[v].size() < adj[start].size()) start = v;
+    }
+    start = bfs(start, nullptr);
+    start = bfs(start, nullptr);
+    std::vector<int> visit;
+    bfs(start, &visit);
+    for (int v : visit) placed[v] = 1;
+    order.insert(order.end(), visit.begin(), visit.end());
+  }
+  std::reverse(order.begin(), order.end());
+  return order;
+}
 
 }  // namespace
 
@@ -42,12 +186,10 @@ struct SparseLm::Impl {
   int num_unknowns{0};
   bool structure_ready{false};
 
-  using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
-  Matrix hessian;             ///< JᵀJ, upper triangle, fixed pattern
-  std::vector<int> slots;     ///< value index in `hessian` per JᵀJ entry, accumulation order
-  std::vector<int> diagonal;  ///< value index of every H(i, i)
-  Eigen::SimplicialLDLT<Matrix, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt;
-  Eigen::VectorXd gradient;  ///< Jᵀr
+  EnvelopeLdlt ldlt;
+  std::vector<double> hessian;  ///< JᵀJ in ldlt's envelope storage (lower triangle)
+  std::vector<int> slots;       ///< index in `hessian` per JᵀJ entry, accumulation order
+  Eigen::VectorXd gradient;     ///< Jᵀr
   double lambda{kInitialLambda};
 
   // Scratch reused by every evaluation (no allocation in the loop).
@@ -55,14 +197,6 @@ struct SparseLm::Impl {
   std::vector<double> jacobian_storage;
   std::vector<double*> jacobians;
   std::vector<const double*> param_ptrs;
-
-  int slotOf(int row, int col) const {
-    const int* inner = hessian.innerIndexPtr();
-    const int* begin = inner + hessian.outerIndexPtr()[col];
-    const int* end = inner + hessian.outerIndexPtr()[col + 1];
-    const int* it = std::lower_bound(begin, end, row);
-    return static_cast<int>(it - inner);
-  }
 
   /// Visits every upper-triangle JᵀJ entry a block contributes, in one fixed order:
   /// f(i, j, a, b, row, col): block parameter i's column a times parameter j's column b,
@@ -83,9 +217,9 @@ struct SparseLm::Impl {
     }
   }
 
-  /// Fill-reducing order of the unknown parameter blocks: approximate minimum degree on the
-  /// block graph (Eigen's AMD), computed once per structure and applied to the offsets, so the
-  /// normal equations are assembled already permuted and each factorisation needs no copy.
+  /// Order of the unknown parameter blocks: reverse Cuthill–McKee on the block graph, computed
+  /// once per structure and applied to the offsets, so the normal equations are assembled in
+  /// their factorisation order (no permutation per solve) with a small envelope.
   void assignOffsets() {
     std::vector<int> var_of(params.size(), -1), param_of;
     for (std::size_t k = 0; k < params.size(); ++k) {
@@ -94,26 +228,23 @@ struct SparseLm::Impl {
         param_of.push_back(static_cast<int>(k));
       }
     }
-    const int nv = static_cast<int>(param_of.size());
-    std::vector<Eigen::Triplet<double, int>> graph;
-    for (int v = 0; v < nv; ++v) graph.emplace_back(v, v, 1.0);
+    std::vector<std::vector<int>> adj(param_of.size());
     for (const Block& blk : blocks) {
       for (int i = 0; i < blk.num_params; ++i) {
         const int vi = var_of[block_params[blk.first_param + i]];
         for (int j = 0; j < blk.num_params && vi >= 0; ++j) {
           const int vj = var_of[block_params[blk.first_param + j]];
-          if (vj >= 0 && vi != vj) graph.emplace_back(vi, vj, 1.0);
+          if (vj >= 0 && vi != vj) adj[vi].push_back(vj);
         }
       }
     }
-    Matrix g(nv, nv);
-    g.setFromTriplets(graph.begin(), graph.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> elimination;
-    Eigen::AMDOrdering<int> amd;
-    amd(g, elimination);  // elimination.indices()[k]: the k-th block to eliminate
+    for (auto& a : adj) {
+      std::sort(a.begin(), a.end());
+      a.erase(std::unique(a.begin(), a.end()), a.end());
+    }
     num_unknowns = 0;
-    for (int k = 0; k < nv; ++k) {
-      Param& p = params[param_of[elimination.indices()[k]]];
+    for (int v : reverseCuthillMcKee(adj)) {
+      Param& p = params[param_of[v]];
       p.offset = num_unknowns;
       num_unknowns += p.size;
     }
@@ -121,11 +252,14 @@ struct SparseLm::Impl {
 
   void buildStructure() {
     assignOffsets();
-    std::vector<Eigen::Triplet<double, int>> pattern;
+    std::vector<int> first(num_unknowns);
+    for (int i = 0; i < num_unknowns; ++i) first[i] = i;
     std::size_t max_res = 1, max_jac = 1, max_params = 1;
     for (const Block& blk : blocks) {
-      forEachEntry(
-          blk, [&](int, int, int, int, int row, int col) { pattern.emplace_back(row, col, 0.0); });
+      // Upper entry (row <= col) is lower entry (col, row).
+      forEachEntry(blk, [&](int, int, int, int, int row, int col) {
+        first[col] = std::min(first[col], row);
+      });
       max_res = std::max<std::size_t>(max_res, blk.num_residuals);
       std::size_t jac = 0;
       for (int i = 0; i < blk.num_params; ++i)
@@ -133,24 +267,19 @@ struct SparseLm::Impl {
       max_jac = std::max(max_jac, jac);
       max_params = std::max<std::size_t>(max_params, blk.num_params);
     }
-    for (int i = 0; i < num_unknowns; ++i) pattern.emplace_back(i, i, 0.0);
-    hessian.resize(num_unknowns, num_unknowns);
-    hessian.setFromTriplets(pattern.begin(), pattern.end());
-    hessian.makeCompressed();
+    ldlt.setPattern(std::move(first));
+    hessian.assign(ldlt.storage(), 0.0);
     slots.clear();
     for (Block& blk : blocks) {
       blk.first_slot = slots.size();
       forEachEntry(
-          blk, [&](int, int, int, int, int row, int col) { slots.push_back(slotOf(row, col)); });
+          blk, [&](int, int, int, int, int row, int col) { slots.push_back(ldlt.slot(col, row)); });
     }
-    diagonal.resize(num_unknowns);
-    for (int i = 0; i < num_unknowns; ++i) diagonal[i] = slotOf(i, i);
     gradient.resize(num_unknowns);
     residuals.resize(max_res);
     jacobian_storage.resize(max_jac);
     jacobians.resize(max_params);
     param_ptrs.resize(max_params);
-    ldlt.analyzePattern(hessian);
     structure_ready = true;
   }
 
@@ -183,8 +312,8 @@ struct SparseLm::Impl {
 
   /// Cost, Jᵀr and JᵀJ at the current parameters.
   double linearize() {
-    double* h = hessian.valuePtr();
-    std::fill(h, h + hessian.nonZeros(), 0.0);
+    double* h = hessian.data();
+    std::fill(hessian.begin(), hessian.end(), 0.0);
     gradient.setZero();
     double c = 0.0;
     for (const Block& blk : blocks) {
@@ -287,28 +416,25 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
   if (!options.carry_damping) m.lambda = kInitialLambda;
   double nu = 2.0;
   Eigen::VectorXd x_old, delta, h_delta;
-  double* h = m.hessian.valuePtr();
   while (s.iterations < options.max_iterations) {
     if (options.should_stop && options.should_stop()) {
       s.stopped = true;
       break;
     }
     if (m.gradient.lpNorm<Eigen::Infinity>() < options.gradient_tolerance) break;
-    for (int i = 0; i < m.num_unknowns; ++i) h[m.diagonal[i]] += m.lambda;
-    m.ldlt.factorize(m.hessian);
-    for (int i = 0; i < m.num_unknowns; ++i) h[m.diagonal[i]] -= m.lambda;
+    const bool factorized = m.ldlt.factorize(m.hessian.data(), m.lambda);
     ++s.iterations;
-    if (m.ldlt.info() != Eigen::Success) {
+    if (!factorized) {
       m.lambda = std::min(m.lambda * nu, kMaxLambda);
       nu *= 2.0;
       continue;
     }
-    delta = m.ldlt.solve(-m.gradient);
+    m.ldlt.solve(-m.gradient, &delta);
     m.saveUnknowns(&x_old);
     if (delta.norm() < options.parameter_tolerance * (x_old.norm() + options.parameter_tolerance))
       break;
     // Predicted decrease of the linear model: −(gᵀδ + ½ δᵀHδ).
-    h_delta = m.hessian.selfadjointView<Eigen::Upper>() * delta;
+    m.ldlt.multiply(m.hessian.data(), delta, &h_delta);
     const double model = -(m.gradient.dot(delta) + 0.5 * delta.dot(h_delta));
     m.setUnknowns(x_old + delta);
     const double new_cost = m.cost();

@@ -37,5 +37,17 @@ TEST(BandPlannerConfigTest, ValidateListsEveryErrorWithKeyValueAndRange) {
   EXPECT_TRUE(via);
 }
 
+TEST(BandPlannerConfigTest, SolverIsOneOfTwo) {
+  BandPlannerConfig c;
+  EXPECT_EQ(c.solver, "sparse_lm");
+  c.solver = "ceres";
+  EXPECT_TRUE(c.validate().empty());
+  c.solver = "g2o";
+  const auto errors = c.validate();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].key, "solver");
+  EXPECT_EQ(errors[0].allowed, "sparse_lm | ceres");
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -167,6 +167,48 @@ TEST(DualBandPlannerTest, IterationBudgetIsRespected) {
   EXPECT_LE(r.iterations, 3);
 }
 
+TEST(DualBandPlannerTest, BothSolversReachComparableBandsOnTheSameProblem) {
+  // Given the head-on case planned once with our sparse LM and once with Ceres.
+  auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
+  auto req = test::headOn(3.0, 11.0, 3.0, 17.0);
+  req.agent.velocity.vx_m_s = 0.7;
+  BandPlannerConfig ours_cfg, ceres_cfg;
+  ours_cfg.solver = "sparse_lm";
+  ceres_cfg.solver = "ceres";
+  const PlanResult ours = DualBandPlanner(ours_cfg, map).plan(req);
+  const PlanResult ceres = DualBandPlanner(ceres_cfg, map).plan(req);
+  ASSERT_EQ(ours.status, PlanStatus::kOk);
+  ASSERT_EQ(ceres.status, PlanStatus::kOk);
+  // Then both use the whole budget and end within 10 % of each other's cost (same residual
+  // blocks, same damping rule; rounding differs), with bands of the same length in time.
+  EXPECT_EQ(ours.iterations, ceres.iterations);
+  EXPECT_NEAR(ours.final_cost, ceres.final_cost, 0.1 * ceres.final_cost);
+  EXPECT_NEAR(ours.agent_band.poses.back().t_s, ceres.agent_band.poses.back().t_s, 0.5);
+  EXPECT_GE(test::minPairedDistance(ours.agent_band, ours.others[0].band) - kRobotRadius_m -
+                kHumanRadius_m,
+            BandPlannerConfig{}.min_agent_robot_dist_m - kDistTol_m);
+}
+
+TEST(DualBandPlannerTest, TimeBudgetUsesTheCallersClock) {
+  // Given a fake clock that advances 10 ms per reading and a 25 ms budget.
+  auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
+  for (const char* solver : {"sparse_lm", "ceres"}) {
+    BandPlannerConfig cfg;
+    cfg.solver = solver;
+    DualBandPlanner dut(cfg, map);
+    auto req = test::headOn(3.0, 11.0, 3.0, 17.0);
+    double now_s = 0.0;
+    req.clock_s = [&now_s] { return now_s += 0.01; };
+    req.time_budget_s = 0.025;
+    const PlanResult r = dut.plan(req);
+    // Then the solve stops early, says so, and reports the clock's elapsed time.
+    ASSERT_EQ(r.status, PlanStatus::kOk) << solver;
+    EXPECT_TRUE(r.budget_exhausted) << solver;
+    EXPECT_LT(r.iterations, 32) << solver;
+    EXPECT_GT(r.solver_time_s, 0.02) << solver;
+  }
+}
+
 TEST(DualBandPlannerTest, HumanAsPlanningAgentYieldsToAnticipatedRobot) {
   // Given the facilitating-human set-up of world_sim: the human plans, the robot is "other".
   auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);

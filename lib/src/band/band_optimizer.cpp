@@ -11,6 +11,7 @@
 
 #include "coopnav/band/costs/acceleration_cost.hpp"
 #include "coopnav/band/costs/agent_safety_cost.hpp"
+#include "coopnav/band/costs/hinge_autodiff.hpp"
 #include "coopnav/band/costs/kinematics_cost.hpp"
 #include "coopnav/band/costs/obstacle_cost.hpp"
 #include "coopnav/band/costs/relative_velocity_cost.hpp"
@@ -48,6 +49,12 @@ constexpr double kPairPrefilterMargin_m = 2.0;
 template <typename Functor, int kN, int... kBlocks>
 ceres::CostFunction* autodiff(Functor* f) {
   return new ceres::AutoDiffCostFunction<Functor, kN, kBlocks...>(f);
+}
+
+/// Penalty terms: no dual numbers while the penalty is inactive (hinge_autodiff.hpp).
+template <typename Functor, int kN, int... kBlocks>
+ceres::CostFunction* hinge(Functor* f) {
+  return new HingeAutoDiffCostFunction<Functor, kN, kBlocks...>(f);
 }
 
 double sq(double w) { return std::sqrt(std::max(w, 0.0)); }
@@ -164,7 +171,7 @@ class ProblemBuilder {
     const double sw_nh = sq(diff ? w.kinematics_nh_diff_drive : w.kinematics_nh);
     const double sw_fwd = diff ? sq(w.kinematics_forward_drive) : 0.0;
     for (std::size_t i = 0; i + 1 < n; ++i) {
-      add(kVelocity, autodiff<VelocityCost, 4, 3, 3, 1>(new VelocityCost(lim)),
+      add(kVelocity, hinge<VelocityCost, 4, 3, 3, 1>(new VelocityCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.dtData(i)});
       add(kTimeOptimal,
           autodiff<TimeOptimalCost, 2, 1>(new TimeOptimalCost(sq(w.optimaltime), cfg_.dt_min_s)),
@@ -175,17 +182,17 @@ class ProblemBuilder {
       }
     }
     for (std::size_t i = 0; i + 2 < n; ++i) {
-      add(kAcceleration, autodiff<AccelerationCost, 3, 3, 3, 3, 1, 1>(new AccelerationCost(lim)),
+      add(kAcceleration, hinge<AccelerationCost, 3, 3, 3, 3, 1, 1>(new AccelerationCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.poseData(i + 2), b.dtData(i), b.dtData(i + 1)});
     }
     const Velocity2& v0 = a.start_velocity_body;
     add(kAcceleration,
-        autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
+        hinge<BoundaryAccelerationCost, 3, 3, 3, 1>(
             new BoundaryAccelerationCost(lim, v0.vx_m_s, v0.vy_m_s, v0.omega_rad_s, true)),
         {b.poseData(0), b.poseData(1), b.dtData(0)});
     if (a.end_is_goal) {
       add(kAcceleration,
-          autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
+          hinge<BoundaryAccelerationCost, 3, 3, 3, 1>(
               new BoundaryAccelerationCost(lim, 0.0, 0.0, 0.0, false)),
           {b.poseData(n - 2), b.poseData(n - 1), b.dtData(n - 2)});
     }
@@ -256,13 +263,13 @@ class ProblemBuilder {
       const double* frac = pairing(a, i, b, *pairs[i]);
       if (safety) {
         add(robot_pair ? kAgentRobotSafety : kAgentAgentSafety,
-            autodiff<AgentSafetyCost, 1, 3, 3, 3>(
+            hinge<AgentSafetyCost, 1, 3, 3, 3>(
                 new AgentSafetyCost(sw_safety, &sqrt_mult_, min_dist, radii, frac, eps)),
             {a.poseData(i), b.poseData(j), b.poseData(j + 1)});
       }
       if (rel_on) {
         add(kRelativeVelocity,
-            autodiff<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(new RelativeVelocityCost(
+            hinge<RelativeVelocityCost, 1, 3, 3, 1, 3, 3, 1>(new RelativeVelocityCost(
                 sw_rel, cfg_.rel_vel_cost_threshold, frac, A.is_robot, eps)),
             {a.poseData(i), a.poseData(i + 1), a.dtData(i), b.poseData(j), b.poseData(j + 1),
              b.dtData(j)});

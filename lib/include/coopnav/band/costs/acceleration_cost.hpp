@@ -26,6 +26,8 @@ void accelerationResiduals(const MotionLimits& lim, const SegmentVelocity<T>& v1
 /// Interior: poses p0, p1, p2, ΔT0, ΔT1.
 struct AccelerationCost {
   static constexpr int kResiduals = 3;
+  /// Every residual is a penalty: zero only in its constant zero branch (hinge_autodiff.hpp).
+  bool zeroMeansInactive() const { return true; }
   explicit AccelerationCost(const MotionLimits& lim) : lim_(lim) {}
   template <typename T>
   bool operator()(const T* p0, const T* p1, const T* p2, const T* dt0, const T* dt1, T* r) const {
@@ -43,6 +45,7 @@ struct AccelerationCost {
 /// (v_known → v_segment), false: goal (v_segment → v_known, normally 0).
 struct BoundaryAccelerationCost {
   static constexpr int kResiduals = 3;
+  bool zeroMeansInactive() const { return true; }
   BoundaryAccelerationCost(const MotionLimits& lim, double vx_m_s, double vy_m_s,
                            double omega_rad_s, bool at_start)
       : lim_(lim), vx_(vx_m_s), vy_(vy_m_s), om_(omega_rad_s), at_start_(at_start) {}

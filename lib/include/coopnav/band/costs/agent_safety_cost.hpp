@@ -12,6 +12,7 @@ namespace coopnav::band_costs {
 
 struct AgentSafetyCost {
   static constexpr int kResiduals = 1;
+  bool zeroMeansInactive() const { return true; }
   /// *fraction: where the paired time falls between other poses b0 and b1.
   AgentSafetyCost(double sqrt_weight, const double* sqrt_multiplier, double min_dist_m,
                   double radii_sum_m, const double* fraction, double epsilon)

@@ -15,6 +15,7 @@ namespace coopnav::band_costs {
 
 struct RelativeVelocityCost {
   static constexpr int kResiduals = 1;
+  bool zeroMeansInactive() const { return true; }
   /// robot_is_a: which segment is the robot's (|v_r| enters the formula, not |v_h|).
   RelativeVelocityCost(double sqrt_weight, double threshold, const double* fraction,
                        bool robot_is_a, double epsilon)

@@ -10,6 +10,8 @@ namespace coopnav::band_costs {
 
 struct VelocityCost {
   static constexpr int kResiduals = 4;
+  /// The nominal-speed residual is no penalty: it may cross zero with a slope.
+  bool zeroMeansInactive() const { return lim_.sqrt_w_nominal == 0.0; }
   explicit VelocityCost(const MotionLimits& lim) : lim_(lim) {}
 
   /// Parameters: pose a (x, y, θ), pose b, ΔT.

@@ -140,6 +140,8 @@ TEST(Scenario, EachMistakeGivesAClearError) {
        "planner: cohan",
        {"'humans[0].params.planner'", "analytic, band"}},
       {"humans not a list", "humans:\n", "humans: 3\nx_humans:\n", {"'humans'", "list"}},
+      // A key that is no name threw out of the reader's destructor (found by fuzz_scenario).
+      {"key not a name", "seed: 7", "seed: 7\n[a, b]: 1", {"bad.yaml", "not a name (line"}},
   };
   for (const BadCase& c : cases) {
     SCOPED_TRACE(c.what);

@@ -5,8 +5,9 @@
 #            with its restart journal; the run must complete, no daemon may die on its own,
 #            the decisions must be the clean ones or the transcript must say they are degraded,
 #            and there must be no dock the clean run did not have;
-#   absent   the distance server absent for the whole run: the run completes, no dock, and
-#            the transcript says why the predicates are unknown;
+#   absent   the distance server absent for the whole run: the run completes without a
+#            collision, the transcript says why the predicates are unknown, and every dock is a
+#            precautionary one ("degraded: precautionary dock", dialogue_manager README);
 #   loss     10 % of every message between every two processes dropped (coopnav_lossy_relay):
 #            the decisions must be the clean ones.
 # Decisions: the transcript's SAY, ACTION, RECORDER, FINAL CM and SIM lines (UNKNOWN notes count
@@ -16,28 +17,31 @@
 #   scripts/faults.sh [--out DIR] [--no-build] [--seed N] [--loss P]
 #                     [--scenarios "open_minimal ..."] [--kill "band_source ..."]
 #                     [--kills-per-scenario N] [--no-absent] [--no-loss] [--no-kill]
+#                     [--loss-seed N]
 #   --kills-per-scenario N: N daemons per scenario (the --kill list in turn across scenarios);
 #   default: every daemon in every scenario.
+#   --loss-seed N: the relay's seed of every loss run (default: drawn from --seed).
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 source "$COOPNAV_ROOT/scripts/scenario.sh"
 
 out="" build=1 seed="${COOPNAV_FAULT_SEED:-20261201}" loss=0.1
 scen_list="open_facilitating open_minimal narrow_facilitating narrow_minimal"
 kill_list="${COOPNAV_DAEMONS[*]}"
-kills_per=0 do_absent=1 do_loss=1 do_kill=1
+kills_per=0 do_absent=1 do_loss=1 do_kill=1 loss_seed=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --seed) seed="$2"; shift 2 ;;
     --loss) loss="$2"; shift 2 ;;
+    --loss-seed) loss_seed="$2"; shift 2 ;;
     --scenarios) scen_list="$2"; shift 2 ;;
     --kill) kill_list="$2"; shift 2 ;;
     --kills-per-scenario) kills_per="$2"; shift 2 ;;
     --no-absent) do_absent=0; shift ;;
     --no-loss) do_loss=0; shift ;;
     --no-kill) do_kill=0; shift ;;
-    -h|--help) sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,/^[^#]/p' "$0" | grep '^#' | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "faults.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -135,12 +139,16 @@ run_one() {
     else
       local clean_dir="$out/$name/clean"
       local new_docks
+      # A precautionary dock (an input unknown near the crossing) says so; it is degraded, not
+      # false. Any other dock the clean run did not have is false.
       new_docks="$(comm -13 <(grep -o 'human [0-9]*.*ACTION DOCK' "$clean_dir/decisions.txt" |
-        sed 's/t_cross=[^ ]* //' | sort -u) <(grep -o 'human [0-9]*.*ACTION DOCK' \
-        "$dir/decisions.txt" | sed 's/t_cross=[^ ]* //' | sort -u))"
-      if [ "$kind" = absent ] && grep -q 'ACTION DOCK' "$dir/decisions.txt"; then
+        sed 's/t_cross=[^ ]* //' | sort -u) <(grep 'ACTION DOCK' "$dir/decisions.txt" |
+        grep -v 'degraded: precautionary dock' | grep -o 'human [0-9]*.*ACTION DOCK' |
+        sed 's/t_cross=[^ ]* //' | sort -u))"
+      if [ "$kind" = absent ] && grep 'ACTION DOCK' "$dir/decisions.txt" |
+        grep -v -q 'degraded: precautionary dock'; then
         verdict="FAIL"
-        detail="docked without the distance server"
+        detail="docked without the distance server, not as a precaution"
       elif [ "$kind" = absent ] && ! grep -q 'distance server' "$dir/transcript.txt"; then
         verdict="FAIL"
         detail="the transcript does not say the distance server is missing"
@@ -153,10 +161,16 @@ run_one() {
         verdict="FAIL"
         detail="decisions differ from the clean run's under message loss"
       elif grep -q -E '  degraded: |UNKNOWN .*distance server' "$dir/transcript.txt"; then
-        # Decisions differ, and the transcript says why (a restart without state, or the
-        # distance server not answering within its bound).
+        # Decisions differ, and the transcript says why (a restart without state, the
+        # distance server not answering within its bound, a precautionary dock).
         verdict="degraded"
-        detail="$(grep -m1 -o -E '  degraded: .*|distance server[^"]*' "$dir/transcript.txt")"
+        detail="$(grep -m1 -o -E '  degraded: .*|degraded: precautionary dock|distance server[^"]*' \
+          "$dir/transcript.txt" | sed 's/^  //')"
+        if grep -q 'degraded: precautionary dock' "$dir/decisions.txt" &&
+          [ "${detail#degraded: precautionary}" = "$detail" ]; then
+          detail="precautionary dock ($(grep -m1 -o 't=[0-9.]*s  human [0-9]*  t_cross=[^ ]*' \
+            <(grep 'ACTION DOCK.*precautionary' "$dir/decisions.txt"))); $detail"
+        fi
       elif [ "$kind" = absent ]; then
         verdict="degraded"
         detail="predicates unknown without the distance server"
@@ -219,7 +233,7 @@ for name in $scen_list; do
     unset -f coopnav_scenario_after_hook
   fi
   if [ "$do_loss" -eq 1 ]; then
-    COOPNAV_STATE=0 COOPNAV_ABSENT="" COOPNAV_LOSS="$loss" COOPNAV_LOSS_SEED="$RANDOM"
+    COOPNAV_STATE=0 COOPNAV_ABSENT="" COOPNAV_LOSS="$loss" COOPNAV_LOSS_SEED="${loss_seed:-$RANDOM}"
     plain_args
     # The bounded distance wait stays 150 ms, in more and shorter attempts: a lost request or
     # reply is asked again in time (a late answer to an earlier attempt still counts).

@@ -143,6 +143,7 @@ dialogue::SituationSnapshot situationSnapshotFromLcm(const situation_t& msg) {
   s.robot_is_constrained = r.assessment.robot_is_constrained;
   s.dir = r.crossing.dir;
   s.d_h_m = r.assessment.d_h_m;
+  s.reason = r.assessment.reason;
   return s;
 }
 

@@ -22,6 +22,7 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   dialogue::DecisionConfig c;
   c.round1_t_cross_s = round1_t_cross_s;
   c.round2_t_cross_s = round2_t_cross_s;
+  c.precautionary_dock = precautionary_dock;
   c.templates = templates;
   return c;
 }
@@ -270,9 +271,10 @@ void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::Decis
                                std::optional<double> t_cross_s) {
   std::string why;
   for (const auto& r : out.rounds) {
-    log().info("dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
-               stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
-               r.reason.empty() ? "" : "; ", r.reason);
+    log().log(r.degraded ? spdlog::level::warn : spdlog::level::info,
+              "dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
+              stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
+              r.reason.empty() ? "" : "; ", r.reason);
     if (why.empty())
       why = (r.round > 0 ? "round " + std::to_string(r.round) + ": " : std::string()) + r.branch +
             (r.reason.empty() ? "" : " (" + r.reason + ")");

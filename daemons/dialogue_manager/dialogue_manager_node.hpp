@@ -53,6 +53,7 @@ struct TemplatesConfig : dialogue::TextTemplates {
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
+  bool precautionary_dock{dialogue::DecisionConfig{}.precautionary_dock};
   double crossed_hysteresis_m{0.2};
   double human_gone_s{2.0};
   int gate_timeout_ms{2000};
@@ -64,6 +65,7 @@ struct DialogueManagerConfig {
   void visit(V& v) {
     v("round1_t_cross_s", round1_t_cross_s, Range{0.5, 60.0});
     v("round2_t_cross_s", round2_t_cross_s, Range{0.0, 60.0});
+    v("precautionary_dock", precautionary_dock);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});

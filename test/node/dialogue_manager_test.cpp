@@ -44,6 +44,7 @@ struct Sit {
   std::int8_t dir{situation_t::DIR_LEFT};
   double d_h_m{0.6};
   std::int8_t crossing_status{situation_t::CROSSING_OK};
+  std::string reason{};
 };
 
 struct Path {
@@ -126,6 +127,7 @@ class DialogueManagerTest : public ::testing::Test {
     m.tau_oh_m = 0.5;
     m.tau_or_m = 0.5;
     m.tau_hr_m = 1.0;
+    m.reason = s.reason;
     probe_.publish(channels::kSituation, m);
   }
 
@@ -280,8 +282,56 @@ TEST_F(DialogueManagerTest, RoundTwoDocksAConstrainedRobotWhenCmStaysBelowDh) {
   EXPECT_EQ(actions_.size(), 1u);
 }
 
-TEST_F(DialogueManagerTest, UnknownPredicatesNeverLeadToADock) {
+TEST_F(DialogueManagerTest, UnknownPredicatesNearTheCrossingDockAsAPrecautionSaidDegraded) {
   start();
+  primePeers();
+  // The distance server is down: d_OH / d_OR unknown, so HumanIsConstrained and
+  // RobotIsConstrained are unknown (d_HR below tau_HR). Human 1 does not move aside (CM 0.05 m
+  // below d_h 0.6 m, not contributing): as narrow_minimal without the server. Human 2: same,
+  // but the robot is known to be free (d_HR above tau_HR). Human 3: unknown robot constraint,
+  // but the human is moving aside (contributing).
+  const std::string why = "distance server: no reply from the distance server after 3 attempts";
+  const auto sits = [&](double t) {
+    return std::vector<Sit>{
+        {1, t, T, U, U, situation_t::DIR_LEFT, 0.6, situation_t::CROSSING_OK, why},
+        {2, t, T, U, F, situation_t::DIR_LEFT, 0.6, situation_t::CROSSING_OK, why},
+        {3, t, T, U, U, situation_t::DIR_LEFT, 0.6, situation_t::CROSSING_OK, why}};
+  };
+  fullStep(1, sits(6.9), {});
+  EXPECT_TRUE(actions_.empty()) << "no dock before round 2";
+  EXPECT_TRUE(utterancesOf(1).empty()) << "round 1 stays silent on an unknown";
+  fullStep(2, sits(5.0), {{1, 0.02, F}, {2, 0.02, F}, {3, 0.3, T}});
+  EXPECT_TRUE(actions_.empty()) << "no dock before round 2";
+  fullStep(3, sits(3.9), {{1, 0.05, F}, {2, 0.05, F}, {3, 0.45, T}});
+  settle();
+  ASSERT_EQ(actions_.size(), 1u) << "only human 1 leaves a dock open";
+  EXPECT_EQ(actions_[0].action, robot_action_t::ACTION_DOCK);
+  EXPECT_EQ(actions_[0].human_id, 1);
+  EXPECT_EQ(actions_[0].step, 3);
+  // The reason the transcript prints says it is degraded, what was unknown and why.
+  const std::string reason = actions_[0].reason;
+  EXPECT_NE(reason.find("degraded: precautionary dock"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("RobotIsConstrained"), std::string::npos) << reason;
+  EXPECT_NE(reason.find(why), std::string::npos) << reason;
+  const auto u1 = utterancesOf(1);
+  ASSERT_EQ(u1.size(), 1u);
+  EXPECT_EQ(u1[0].speech_act, utterance_t::ACT_INFORM_DOCKING);
+  EXPECT_EQ(u1[0].round, 2);
+  bool reset1 = false;
+  for (const auto& c : controls_)
+    reset1 |= c.human_id == 1 && c.command == path_assessor_control_t::COMMAND_RESET;
+  EXPECT_TRUE(reset1) << "the recorder restarts at a precautionary dock as at any dock";
+  // Human 2: robot free -> Dir told and repeated as the flowchart says; human 3: no dock,
+  // nothing said.
+  const auto u2 = utterancesOf(2);
+  ASSERT_EQ(u2.size(), 2u);
+  EXPECT_EQ(u2[0].speech_act, utterance_t::ACT_INFORM_DIRECTION);
+  EXPECT_EQ(u2[1].speech_act, utterance_t::ACT_REPEAT_DIRECTION);
+  EXPECT_TRUE(utterancesOf(3).empty());
+}
+
+TEST_F(DialogueManagerTest, WithoutThePrecautionUnknownPredicatesNeverLeadToADock) {
+  start({"--set", "precautionary_dock=false"});
   primePeers();
   // Human 1: IsContributing unknown; human 2: RobotIsConstrained unknown at round 2;
   // human 3: CM unknown (no samples). All with CM below d_h where CM is known.

@@ -184,6 +184,10 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
   const SituationSnapshot& s = in.situation;
   RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
   const Tristate still = lessThan(in.path.cm_window_m, s.d_h_m);
+  if (config_.precautionary_dock && precautionaryDock(in, still, r, out)) {
+    out.rounds.push_back(r);
+    return;
+  }
   if (still == Tristate::kTrue) {
     if (s.robot_is_constrained == Tristate::kFalse) {
       r.branch = "still & !robot_constrained -> repeat Dir";
@@ -225,6 +229,52 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
                (s.d_h_m ? "known" : "unknown") + "): silent";
   }
   out.rounds.push_back(r);
+}
+
+namespace {
+
+std::string describe(Tristate v, const char* name) {
+  if (v == Tristate::kTrue) return name;
+  if (v == Tristate::kFalse) return std::string("!") + name;
+  return std::string(name) + " unknown";
+}
+
+}  // namespace
+
+// Not in the paper (see DecisionConfig::precautionary_dock). The flowchart's own branches are
+// left to round2() whenever its inputs decide them: a dock there needs still, robot constrained
+// and not contributing all known; here one of them (or CM / d_h behind still) is unknown.
+bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
+                                      DecisionOutput& out) {
+  const SituationSnapshot& s = in.situation;
+  const Tristate robot = s.robot_is_constrained;
+  const Tristate contributing = in.path.is_contributing;
+  const bool any_unknown =
+      still == Tristate::kUnknown || robot == Tristate::kUnknown ||
+      (robot == Tristate::kTrue && still == Tristate::kTrue && contributing == Tristate::kUnknown);
+  // Known facts that make a dock unnecessary: the human moved enough, the robot has room, the
+  // human is moving aside (the flowchart then asks for more, it never docks).
+  if (!any_unknown || still == Tristate::kFalse || robot == Tristate::kFalse ||
+      contributing == Tristate::kTrue)
+    return false;
+  r.branch = describe(still, "still") + " & " + describe(robot, "robot_constrained") + " & " +
+             describe(contributing, "contributing") + " -> degraded: precautionary dock";
+  std::string unknown;
+  auto add = [&unknown](const std::string& what) {
+    unknown += (unknown.empty() ? "" : ", ") + what;
+  };
+  if (robot == Tristate::kUnknown) add("RobotIsConstrained");
+  if (!in.path.cm_window_m) add("CM");
+  if (!s.d_h_m) add("d_h");
+  if (contributing == Tristate::kUnknown) add("IsContributing");
+  r.reason = unknown + " unknown near the crossing" + (s.reason.empty() ? "" : ": " + s.reason);
+  r.degraded = true;
+  // As a flowchart dock: the recorder restarts, so that round 3 judges the human from here.
+  out.recorder_commands.push_back(RecorderCommand::kReset);
+  out.robot_actions.push_back(RobotAction::kDock);
+  docked_ = true;
+  say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
+  return true;
 }
 
 // Paper §II-D, round 3: after crossing, stop the recorder; thank if the human facilitated.

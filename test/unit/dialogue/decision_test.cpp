@@ -1,5 +1,6 @@
 // Decision logic of paper §II-D (clarifications, "Decision pipeline"): every flowchart branch is a
-// row of a table; once-firing under t_CROSS jitter; unknown never docks; crossed detection.
+// row of a table; once-firing under t_CROSS jitter; the precautionary dock of round 2 on an
+// unknown (and none without it); crossed detection.
 #include "coopnav/dialogue/decision.hpp"
 
 #include <gtest/gtest.h>
@@ -76,12 +77,19 @@ const Row kRows[] = {
    {}, {}, {}, {}, false},
   {"r2 CM == d_h is not still -> silent", 2, T, F, T, L, 0.5, 0.5, T,
    {}, {}, {}, {}, false},
-  {"r2 still, robot constrained, contributing unknown -> reset, no dock", 2, T, T, T, L, 0.8,
-   0.1, U, {}, {}, {Rec::kReset}, {}, true},
-  {"r2 CM unknown -> no dock", 2, T, T, T, L, 0.8, kNone, F, {}, {}, {}, {}, true},
-  {"r2 d_h unknown -> no dock", 2, T, T, T, L, kNone, 0.1, F, {}, {}, {}, {}, true},
-  {"r2 still, robot unknown, not contributing -> no dock", 2, T, T, U, L, 0.8, 0.1, F,
+  // Round 2 with an unknown that leaves a dock open: the precautionary dock (degraded).
+  {"r2 still, robot constrained, contributing unknown -> reset, precautionary dock", 2, T, T, T,
+   L, 0.8, 0.1, U, {Act::kInformDocking}, {X}, {Rec::kReset}, {RobotAction::kDock}, true},
+  {"r2 CM unknown -> precautionary dock", 2, T, T, T, L, 0.8, kNone, F,
+   {Act::kInformDocking}, {X}, {Rec::kReset}, {RobotAction::kDock}, true},
+  {"r2 d_h unknown -> precautionary dock", 2, T, T, T, L, kNone, 0.1, F,
+   {Act::kInformDocking}, {X}, {Rec::kReset}, {RobotAction::kDock}, true},
+  {"r2 still, robot unknown, not contributing -> precautionary dock", 2, T, T, U, L, 0.8, 0.1,
+   F, {Act::kInformDocking}, {X}, {Rec::kReset}, {RobotAction::kDock}, true},
+  // ... and with an unknown that a known fact makes harmless: silent, as the flowchart.
+  {"r2 still, robot unknown, contributing -> silent", 2, T, T, U, L, 0.8, 0.1, T,
    {}, {}, {}, {}, true},
+  {"r2 CM unknown, robot free -> silent", 2, T, F, F, L, 0.8, kNone, U, {}, {}, {}, {}, true},
   {"r2 still, robot free, Dir undefined -> silent", 2, T, F, F, X, 0.8, 0.1, F,
    {}, {}, {}, {}, true},
   // Round 3 (crossed): stop the recorder, thank if the human facilitated.
@@ -217,8 +225,11 @@ TEST(Decision, UnknownTCrossFiresNothing) {
   EXPECT_FALSE(dut.roundFired(1));
 }
 
-TEST(Decision, UnknownNeverDocksWhateverElseIsTrue) {
-  // Every combination with at least one unknown among the round-2 inputs: no dock.
+TEST(Decision, WithoutThePrecautionUnknownNeverDocksWhateverElseIsTrue) {
+  // The paper's reading (precautionary_dock off): every combination with at least one unknown
+  // among the round-2 inputs stays without a dock.
+  DecisionConfig paper;
+  paper.precautionary_dock = false;
   const Tristate vals[] = {T, F, U};
   for (Tristate robot : vals) {
     for (Tristate contributing : vals) {
@@ -226,7 +237,7 @@ TEST(Decision, UnknownNeverDocksWhateverElseIsTrue) {
         for (int dh_known = 0; dh_known < 2; ++dh_known) {
           const bool any_unknown = robot == U || contributing == U || !cm_known || !dh_known;
           if (!any_unknown) continue;
-          HumanDecision dut;
+          HumanDecision dut(paper);
           dut.step(neutral(0.0, 6.0));
           DecisionInput in = neutral(1.0, 3.0);
           in.situation.human_needs_to_contribute = T;
@@ -242,6 +253,86 @@ TEST(Decision, UnknownNeverDocksWhateverElseIsTrue) {
       }
     }
   }
+}
+
+TEST(Decision, PrecautionaryDockWhenAnUnknownLeavesADockOpenAndSaysItIsDegraded) {
+  // Every round-2 combination: a dock exactly when the flowchart docks (all known) or when an
+  // input is unknown and nothing known rules the dock out (human moved enough, robot free, human
+  // moving aside); the degraded mark exactly on the precautionary ones.
+  const Tristate vals[] = {T, F, U};
+  const std::optional<double> cms[] = {0.1, 0.9, std::nullopt};  // CM < d_h, >= d_h, unknown
+  for (Tristate robot : vals) {
+    for (Tristate contributing : vals) {
+      for (const auto& cm : cms) {
+        for (int dh_known = 0; dh_known < 2; ++dh_known) {
+          HumanDecision dut;
+          dut.step(neutral(0.0, 6.0));
+          DecisionInput in = neutral(1.0, 3.0);
+          in.situation.human_needs_to_contribute = T;
+          in.situation.robot_is_constrained = robot;
+          in.situation.dir = L;
+          in.situation.d_h_m = dh_known ? std::optional<double>(0.8) : std::nullopt;
+          in.situation.reason = "distance server: no reply";
+          in.path.cm_window_m = cm;
+          in.path.is_contributing = contributing;
+          const Tristate still = !cm || !dh_known ? U : (*cm < 0.8 ? T : F);
+          const bool flowchart_dock = still == T && robot == T && contributing == F;
+          const bool any_unknown =
+              still == U || robot == U || (still == T && robot == T && contributing == U);
+          const bool precaution = any_unknown && still != F && robot != F && contributing != T;
+          const DecisionOutput out = dut.step(in);
+          SCOPED_TRACE(::testing::Message() << "robot " << static_cast<int>(robot)
+                                            << " contributing " << static_cast<int>(contributing)
+                                            << " cm " << (cm ? *cm : -1.0) << " d_h " << dh_known);
+          ASSERT_EQ(out.rounds.size(), 1u);
+          const RoundOutcome& r = out.rounds[0];
+          const bool docks = flowchart_dock || precaution;
+          EXPECT_EQ(out.robot_actions, docks ? std::vector<RobotAction>{RobotAction::kDock}
+                                             : std::vector<RobotAction>{});
+          EXPECT_EQ(dut.docked(), docks);
+          EXPECT_EQ(r.degraded, precaution);
+          EXPECT_EQ(r.branch.find("degraded: precautionary dock") != std::string::npos, precaution)
+              << r.branch;
+          if (precaution) {
+            // Says what was unknown and why (the assessor's reason), tells the human, restarts
+            // the recorder as a dock does.
+            EXPECT_NE(r.reason.find("unknown"), std::string::npos) << r.reason;
+            EXPECT_NE(r.reason.find("distance server: no reply"), std::string::npos) << r.reason;
+            ASSERT_EQ(out.utterances.size(), 1u);
+            EXPECT_EQ(out.utterances[0].act, Act::kInformDocking);
+            EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kReset});
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(Decision, PrecautionaryDockOnlyInRoundTwo) {
+  // Everything unknown from round 1 on: round 1 stays silent (no dock before the decision point
+  // of round 2), round 2 docks as a precaution, round 3 resumes.
+  HumanDecision dut;
+  DecisionInput in;
+  in.situation.human_needs_to_contribute = T;
+  in.situation.d_h_m = 0.8;
+  in.path.cm_window_m = 0.05;
+  in.path.is_contributing = F;
+  in.t_s = 0.0;
+  in.situation.t_cross_s = 6.9;
+  DecisionOutput out = dut.step(in);
+  EXPECT_TRUE(out.robot_actions.empty());
+  in.t_s = 3.0;
+  in.situation.t_cross_s = 4.5;
+  EXPECT_TRUE(dut.step(in).empty());
+  in.t_s = 3.1;
+  in.situation.t_cross_s = 3.9;
+  out = dut.step(in);
+  EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_TRUE(out.rounds[0].degraded);
+  in.crossed = true;
+  out = dut.step(in);
+  EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
 }
 
 TEST(Decision, CrossingAfterADockResumesAndStops) {

@@ -8,7 +8,8 @@
 /// Kleene logic: RobotIsConstrained = (d_HR < τ_HR) ∧ (d_OR < τ_OR) is FALSE as soon as one
 /// conjunct is known false, even if the other is unknown. This is exact logic (the conjunction is
 /// false whatever the unknown value), and it is safe for the decision logic of §II-D: FALSE only
-/// ever leads to stating Dir, never to a dock; a dock needs RobotIsConstrained == TRUE.
+/// ever leads to stating Dir, never to a dock; the flowchart's dock needs RobotIsConstrained ==
+/// TRUE, the dialogue manager's precautionary dock at least UNKNOWN (lib/dialogue).
 
 #include <Eigen/Core>
 #include <optional>

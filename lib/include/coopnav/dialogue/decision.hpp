@@ -5,8 +5,12 @@
 /// utterance, robot-action and path-assessor-control messages.
 ///
 /// Unknown handling: a branch that needs an UNKNOWN predicate (or an undefined Dir where a side
-/// must be spoken) stays silent and records why in RoundOutcome::reason. In particular an unknown
-/// predicate never leads to a dock.
+/// must be spoken) stays silent and records why in RoundOutcome::reason, with one exception, the
+/// precautionary dock of round 2 (DecisionConfig::precautionary_dock): when the crossing is near
+/// and what is unknown leaves open that the robot is constrained by a human who is not making
+/// room, the robot docks and the round says it is degraded. Never a dock from the flowchart on an
+/// unknown; a precautionary dock is always marked (RoundOutcome::degraded, "degraded:" in its
+/// branch).
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -58,6 +62,14 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir);
 struct DecisionConfig {
   double round1_t_cross_s{7.0};  ///< [s] round 1 when t_CROSS first falls to <= this (§II-D)
   double round2_t_cross_s{4.0};  ///< [s] round 2 when t_CROSS first falls to <= this (§II-D)
+  /// Round 2 with an input unknown (RobotIsConstrained, CM, d_h or IsContributing; e.g. the
+  /// distance server is down) while nothing known rules a dock out (the robot is not known to be
+  /// free, the human not known to have moved enough nor to be moving aside): dock as a precaution
+  /// and mark the round degraded. Not in the paper, whose flowchart stays silent on an unknown
+  /// (clarifications.md "unknown never leads to a dock"): silent, a robot with its assessment
+  /// half blind drives on towards a person who does not yield, and waiting at the wall for a
+  /// few seconds is the safe side of that choice. false: the paper's silent reading.
+  bool precautionary_dock{true};
   TextTemplates templates;
 };
 
@@ -69,6 +81,7 @@ struct SituationSnapshot {
   Tristate robot_is_constrained{Tristate::kUnknown};
   Side dir{Side::kUndefined};   ///< side the robot passes on, as the human sees it
   std::optional<double> d_h_m;  ///< [m] nullopt = unknown
+  std::string reason;           ///< the assessor's why for anything unknown ("" = all known)
 };
 
 /// Path assessor output for this human (coopnav_path_assessment_t), window since the last reset.
@@ -99,7 +112,10 @@ struct RoundOutcome {
   double t_s{0.0};
   std::optional<double> t_cross_s;
   std::string branch;  ///< e.g. "needs & !robot_constrained -> inform Dir"
-  std::string reason;  ///< why it stayed silent, "" when it spoke or acted as the flowchart says
+  std::string reason;  ///< why it stayed silent or is degraded, "" when it followed the flowchart
+  /// Acted on a fallback, not on the flowchart (the precautionary dock): branch says "degraded:",
+  /// reason says what was unknown.
+  bool degraded{false};
 };
 
 struct DecisionOutput {
@@ -137,6 +153,9 @@ class HumanDecision {
   void round1(const DecisionInput& in, DecisionOutput& out);
   void round2(const DecisionInput& in, DecisionOutput& out);
   void round3(const DecisionInput& in, DecisionOutput& out);
+  /// Round 2's fallback when an input is unknown; true when it docked (r filled in).
+  bool precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
+                         DecisionOutput& out);
   void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
 
   DecisionConfig config_;

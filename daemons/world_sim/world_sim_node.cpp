@@ -235,13 +235,26 @@ void WorldSimNode::submitCurrentStep() {
 
 void WorldSimNode::onStepAcknowledged(bool degraded, const std::string& missing) {
   if (phase_ != Phase::kRunning) return;
+  if (ending_) {
+    // The simulation ended at this step; how it ended does not depend on the acks of it. A
+    // participant silent on it is named, never ignored.
+    std::string detail = ending_->detail;
+    if (degraded) {
+      detail += " (its last step " + std::to_string(step_) +
+                " was not acknowledged within step_timeout_s = " +
+                fmt(scenario_.lockstep.step_timeout_s) + " s by: " + missing + ")";
+      log().warn("world_sim: last step {} not acknowledged by {}", step_, missing);
+    }
+    finish(ending_->state, detail);
+    return;
+  }
   if (degraded) {
     finish(sim_status_t::STATE_PARTICIPANT_TIMEOUT,
            "no acknowledgement of step " + std::to_string(step_) + " within step_timeout_s = " +
                fmt(scenario_.lockstep.step_timeout_s) + " s from: " + missing);
     return;
   }
-  if (advance()) submitCurrentStep();
+  if (advance() || ending_) submitCurrentStep();
 }
 
 void WorldSimNode::tickFast() {
@@ -302,6 +315,14 @@ bool WorldSimNode::advance() {
   agents_ = r.agents;
   publishStep();
   if (r.status != sim::SimStatus::kRunning) {
+    if (gate_) {
+      // Lockstep: the last step is answered like every other one before the run ends (and is
+      // published again while its acks are overdue): the participants' outputs of it, e.g. the
+      // path assessor's last CM, are part of the run. Without the wait a lost datagram of the
+      // last step made a lossy run end one step short of the clean one.
+      ending_ = Ending{toSimStatusState(r.status), endDetail(r)};
+      return false;
+    }
     finish(toSimStatusState(r.status), endDetail(r));
     return false;
   }

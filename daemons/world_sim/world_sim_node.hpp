@@ -75,6 +75,11 @@ class WorldSimNode {
 
  private:
   enum class Phase { kWaitingReady, kRunning, kEnded };
+  /// Lockstep: how the simulation ended, kept while the acks of its last step are awaited.
+  struct Ending {
+    std::int8_t state;
+    std::string detail;
+  };
   struct PendingCue {
     sim::Cue cue;
     std::int64_t step{-1};
@@ -122,6 +127,7 @@ class WorldSimNode {
   std::set<std::string> ready_;
   std::chrono::steady_clock::time_point phase_since_;
   std::int64_t step_{0};  ///< index of the agent states last published
+  std::optional<Ending> ending_;
   std::vector<AgentState> agents_;
 
   std::optional<VelocityCommand> command_;

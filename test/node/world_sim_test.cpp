@@ -272,6 +272,37 @@ TEST(WorldSimNode, AStepWhoseAckIsOverdueIsPublishedAgainIdenticalAndTheRunGoesO
     EXPECT_EQ(h.states()[k].step, static_cast<std::int64_t>(k));
 }
 
+TEST(WorldSimNode, TheLastStepIsAcknowledgedAndPublishedAgainBeforeTheRunEnds) {
+  // The participants' answers of the last step belong to the run (the path assessor's last CM is
+  // the transcript's FINAL CM): under message loss they were missing when the world ended at
+  // once. The last step is waited for, and published again while overdue, like any other.
+  std::int64_t last = -1;
+  {
+    Harness h;
+    runWithParticipant(h, "tiny_lockstep.yaml", Participant{});
+    ASSERT_NE(h.final(), nullptr);
+    last = h.final()->step;
+  }
+  ASSERT_GT(last, 0);
+  Harness h;
+  Participant p;
+  bool ended_before_ack = false;
+  std::size_t repeats_before = 0;
+  p.before_command = [&](Harness& hh, const agent_states_t& s) {
+    if (s.step != last) return;
+    repeats_before = hh.repeats();
+    hh.spin(600ms);  // > retransmit_period_s (0.25 s)
+    ended_before_ack = hh.final() != nullptr;
+  };
+  const RunOutcome r = runWithParticipant(h, "tiny_lockstep.yaml", p);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_FALSE(ended_before_ack) << "the run ended before its last step was acknowledged";
+  EXPECT_GT(h.repeats(), repeats_before) << "the overdue last step was not published again";
+  ASSERT_NE(h.final(), nullptr);
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_GOAL_REACHED) << h.final()->detail;
+  EXPECT_EQ(h.final()->step, last);
+}
+
 TEST(WorldSimNode, SameScenarioTwiceGivesByteIdenticalAgentStates) {
   Participant p;
   p.command = [](std::int64_t k) {

@@ -214,10 +214,15 @@ struct Runtime::Subscription {
   std::function<void(const lcm::ReceiveBuffer*)> on_message;
   lcm::Subscription* handle{nullptr};
   bool journaled{true};
-  void handleMessage(const lcm::ReceiveBuffer* rbuf, const std::string&) {
-    if (journaled && runtime->receive_hook_)
-      runtime->receive_hook_(channel, rbuf->data, rbuf->data_size, rbuf->recv_utime);
-    on_message(rbuf);
+  // A plain function with a context pointer (LCM's subscribeFunction), not a member function:
+  // LCM's member-function wrapper calls `(subs->handler->*subs->handlerMethod)(...)`, and GCC 12's
+  // -fsanitize=vptr checks an uninitialised temporary in that expression, so every message would
+  // abort a UBSan build (a compiler bug, reproduced without LCM; clang is clean; see
+  // docs/sanitizers.md).
+  static void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string&, Subscription* self) {
+    if (self->journaled && self->runtime->receive_hook_)
+      self->runtime->receive_hook_(self->channel, rbuf->data, rbuf->data_size, rbuf->recv_utime);
+    self->on_message(rbuf);
   }
 };
 
@@ -239,7 +244,7 @@ void Runtime::subscribe(const std::string& channel,
         channel);
   };
   // Channel names are anchored GLib regexes in LCM: escape nothing, ours are plain UPPER_SNAKE.
-  sub->handle = lcm_->subscribe(channel, &Subscription::handleMessage, sub.get());
+  sub->handle = lcm_->subscribeFunction(channel, &Subscription::onMessage, sub.get());
   if (sub->handle) sub->handle->setQueueCapacity(queue_capacity);
   subscriptions_.push_back(std::move(sub));
 }

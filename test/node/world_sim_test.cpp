@@ -45,10 +45,22 @@ class Harness {
  public:
   Harness() : lcm_(testLcmUrl()) {
     EXPECT_TRUE(lcm_.good());
-    lcm_.subscribe(channels::kAgentStates, &Harness::onStates, this);
-    lcm_.subscribe(channels::kSimStatus, &Harness::onSimStatus, this);
-    lcm_.subscribe(channels::kStatus, &Harness::onStatus, this);
-    lcm_.subscribe(channels::kGoals, &Harness::onGoals, this);
+    listen<&Harness::onStates>(channels::kAgentStates);
+    listen<&Harness::onSimStatus>(channels::kSimStatus);
+    listen<&Harness::onStatus>(channels::kStatus);
+    listen<&Harness::onGoals>(channels::kGoals);
+  }
+
+  /// Through LCM's subscribeFunction, not its member-function overload, which GCC 12's UBSan
+  /// reports at every message (a compiler bug; Runtime::Subscription in common/runtime.hpp).
+  template <void (Harness::*Method)(const lcm::ReceiveBuffer*, const std::string&)>
+  void listen(const std::string& channel) {
+    lcm_.subscribeFunction(
+        channel,
+        +[](const lcm::ReceiveBuffer* rbuf, const std::string& chan, Harness* self) {
+          (self->*Method)(rbuf, chan);
+        },
+        this);
   }
 
   void spin(std::chrono::milliseconds d) {

@@ -4,7 +4,7 @@
 /// advance along their planned bands and the planner runs again (warm-started, the lib default;
 /// one case cold-started as config/band_source.yaml runs it). Both solvers (our SparseLm and
 /// Ceres) on the same problems, interleaved so they share the machine's load. Ends with RESULT
-/// lines. `bench_band SOLVER HUMANS` runs one case only (for a profiler).
+/// lines. `bench_band SOLVER HUMANS [REPEATS]` runs one case only (for a profiler).
 
 #include <algorithm>
 #include <chrono>
@@ -26,7 +26,7 @@ using namespace coopnav;  // NOLINT
 constexpr double kBudget_s = 0.1;  // CoHAN 2.0 controller rate 10 Hz
 constexpr double kCycle_s = 0.1;
 constexpr int kCycles = 60;
-constexpr int kRepeats = 3;
+int g_repeats = 3;  // runs of kCycles per case; `bench_band SOLVER HUMANS REPEATS` sets it
 
 /// CPU time of this thread [s]: unlike wall time it does not count the time the scheduler gave
 /// to other processes of this shared machine.
@@ -69,14 +69,15 @@ struct Stats {
   double mean_iterations{0.0};  ///< LM iterations per cycle
   double mean_robot_poses{0.0};
   double mean_human_poses{0.0};
+  double mean_final_cost{0.0};  ///< ½ Σ r² after the cycle's last iteration: what the time bought
 };
 
 Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
           bool warm_start = true) {
   std::vector<double> times, cpu;
   std::size_t robot_poses = 0, human_poses = 0;
-  double solver_s = 0.0, iterations = 0.0, sum_robot = 0.0, sum_human = 0.0;
-  for (int rep = 0; rep < kRepeats; ++rep) {
+  double solver_s = 0.0, iterations = 0.0, final_cost = 0.0, sum_robot = 0.0, sum_human = 0.0;
+  for (int rep = 0; rep < g_repeats; ++rep) {
     BandPlannerConfig cfg;
     cfg.solver = solver;
     cfg.warm_start = warm_start;
@@ -117,6 +118,7 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
       times.push_back(std::chrono::duration<double>(t1 - t0).count());
       solver_s += r.solver_time_s;
       iterations += r.iterations;
+      final_cost += r.final_cost;
       sum_robot += static_cast<double>(r.agent_band.poses.size());
       sum_human += r.others.empty() ? 0.0 : static_cast<double>(r.others[0].band.poses.size());
       if (c == 0 && rep == 0) {
@@ -144,6 +146,7 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
   s.mean_iterations = iterations / n;
   s.mean_robot_poses = sum_robot / n;
   s.mean_human_poses = sum_human / n;
+  s.mean_final_cost = final_cost / n;
   s.robot_poses = robot_poses;
   s.human_poses = human_poses;
   return s;
@@ -156,11 +159,15 @@ int main(int argc, char** argv) {
   LoadedMap loaded = loadMap(yaml);
   auto map = std::make_shared<GridDistanceField>(std::move(loaded.grid));
   // Warm-up: the global planner samples the map's clearance once per planner instance.
-  if (argc == 3) {
+  if (argc == 3 || argc == 4) {
+    if (argc == 4) g_repeats = std::max(1, std::atoi(argv[3]));
     // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf.
     const Stats s = run(map, std::atoi(argv[2]), argv[1]);
-    std::printf("%s, %s humans: p50 %.2f ms p99 %.2f ms, %.1f iterations\n", argv[1], argv[2],
-                s.p50_s * 1e3, s.p99_s * 1e3, s.mean_iterations);
+    std::printf(
+        "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations, "
+        "%.1f robot + %.1f human poses, final cost %.3f\n",
+        argv[1], argv[2], s.p50_s * 1e3, s.p99_s * 1e3, s.cpu_p50_s * 1e3, s.cpu_p99_s * 1e3,
+        s.mean_iterations, s.mean_robot_poses, s.mean_human_poses, s.mean_final_cost);
     return 0;
   }
   run(map, 1, "sparse_lm");
@@ -171,7 +178,7 @@ int main(int argc, char** argv) {
   const Stats five_ceres = run(map, 5, "ceres");
   // config/band_source.yaml runs without warm start (as CoHAN): every cycle from a fresh band.
   const Stats cold = run(map, 1, "sparse_lm", false);
-  std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, kRepeats,
+  std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, g_repeats,
               kBudget_s * 1e3);
   auto line = [](const char* what, const Stats& s) {
     std::printf(

@@ -61,6 +61,31 @@ TEST(SparseLmTest, FindsTheRosenbrockMinimum) {
   EXPECT_EQ(lm.numUnknowns(), 2u);
 }
 
+TEST(SparseLmTest, StartsFromTheDampingItIsGivenAndReportsWhereItEnded) {
+  // Given the Rosenbrock problem, one step from Ceres' start (λ = 1) and one from a stiff λ.
+  auto firstStep = [](double initial_lambda, SparseLm::Summary* s) {
+    double x = -1.2, y = 1.0;
+    ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f(new Rosenbrock);
+    SparseLm lm;
+    lm.addParameterBlock(&x, 1, false);
+    lm.addParameterBlock(&y, 1, false);
+    lm.addResidualBlock(&f, {&x, &y});
+    SparseLm::Options o;
+    o.max_iterations = 1;
+    o.initial_lambda = initial_lambda;
+    *s = lm.solve(o);
+    return std::hypot(x + 1.2, y - 1.0);
+  };
+  SparseLm::Summary free_s, stiff_s;
+  const double free_step = firstStep(0.0, &free_s);
+  const double stiff_step = firstStep(1e4, &stiff_s);
+  // Then the stiff damping shortens the step (δ ≈ -g / λ) and each reports where λ ended.
+  EXPECT_LT(stiff_step, 0.1 * free_step);
+  EXPECT_GT(stiff_step, 0.0);
+  EXPECT_GT(free_s.final_lambda, 0.0);
+  EXPECT_GT(stiff_s.final_lambda, 100.0 * free_s.final_lambda);
+}
+
 struct Chain {
   static constexpr int kN = 30;
   std::vector<std::array<double, 2>> pts;

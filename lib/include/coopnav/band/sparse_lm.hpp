@@ -41,15 +41,16 @@ class SparseLm {
     /// Checked before every linear solve; returning true stops the solve (time budgets: the
     /// caller owns the clock, lib/ has none).
     std::function<bool()> should_stop;
-    /// Start from the damping the previous solve ended with (the outer loop's weight adaptation
-    /// changes the problem only a little) instead of Ceres' initial value.
-    bool carry_damping{false};
+    /// Damping λ to start from; <= 0: Ceres' start (1 / initial trust radius 1). A caller that
+    /// solves a sequence of similar problems passes the previous Summary::final_lambda.
+    double initial_lambda{0.0};
   };
 
   struct Summary {
     double initial_cost{0.0};  ///< ½ Σ r² before the first step
     double final_cost{0.0};
-    int iterations{0};  ///< linear solves
+    double final_lambda{0.0};  ///< damping at the end (for the next solve's initial_lambda)
+    int iterations{0};         ///< linear solves
     int accepted{0};
     bool stopped{false};  ///< should_stop ended it
   };

@@ -109,6 +109,8 @@ results=()
 fail=0
 run_one() {
   local kind="$1" name="$2" dir="$3" scen="$COOPNAV_ROOT/config/scenarios/$2.yaml" rc=0
+  # The kind's first word: clean, kill, absent or loss (kind itself names the daemon, the seed).
+  local class="${1%% *}"
   if [ "${kind#kill}" != "$kind" ]; then
     # A restarted band source re-plans every journaled step before it answers: on a loaded
     # machine that can take longer than the scenario's 20 s step timeout. The world waits longer
@@ -147,11 +149,12 @@ run_one() {
         sed 's/t_cross=[^ ]* //' | sort -u) <(grep 'ACTION DOCK' "$dir/decisions.txt" |
         grep -v 'degraded: precautionary dock' | grep -o 'human [0-9]*.*ACTION DOCK' |
         sed 's/t_cross=[^ ]* //' | sort -u))"
-      if [ "$kind" = absent ] && grep 'ACTION DOCK' "$dir/decisions.txt" |
-        grep -v -q 'degraded: precautionary dock'; then
+      # (No grep -q after a pipe: with pipefail the writer's SIGPIPE would read as no match.)
+      if [ "$class" = absent ] && grep 'ACTION DOCK' "$dir/decisions.txt" |
+        grep -v 'degraded: precautionary dock' >/dev/null; then
         verdict="FAIL"
         detail="docked without the distance server, not as a precaution"
-      elif [ "$kind" = absent ] && ! grep -q 'distance server' "$dir/transcript.txt"; then
+      elif [ "$class" = absent ] && ! grep -q 'distance server' "$dir/transcript.txt"; then
         verdict="FAIL"
         detail="the transcript does not say the distance server is missing"
       elif [ -n "$new_docks" ]; then
@@ -159,7 +162,7 @@ run_one() {
         detail="a dock the clean run did not have: $new_docks"
       elif cmp -s "$clean_dir/decisions.txt" "$dir/decisions.txt"; then
         verdict="same"
-      elif [ "$kind" = loss ]; then
+      elif [ "$class" = loss ]; then
         verdict="FAIL"
         detail="decisions differ from the clean run's under message loss"
       elif grep -q -E '  degraded: |UNKNOWN .*distance server' "$dir/transcript.txt"; then
@@ -173,7 +176,7 @@ run_one() {
           detail="precautionary dock ($(grep -m1 -o 't=[0-9.]*s  human [0-9]*  t_cross=[^ ]*' \
             <(grep 'ACTION DOCK.*precautionary' "$dir/decisions.txt"))); $detail"
         fi
-      elif [ "$kind" = absent ]; then
+      elif [ "$class" = absent ]; then
         verdict="degraded"
         detail="predicates unknown without the distance server"
       else

@@ -9,6 +9,9 @@
 #                                        scenarios and maps into test/fuzz/corpus/
 #   scripts/fuzz.sh --build              build only
 #
+# COOPNAV_FUZZ_SKIP_BUILD=1 runs the fuzzers already in build-fuzz/ (a long campaign goes on while
+# the tree is edited and rebuilt by hand; two builds in one directory would clash).
+#
 # Any finding (crash, sanitizer report, leak, timeout, out-of-memory) fails the run; libFuzzer
 # writes the input to build-fuzz/findings/<target>/ (reproduce: README.md). New corpus entries go to
 # build-fuzz/corpus/<target>/, never into the committed seeds.
@@ -122,15 +125,15 @@ case "$mode" in
     fuzz_seed
     ;;
   --short | --long)
-    fuzz_build
+    [ "${COOPNAV_FUZZ_SKIP_BUILD:-0}" = 1 ] || fuzz_build
     failed=()
     for t in "${selected[@]}"; do
       set +e
       if [ "$mode" = --short ]; then
         run_target "$t" -max_total_time="$SHORT_S"
       else
-        # Long runs share the machine: niced, one target at a time, one process each.
-        NICE=(nice -n 10)
+        # Long runs share the machine: lowest priority, one target at a time, one process each.
+        NICE=(nice -n 19)
         run_target "$t" -runs="$LONG_RUNS" -max_total_time="$LONG_S"
       fi
       rc=$?
@@ -144,7 +147,7 @@ case "$mode" in
     echo "fuzz: ${#selected[@]} targets, no finding"
     ;;
   *)
-    sed -n '2,15p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

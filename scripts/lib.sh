@@ -38,7 +38,13 @@ coopnav_build() {
   if [ "${CI:-}" = "true" ]; then extra+=(-DCOOPNAV_WERROR=ON); fi
   cmake -S "$COOPNAV_ROOT" -B "$COOPNAV_BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "${extra[@]}" "$@" >/dev/null
-  cmake --build "$COOPNAV_BUILD_DIR" -j"$(nproc)"
+  # COOPNAV_BUILD_TARGETS (space-separated): build only these (scripts/sanitizers.sh), else all.
+  local targets=()
+  if [ -n "${COOPNAV_BUILD_TARGETS:-}" ]; then
+    read -r -a targets <<<"$COOPNAV_BUILD_TARGETS"
+    targets=(--target "${targets[@]}")
+  fi
+  cmake --build "$COOPNAV_BUILD_DIR" -j"$(nproc)" "${targets[@]}"
 }
 
 # LCM's udpm needs a multicast route; a minimal machine (or container) may have none on lo.

@@ -1,17 +1,22 @@
 # Sourced by scripts/test.sh (after lib.sh): the test suite again under sanitizers, in build
 # directories of their own. Why these labels and options: docs/sanitizers.md.
 
-# coopnav_sanitizer_pass NAME SANITIZE CTEST_ARGS...
-#   configures and builds build-NAME with -DCOOPNAV_SANITIZE=SANITIZE (benchmarks off), runs ctest
-#   with CTEST_ARGS and then e2e_lifecycle_test, and fails on a failed test or on any sanitizer
-#   report. Reports go to files (log_path) because most of them come from daemons started by the
-#   tests as child processes, whose stderr a passing test would hide.
+# coopnav_sanitizer_pass NAME SANITIZE TARGETS CTEST_ARGS...
+#   configures build-NAME with -DCOOPNAV_SANITIZE=SANITIZE (benchmarks off), builds only TARGETS
+#   (space-separated: what the selected tests run; a sanitized build of everything costs minutes
+#   of a 2-core machine for nothing), runs ctest with CTEST_ARGS and then e2e_lifecycle_test, and
+#   fails on a failed test or on any sanitizer report. Reports go to files (log_path) because most
+#   of them come from daemons started by the tests as child processes, whose stderr a passing
+#   test would hide.
 coopnav_sanitizer_pass() {
-  local name="$1" sanitize="$2"
-  shift 2
+  local name="$1" sanitize="$2" targets="$3"
+  shift 3
   local dir="$COOPNAV_ROOT/build-$name"
   local logs="$dir/sanitizer-reports"
-  COOPNAV_BUILD_DIR="$dir" coopnav_build -DCOOPNAV_SANITIZE="$sanitize" -DCOOPNAV_BUILD_BENCH=OFF
+  local t0=$SECONDS
+  COOPNAV_BUILD_DIR="$dir" COOPNAV_BUILD_TARGETS="$targets" coopnav_build \
+    -DCOOPNAV_SANITIZE="$sanitize" -DCOOPNAV_BUILD_BENCH=OFF
+  echo "coopnav: $name: built in $((SECONDS - t0)) s"
   rm -rf "$logs"
   mkdir -p "$logs"
   local common="halt_on_error=1:abort_on_error=1:print_stacktrace=1:log_path=$logs/report"
@@ -37,6 +42,7 @@ coopnav_sanitizer_pass() {
     rc=1
   fi
   unset ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS
+  echo "coopnav: $name: pass took $((SECONDS - t0)) s (build and tests)"
   [ "$rc" -eq 0 ] && echo "coopnav: $name: clean"
   return "$rc"
 }

@@ -19,7 +19,8 @@ fi
 if [ "$#" -eq 0 ] && [ "${COOPNAV_SANITIZERS:-0}" != 0 ]; then
   source "$COOPNAV_ROOT/scripts/sanitizers.sh"
   rc=0
-  coopnav_sanitizer_pass asan address,undefined -L 'unit|node' || rc=1
-  coopnav_sanitizer_pass tsan thread -L node || rc=1
+  coopnav_sanitizer_pass asan address,undefined "coopnav_unit_tests coopnav_node_tests coopnav_ctl" \
+    -L 'unit|node' || rc=1
+  coopnav_sanitizer_pass tsan thread "coopnav_node_tests coopnav_ctl" -L node || rc=1
   exit "$rc"
 fi

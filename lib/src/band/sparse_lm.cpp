@@ -18,28 +18,19 @@ constexpr double kMinRelativeDecrease = 1e-3;
 constexpr double kMinLambda = 1e-16;
 constexpr double kMaxLambda = 1e32;
 
-/// out[r] = Σ_{k0 <= k < k0+n} rows[r][k] b[k] for G rows at once, each in the same four partial
-/// sums whatever G is (the result does not depend on the grouping): b is loaded once for all
-/// rows, and the G x 4 independent sums keep the floating-point units busy (a scalar sum the
-/// compiler may not reorder; these short row-segment products are most of the factorisation).
-template <int G>
-void dotRows(const double* const* rows, const double* b, int k0, int n, double* out) {
-  double s[G][4] = {};
-  int k = k0;
-  const int end = k0 + n;
-  for (; k + 4 <= end; k += 4) {
-    const double b0 = b[k], b1 = b[k + 1], b2 = b[k + 2], b3 = b[k + 3];
-    for (int r = 0; r < G; ++r) {
-      s[r][0] += rows[r][k] * b0;
-      s[r][1] += rows[r][k + 1] * b1;
-      s[r][2] += rows[r][k + 2] * b2;
-      s[r][3] += rows[r][k + 3] * b3;
-    }
+/// Σ a[k] b[k], k < n, in four independent partial sums: the compiler may not reorder a scalar
+/// sum itself, and these short row-segment products are most of the factorisation's work.
+double dot(const double* a, const double* b, int n) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+    s2 += a[k + 2] * b[k + 2];
+    s3 += a[k + 3] * b[k + 3];
   }
-  for (; k < end; ++k) {
-    for (int r = 0; r < G; ++r) s[r][0] += rows[r][k] * b[k];
-  }
-  for (int r = 0; r < G; ++r) out[r] = (s[r][0] + s[r][1]) + (s[r][2] + s[r][3]);
+  for (; k < n; ++k) s0 += a[k] * b[k];
+  return (s0 + s1) + (s2 + s3);
 }
 
 /// LDLᵀ of a symmetric positive definite matrix in row-envelope ("profile", skyline) storage:
@@ -68,56 +59,25 @@ class EnvelopeLdlt {
   bool factorize(const double* a, double lambda) {
     const int n = static_cast<int>(first_.size());
     std::copy(a, a + work_.size(), work_.begin());
-    // Rows with the same first column (the three of a pose block, usually) are processed
-    // together: their products with an earlier row share its loads (dotRows). Each row's
-    // arithmetic is the same as row by row.
-    constexpr int kGroup = 3;
-    for (int i = 0; i < n;) {
+    for (int i = 0; i < n; ++i) {
       const int fi = first_[i];
-      int g = 1;
-      while (g < kGroup && i + g < n && first_[i + g] == fi) ++g;
-      double* rows[kGroup];
-      for (int r = 0; r < g; ++r) rows[r] = work_.data() + row_start_[i + r] - fi;
-      // Columns before the group: rows[r][k] becomes w_k = L(i+r,k) D(k) for k < i,
-      // w_j = A(i+r,j) − Σ_{k<j} w_k L(j,k).
+      double* li = work_.data() + row_start_[i] - fi;  // li[j] = entry (i, j)
+      // li[k] becomes w_k = L(i,k) D(k) for k < i: w_j = A(i,j) − Σ_{k<j} w_k L(j,k).
       for (int j = fi; j < i; ++j) {
         const int fj = first_[j];
         const double* lj = work_.data() + row_start_[j] - fj;
         const int k0 = std::max(fi, fj);
-        double s[kGroup];
-        switch (g) {
-          case 3:
-            dotRows<3>(rows, lj, k0, j - k0, s);
-            break;
-          case 2:
-            dotRows<2>(rows, lj, k0, j - k0, s);
-            break;
-          default:
-            dotRows<1>(rows, lj, k0, j - k0, s);
-        }
-        for (int r = 0; r < g; ++r) rows[r][j] -= s[r];
+        li[j] -= dot(li + k0, lj + k0, j - k0);
       }
-      // Then each row in turn: its columns inside the group need the rows above it finished.
-      for (int r = 0; r < g; ++r) {
-        const int row = i + r;
-        double* li = rows[r];
-        for (int j = i; j < row; ++j) {
-          const double* lj = rows[j - i];
-          double sum;
-          dotRows<1>(&li, lj, fi, j - fi, &sum);
-          li[j] -= sum;
-        }
-        double d = li[row] + lambda;
-        for (int j = fi; j < row; ++j) {
-          const double l = li[j] / d_[j];
-          d -= li[j] * l;
-          li[j] = l;
-        }
-        if (!(d > kMinPivot) || !std::isfinite(d)) return false;
-        d_[row] = d;
-        li[row] = 1.0;
+      double d = li[i] + lambda;
+      for (int j = fi; j < i; ++j) {
+        const double l = li[j] / d_[j];
+        d -= li[j] * l;
+        li[j] = l;
       }
-      i += g;
+      if (!(d > kMinPivot) || !std::isfinite(d)) return false;
+      d_[i] = d;
+      li[i] = 1.0;
     }
     return true;
   }

@@ -180,41 +180,7 @@ bool TimedElasticBand::autoResize(double dt_ref_s, double dt_hysteresis_s, int m
     if (!changed) break;
     any = true;
   }
-  // The local merge above stops at 1.5 dt_ref, so a band whose ΔT all drifted to ~0.8 dt_ref (the
-  // robot slowed at a meeting, its ΔT were split, and it sped up again) keeps ~25 % more poses
-  // than its duration needs, for good: every later cycle pays for them (bench_band: 99 instead
-  // of ~78 robot poses). TEB pushes the excess time onto the next ΔT (clamping), which distorts
-  // the timing; we instead re-sample the whole band uniformly in time when its mean ΔT leaves
-  // dt_ref ± hysteresis, which keeps the trajectory (position over time) and both ends.
-  const double mean_dt = duration_s() / static_cast<double>(dts_.size());
-  if (std::abs(mean_dt - dt_ref_s) > dt_hysteresis_s) {
-    const int target = std::clamp(static_cast<int>(std::lround(duration_s() / dt_ref_s)) + 1,
-                                  std::max(min_samples, 2), std::max(max_samples, 2));
-    if (target != static_cast<int>(poses_.size())) {
-      resampleUniform(static_cast<std::size_t>(target));
-      any = true;
-    }
-  }
   return any;
-}
-
-void TimedElasticBand::resampleUniform(std::size_t n) {
-  const double total_s = duration_s();
-  const double step_s = total_s / static_cast<double>(n - 1);
-  std::vector<std::array<double, 3>> poses;
-  poses.reserve(n);
-  poses.push_back(poses_.front());
-  std::size_t seg = 0;
-  double seg_t0 = 0.0;
-  for (std::size_t k = 1; k + 1 < n; ++k) {
-    const double t = static_cast<double>(k) * step_s;
-    while (seg + 1 < dts_.size() && seg_t0 + dts_[seg] < t) seg_t0 += dts_[seg++];
-    const double f = dts_[seg] > 0.0 ? std::clamp((t - seg_t0) / dts_[seg], 0.0, 1.0) : 0.0;
-    poses.push_back(lerpPose(poses_[seg], poses_[seg + 1], f));
-  }
-  poses.push_back(poses_.back());
-  poses_ = std::move(poses);
-  dts_.assign(n - 1, step_s);
 }
 
 std::size_t TimedElasticBand::pruneToStart(const Pose2& current, double elapsed_s) {

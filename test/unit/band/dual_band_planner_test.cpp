@@ -179,12 +179,10 @@ TEST(DualBandPlannerTest, BothSolversReachComparableBandsOnTheSameProblem) {
   const PlanResult ceres = DualBandPlanner(ceres_cfg, map).plan(req);
   ASSERT_EQ(ours.status, PlanStatus::kOk);
   ASSERT_EQ(ceres.status, PlanStatus::kOk);
-  // Then both use the whole budget and ours ends no worse than 10 % above Ceres' cost (same
-  // residual blocks and damping rule; ours carries the damping from one outer iteration to the
-  // next, which Ceres cannot, so it usually ends lower), with bands of the same length in time.
+  // Then both use the whole budget and end within 10 % of each other's cost (same residual
+  // blocks, same damping rule; rounding differs), with bands of the same length in time.
   EXPECT_EQ(ours.iterations, ceres.iterations);
-  EXPECT_LE(ours.final_cost, 1.1 * ceres.final_cost);
-  EXPECT_GT(ours.final_cost, 0.0);
+  EXPECT_NEAR(ours.final_cost, ceres.final_cost, 0.1 * ceres.final_cost);
   EXPECT_NEAR(ours.agent_band.poses.back().t_s, ceres.agent_band.poses.back().t_s, 0.5);
   EXPECT_GE(test::minPairedDistance(ours.agent_band, ours.others[0].band) - kRobotRadius_m -
                 kHumanRadius_m,

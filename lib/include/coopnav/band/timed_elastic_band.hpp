@@ -69,9 +69,7 @@ class TimedElasticBand {
   /// (TEB autoResize, own variant): a ΔT above dt_ref + hyst that holds >= 2 references is split
   /// into round(ΔT / dt_ref) parts; a ΔT below dt_ref - hyst is merged with its neighbour when
   /// the sum stays <= 1.5 dt_ref (merging further would only trigger a split again: the
-  /// oscillation of teb_local_planner PR #263). When the mean ΔT is still outside dt_ref ± hyst
-  /// after that, the band is re-sampled uniformly in time to round(duration / dt_ref) + 1 poses.
-  /// The first and last poses are never removed.
+  /// oscillation of teb_local_planner PR #263). The first and last poses are never removed.
   /// Returns true when poses were inserted or removed (storage addresses may have changed).
   bool autoResize(double dt_ref_s, double dt_hysteresis_s, int min_samples, int max_samples);
 
@@ -92,8 +90,6 @@ class TimedElasticBand {
  private:
   void insertAfter(std::size_t i, const std::array<double, 3>& p, double dt_before,
                    double dt_after);
-  /// n >= 2 poses at equal ΔT over the same duration, linearly interpolated in time.
-  void resampleUniform(std::size_t n);
 
   std::vector<std::array<double, 3>> poses_;
   std::vector<double> dts_;  ///< dts_[i] between pose i and i + 1 (size() - 1 entries)

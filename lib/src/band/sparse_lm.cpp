@@ -370,23 +370,12 @@ struct SparseLm::Impl {
       }
     }
     double* h = hessian.data();
-    const int* slot = slots.data() + blk.first_slot;
-    for (int i = 0; i < blk.num_params; ++i) {
-      const Param& p = params[block_params[blk.first_param + i]];
-      if (p.offset < 0) continue;
-      for (int j = 0; j < blk.num_params; ++j) {
-        const Param& q = params[block_params[blk.first_param + j]];
-        if (q.offset < 0 || (i != j && p.offset > q.offset)) continue;
-        // Same visiting order as forEachEntry(), which laid out the slots.
-        for (int a = 0; a < p.size; ++a) {
-          const double* ca = cols + kPad * (col_base[i] + a);
-          for (int b = i == j ? a : 0; b < q.size; ++b) {
-            const double* cb = cols + kPad * (col_base[j] + b);
-            h[*slot++] += ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2] + ca[3] * cb[3];
-          }
-        }
-      }
-    }
+    const int* slot = slots.data() + blk.first_slot;  // laid out in forEachEntry()'s order
+    forEachEntry(blk, [&](int i, int j, int a, int b, int, int) {
+      const double* ca = cols + kPad * (col_base[i] + a);
+      const double* cb = cols + kPad * (col_base[j] + b);
+      h[*slot++] += ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2] + ca[3] * cb[3];
+    });
   }
 
   /// As accumulatePadded() for any residual count.
@@ -404,23 +393,13 @@ struct SparseLm::Impl {
     }
     double* h = hessian.data();
     const int* slot = slots.data() + blk.first_slot;
-    for (int i = 0; i < blk.num_params; ++i) {
-      const Param& p = params[block_params[blk.first_param + i]];
-      if (p.offset < 0) continue;
-      const double* Ji = jacobians[i];
-      for (int j = 0; j < blk.num_params; ++j) {
-        const Param& q = params[block_params[blk.first_param + j]];
-        if (q.offset < 0 || (i != j && p.offset > q.offset)) continue;
-        const double* Jj = jacobians[j];
-        for (int a = 0; a < p.size; ++a) {
-          for (int b = i == j ? a : 0; b < q.size; ++b) {
-            double sum = 0.0;
-            for (int k = 0; k < m; ++k) sum += Ji[k * p.size + a] * Jj[k * q.size + b];
-            h[*slot++] += sum;
-          }
-        }
-      }
-    }
+    forEachEntry(blk, [&](int i, int j, int a, int b, int, int) {
+      const int pi = params[block_params[blk.first_param + i]].size;
+      const int pj = params[block_params[blk.first_param + j]].size;
+      double sum = 0.0;
+      for (int k = 0; k < m; ++k) sum += jacobians[i][k * pi + a] * jacobians[j][k * pj + b];
+      h[*slot++] += sum;
+    });
   }
 
   /// Cost, Jᵀr and JᵀJ at the current parameters.

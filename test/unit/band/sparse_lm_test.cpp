@@ -44,37 +44,40 @@ struct Pull {
   }
 };
 
-TEST(SparseLmTest, FindsTheRosenbrockMinimum) {
-  double x = -1.2, y = 1.0;
-  ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f(new Rosenbrock);
+/// Rosenbrock's valley from its classic start (-1.2, 1), ready to solve.
+struct RosenbrockProblem {
+  double x{-1.2};
+  double y{1.0};
+  ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f{new Rosenbrock};
   SparseLm lm;
-  lm.addParameterBlock(&x, 1, false);
-  lm.addParameterBlock(&y, 1, false);
-  lm.addResidualBlock(&f, {&x, &y});
+  RosenbrockProblem() {
+    lm.addParameterBlock(&x, 1, false);
+    lm.addParameterBlock(&y, 1, false);
+    lm.addResidualBlock(&f, {&x, &y});
+  }
+};
+
+TEST(SparseLmTest, FindsTheRosenbrockMinimum) {
+  RosenbrockProblem p;
   SparseLm::Options o;
   o.max_iterations = 200;
-  const auto s = lm.solve(o);
-  EXPECT_NEAR(x, 1.0, 1e-5);
-  EXPECT_NEAR(y, 1.0, 1e-5);
+  const auto s = p.lm.solve(o);
+  EXPECT_NEAR(p.x, 1.0, 1e-5);
+  EXPECT_NEAR(p.y, 1.0, 1e-5);
   EXPECT_LT(s.final_cost, 1e-10);
   EXPECT_GT(s.initial_cost, s.final_cost);
-  EXPECT_EQ(lm.numUnknowns(), 2u);
+  EXPECT_EQ(p.lm.numUnknowns(), 2u);
 }
 
 TEST(SparseLmTest, StartsFromTheDampingItIsGivenAndReportsWhereItEnded) {
   // Given the Rosenbrock problem, one step from Ceres' start (λ = 1) and one from a stiff λ.
   auto firstStep = [](double initial_lambda, SparseLm::Summary* s) {
-    double x = -1.2, y = 1.0;
-    ceres::AutoDiffCostFunction<Rosenbrock, 2, 1, 1> f(new Rosenbrock);
-    SparseLm lm;
-    lm.addParameterBlock(&x, 1, false);
-    lm.addParameterBlock(&y, 1, false);
-    lm.addResidualBlock(&f, {&x, &y});
+    RosenbrockProblem p;
     SparseLm::Options o;
     o.max_iterations = 1;
     o.initial_lambda = initial_lambda;
-    *s = lm.solve(o);
-    return std::hypot(x + 1.2, y - 1.0);
+    *s = p.lm.solve(o);
+    return std::hypot(p.x + 1.2, p.y - 1.0);
   };
   SparseLm::Summary free_s, stiff_s;
   const double free_step = firstStep(0.0, &free_s);

@@ -131,6 +131,20 @@ DecisionInput neutral(double t_s, double t_cross_s) {
   return in;
 }
 
+/// A round-2 step (t_CROSS 3 s) where the human needs to contribute, Dir left, d_h 0.8 m when
+/// known, and the given predicates and window CM.
+DecisionInput round2Input(Tristate robot_constrained, Tristate contributing,
+                          std::optional<double> cm_window_m, bool d_h_known) {
+  DecisionInput in = neutral(1.0, 3.0);
+  in.situation.human_needs_to_contribute = Tristate::kTrue;
+  in.situation.robot_is_constrained = robot_constrained;
+  in.situation.dir = Side::kLeft;
+  in.situation.d_h_m = d_h_known ? std::optional<double>(0.8) : std::nullopt;
+  in.path.cm_window_m = cm_window_m;
+  in.path.is_contributing = contributing;
+  return in;
+}
+
 class DecisionTable : public ::testing::TestWithParam<Row> {};
 
 TEST_P(DecisionTable, BranchGivesItsUtteranceActionAndRecorderCommand) {
@@ -239,13 +253,8 @@ TEST(Decision, WithoutThePrecautionUnknownNeverDocksWhateverElseIsTrue) {
           if (!any_unknown) continue;
           HumanDecision dut(paper);
           dut.step(neutral(0.0, 6.0));
-          DecisionInput in = neutral(1.0, 3.0);
-          in.situation.human_needs_to_contribute = T;
-          in.situation.robot_is_constrained = robot;
-          in.situation.dir = L;
-          in.situation.d_h_m = dh_known ? std::optional<double>(0.8) : std::nullopt;
-          in.path.cm_window_m = cm_known ? std::optional<double>(0.1) : std::nullopt;
-          in.path.is_contributing = contributing;
+          const DecisionInput in = round2Input(
+              robot, contributing, cm_known ? std::optional<double>(0.1) : std::nullopt, dh_known);
           const DecisionOutput out = dut.step(in);
           EXPECT_TRUE(out.robot_actions.empty());
           EXPECT_FALSE(dut.docked());
@@ -267,14 +276,8 @@ TEST(Decision, PrecautionaryDockWhenAnUnknownLeavesADockOpenAndSaysItIsDegraded)
         for (int dh_known = 0; dh_known < 2; ++dh_known) {
           HumanDecision dut;
           dut.step(neutral(0.0, 6.0));
-          DecisionInput in = neutral(1.0, 3.0);
-          in.situation.human_needs_to_contribute = T;
-          in.situation.robot_is_constrained = robot;
-          in.situation.dir = L;
-          in.situation.d_h_m = dh_known ? std::optional<double>(0.8) : std::nullopt;
+          DecisionInput in = round2Input(robot, contributing, cm, dh_known);
           in.situation.reason = "distance server: no reply";
-          in.path.cm_window_m = cm;
-          in.path.is_contributing = contributing;
           const Tristate still = !cm || !dh_known ? U : (*cm < 0.8 ? T : F);
           const bool flowchart_dock = still == T && robot == T && contributing == F;
           const bool any_unknown =

@@ -470,13 +470,13 @@ std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost,
   return impl_->blocks.size() - 1;
 }
 
-double SparseLm::blockCost(std::size_t block) const {
-  if (!impl_->structure_ready) const_cast<Impl&>(*impl_).buildStructure();
-  return const_cast<Impl&>(*impl_).evaluateBlock(impl_->blocks[block], false);
+double SparseLm::blockCost(std::size_t block) {
+  if (!impl_->structure_ready) impl_->buildStructure();
+  return impl_->evaluateBlock(impl_->blocks[block], false);
 }
 
-std::size_t SparseLm::numUnknowns() const {
-  if (!impl_->structure_ready) const_cast<Impl&>(*impl_).buildStructure();
+std::size_t SparseLm::numUnknowns() {
+  if (!impl_->structure_ready) impl_->buildStructure();
   return static_cast<std::size_t>(impl_->num_unknowns);
 }
 std::size_t SparseLm::numResidualBlocks() const { return impl_->blocks.size(); }

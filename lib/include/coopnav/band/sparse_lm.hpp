@@ -71,10 +71,12 @@ class SparseLm {
   /// Runs LM from the current parameter values.
   Summary solve(const Options& options);
 
-  /// ½ Σ r² of one residual block at the current parameters.
-  double blockCost(std::size_t block) const;
+  /// ½ Σ r² of one residual block at the current parameters. Not const: the first call after
+  /// blocks were added lays out the structure, and evaluation uses the solver's scratch.
+  double blockCost(std::size_t block);
 
-  std::size_t numUnknowns() const;
+  /// Unknowns of the non-constant parameter blocks (lays out the structure if needed).
+  std::size_t numUnknowns();
   std::size_t numResidualBlocks() const;
 
  private:

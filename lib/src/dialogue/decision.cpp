@@ -209,9 +209,7 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
         }
       } else if (contributing == Tristate::kFalse) {
         r.branch = "still & robot_constrained & !contributing -> dock";
-        out.robot_actions.push_back(RobotAction::kDock);
-        docked_ = true;
-        say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
+        dock(out);
       } else {
         r.branch = "still & robot_constrained & contributing unknown";
         r.reason = "IsContributing unknown: no dock, silent";
@@ -271,10 +269,15 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
   r.degraded = true;
   // As a flowchart dock: the recorder restarts, so that round 3 judges the human from here.
   out.recorder_commands.push_back(RecorderCommand::kReset);
+  dock(out);
+  return true;
+}
+
+// Round 2's dock, from the flowchart or as a precaution: request it and tell the human.
+void HumanDecision::dock(DecisionOutput& out) {
   out.robot_actions.push_back(RobotAction::kDock);
   docked_ = true;
   say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
-  return true;
 }
 
 // Paper §II-D, round 3: after crossing, stop the recorder; thank if the human facilitated.

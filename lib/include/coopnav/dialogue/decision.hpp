@@ -156,6 +156,7 @@ class HumanDecision {
   /// Round 2's fallback when an input is unknown; true when it docked (r filled in).
   bool precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
                          DecisionOutput& out);
+  void dock(DecisionOutput& out);
   void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
 
   DecisionConfig config_;

@@ -386,6 +386,14 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   notePlanTime(plan_ms);
   ++cycles_;
+  const std::set<std::int32_t> unplanned(r.unplanned_ids.begin(), r.unplanned_ids.end());
+  if (unplanned != humans_unplanned_) {
+    humans_unplanned_ = unplanned;
+    if (!unplanned.empty()) {
+      log().info("band_source: more than {} humans: no band (so no assessment) this cycle for {}",
+                 config_.planner.config.max_planned_others, idList(unplanned));
+    }
+  }
   if (r.status != PlanStatus::kOk && r.status != PlanStatus::kGoalReached) {
     log().warn("band_source: step {} (utime {}): planner {}", s.step, s.utime, toString(r.status));
   }

@@ -121,11 +121,12 @@ class BandSourceNode {
   std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
   std::int64_t last_step_{-1};                 ///< highest lockstep step received
   std::optional<std::int64_t> last_utime_;     ///< latest agent-states utime accepted
-  std::optional<std::int64_t> last_cycle_utime_;  ///< free-running throttle
+  std::optional<std::int64_t> last_cycle_utime_;          ///< free-running throttle
   std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
-  std::map<std::int32_t, RefPath> refs_;          ///< published reference path per human id
+  std::map<std::int32_t, RefPath> refs_;                  ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;
+  std::set<std::int32_t> humans_unplanned_;  ///< beyond planner.max_planned_others
   std::string detail_;
 
   std::int64_t cycles_{0};

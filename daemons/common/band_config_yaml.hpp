@@ -72,6 +72,7 @@ struct BandPlannerConfigYaml {
     v("dt_min_s", c.dt_min_s);
     v("max_plan_length_m", c.max_plan_length_m);
     v("other_horizon_s", c.other_horizon_s);
+    v("max_planned_others", c.max_planned_others);
     v("no_inner_iterations", c.no_inner_iterations);
     v("no_outer_iterations", c.no_outer_iterations);
     v("weight_adapt_factor", c.weight_adapt_factor);

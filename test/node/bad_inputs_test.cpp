@@ -23,6 +23,7 @@
 
 #include "common/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
+#include "coopnav/band/band_config.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance_reply_t.hpp"
@@ -593,9 +594,29 @@ TEST_F(BadInputBandSource, AbsurdPositionsGiveInvalidInputAndAZeroCommand) {
   EXPECT_EQ(bands_[3].status, bands_t::STATUS_OK);
 }
 
+TEST_F(BadInputBandSource, ExactlyMaxHumansArePlannedUpToTheCapAndTheStepCompletes) {
+  // 64 humans (the bound): before planner.max_planned_others one such cycle took minutes.
+  auto crowd = corridorStates(0);
+  crowd.humans.clear();
+  for (int k = 0; k < 64; ++k) {
+    crowd.humans.push_back(agent(k + 1, agent_state_t::KIND_HUMAN, 12.0 + 0.9 * (k % 8),
+                                 4.2 + 0.7 * (k / 8), M_PI, -1.0));
+  }
+  crowd.num_humans = 64;
+  ASSERT_TRUE(step(crowd));
+  ASSERT_EQ(bands_.count(0), 1u);
+  EXPECT_EQ(bands_[0].status, bands_t::STATUS_OK);
+  EXPECT_EQ(bands_[0].num_humans, BandPlannerConfig{}.max_planned_others);
+  // The nearest to the robot at (6.5, 6.5): the column at x = 12.0, around y = 6.5.
+  for (const auto& h : bands_[0].humans) {
+    ASSERT_FALSE(h.poses.empty());
+    EXPECT_NEAR(h.poses[0].x_m, 12.0, 1e-6) << "human " << h.agent_id;
+  }
+  ASSERT_TRUE(step(corridorStates(1)));
+  EXPECT_EQ(bands_[1].num_humans, 1);
+}
+
 TEST_F(BadInputBandSource, NoHumansArePlanned) {
-  // (Exactly 64 humans: planned, but one cycle took more than two minutes on the shared 2-core
-  // machine; docs/bad-inputs.md lists it as open.)
   auto none = corridorStates(0);
   none.humans.clear();
   none.num_humans = 0;

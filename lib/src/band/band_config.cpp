@@ -73,6 +73,7 @@ std::vector<BandPlannerConfig::Error> BandPlannerConfig::validate() const {
   c.range("dt_min_s", dt_min_s, 0.0, dt_ref_s, true);
   c.range("max_plan_length_m", max_plan_length_m, 0.0, 1000.0, true);
   c.range("other_horizon_s", other_horizon_s, -kInf, 600.0);
+  c.range("max_planned_others", max_planned_others, 1, 1000);
   c.range("no_inner_iterations", no_inner_iterations, 1, 1000);
   c.range("no_outer_iterations", no_outer_iterations, 1, 100);
   c.range("weight_adapt_factor", weight_adapt_factor, 1.0, 100.0);

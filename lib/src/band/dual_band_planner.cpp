@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "coopnav/band/velocity_command.hpp"
 #include "coopnav/geometry/geometry.hpp"
@@ -187,11 +189,36 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     double radius_m;
   };
   std::vector<OtherWork> work;
-  for (const auto& o : req.others) {
+  auto valid = [](const AgentState& st) {
+    return isFinite(st.pose) && std::isfinite(st.velocity.vx_m_s) &&
+           std::isfinite(st.velocity.vy_m_s);
+  };
+  // The nearest max_planned_others by clearance (ties by id, so the choice does not depend on
+  // the order of the request) are planned; the rest wait for a cycle in which they are nearer.
+  std::vector<bool> planned(req.others.size(), false);
+  {
+    std::vector<std::pair<std::pair<double, std::int32_t>, std::size_t>> by_clearance;
+    for (std::size_t i = 0; i < req.others.size(); ++i) {
+      const AgentState& st = req.others[i].state;
+      if (!valid(st)) continue;
+      const double r = st.radius_m > 0.0 ? st.radius_m : cfg.kinematics(st.kind).radius_m;
+      by_clearance.push_back({{(st.pose.position() - my_pos).norm() - r - my_radius, st.id}, i});
+    }
+    std::sort(by_clearance.begin(), by_clearance.end());
+    const std::size_t n = std::min(by_clearance.size(),
+                                   static_cast<std::size_t>(std::max(cfg.max_planned_others, 0)));
+    for (std::size_t k = 0; k < n; ++k) planned[by_clearance[k].second] = true;
+  }
+  for (std::size_t oi = 0; oi < req.others.size(); ++oi) {
+    const OtherAgentInput& o = req.others[oi];
     const AgentState& st = o.state;
-    if (!isFinite(st.pose) || !std::isfinite(st.velocity.vx_m_s) ||
-        !std::isfinite(st.velocity.vy_m_s)) {
+    if (!valid(st)) {
       out.skipped_ids.push_back(st.id);
+      continue;
+    }
+    if (!planned[oi]) {
+      out.unplanned_ids.push_back(st.id);
+      bands_.erase(st.id);  // its warm band would be stale by the time it is planned again
       continue;
     }
     const AgentKinematics& k = cfg.kinematics(st.kind);

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include "analytic_map.hpp"
 #include "band_test_util.hpp"
@@ -313,6 +317,84 @@ TEST_F(Degenerate, HumanWithUnknownGoalUsesConstantVelocity) {
   ASSERT_EQ(r.status, PlanStatus::kOk);
   ASSERT_EQ(r.others.size(), 1u);
   EXPECT_LT(r.others[0].reference_path.back().x(), 11.0);
+}
+
+/// A crowd: the 64 humans (the band source's bound) on a grid ahead of the robot, ids in an
+/// order unrelated to their distance.
+PlanRequest crowd(std::size_t n) {
+  PlanRequest r = test::headOn(3.0, 11.0, 3.0, 17.0);
+  r.others.clear();
+  for (std::size_t k = 0; k < n; ++k) {
+    OtherAgentInput h;
+    const double x = 19.0 - 0.9 * static_cast<double>(k % 8);
+    const double y = 0.8 + 0.6 * static_cast<double>(k / 8);
+    h.state = test::makeAgent(static_cast<std::int32_t>(100 + (k * 37) % n), AgentKind::kHuman, x,
+                              y, M_PI, 1.0, 0.30);
+    h.goal = {1.0, y, M_PI};
+    r.others.push_back(h);
+  }
+  return r;
+}
+
+TEST_F(Degenerate, CrowdBeyondTheCapPlansOnlyTheNearest) {
+  // Given 64 humans and a planner that plans at most 3 of them jointly.
+  BandPlannerConfig cfg;
+  cfg.max_planned_others = 3;
+  DualBandPlanner dut(cfg, map_);
+  const PlanRequest req = crowd(64);
+  // When one cycle is planned.
+  const PlanResult r = dut.plan(req);
+  // Then the three nearest get bands, the others are reported unplanned, in request order.
+  ASSERT_EQ(r.status, PlanStatus::kOk);
+  ASSERT_EQ(r.others.size(), 3u);
+  ASSERT_EQ(r.unplanned_ids.size(), 61u);
+  std::vector<std::pair<double, std::int32_t>> by_distance;
+  for (const auto& o : req.others)
+    by_distance.push_back(
+        {(o.state.pose.position() - req.agent.pose.position()).norm(), o.state.id});
+  std::sort(by_distance.begin(), by_distance.end());
+  std::set<std::int32_t> planned;
+  for (const auto& o : r.others) {
+    planned.insert(o.id);
+    EXPECT_GE(o.band.poses.size(), 2u);
+  }
+  EXPECT_EQ(planned, (std::set<std::int32_t>{by_distance[0].second, by_distance[1].second,
+                                             by_distance[2].second}));
+  std::size_t u = 0;
+  for (const auto& o : req.others) {
+    if (planned.count(o.state.id)) continue;
+    ASSERT_LT(u, r.unplanned_ids.size());
+    EXPECT_EQ(r.unplanned_ids[u++], o.state.id);
+  }
+  EXPECT_TRUE(r.skipped_ids.empty());
+}
+
+TEST_F(Degenerate, WhichHumansArePlannedDoesNotDependOnTheirOrder) {
+  BandPlannerConfig cfg;
+  cfg.max_planned_others = 4;
+  PlanRequest req = crowd(16);
+  std::set<std::int32_t> first, second;
+  {
+    DualBandPlanner dut(cfg, map_);
+    for (const auto& o : dut.plan(req).others) first.insert(o.id);
+  }
+  std::reverse(req.others.begin(), req.others.end());
+  {
+    DualBandPlanner dut(cfg, map_);
+    for (const auto& o : dut.plan(req).others) second.insert(o.id);
+  }
+  EXPECT_EQ(first.size(), 4u);
+  EXPECT_EQ(first, second);
+}
+
+TEST_F(Degenerate, DefaultCapPlansACrowdOfTheBandSourcesBound) {
+  // 64 humans (band_source's bound) with the default cap: one cycle completes with that many
+  // bands (before the cap, one such cycle took minutes; docs/bad-inputs.md).
+  DualBandPlanner dut(BandPlannerConfig{}, map_);
+  const PlanResult r = dut.plan(crowd(64));
+  ASSERT_EQ(r.status, PlanStatus::kOk);
+  EXPECT_EQ(r.others.size(), static_cast<std::size_t>(BandPlannerConfig{}.max_planned_others));
+  EXPECT_EQ(r.others.size() + r.unplanned_ids.size(), 64u);
 }
 
 TEST(DualBandPlannerConfigTest, InvalidConfigIsReported) {

@@ -92,6 +92,12 @@ struct BandPlannerConfig {
   /// Anticipated agents' bands cover this many seconds; <= 0: the planning agent's band duration
   /// (poses past the other band's end pair with nothing, so they would only cost time).
   double other_horizon_s{0.0};
+  /// Others planned jointly per cycle, the nearest first (clearance, ties by id); the rest get no
+  /// band this cycle (PlanResult::unplanned_ids) and so no assessment. The joint factorisation
+  /// grows faster than the number of bands it couples (bench_band: 5 humans take 4.6x the time
+  /// of one; 64 took over 2 min a cycle), so a crowd must not stall the robot's planner. CoHAN
+  /// predicts at most 2 moving humans per cycle.
+  int max_planned_others{5};
 
   // --- optimisation (CoHAN 2.0 sim: 8 inner x 4 outer, weight_adapt_factor 2) ---
   int no_inner_iterations{8};

@@ -77,7 +77,9 @@ struct PlanResult {
   Path2 agent_path;                       ///< the global path the band follows
   std::vector<OtherAgentResult> others;   ///< same order as the valid request.others
   std::vector<std::int32_t> skipped_ids;  ///< others with non-finite state, ignored
-  Velocity2 command_body;                 ///< BODY frame: vx forward, vy left, ω; zero unless kOk
+  /// Valid others beyond config max_planned_others (the farthest), in request order: no band.
+  std::vector<std::int32_t> unplanned_ids;
+  Velocity2 command_body;  ///< BODY frame: vx forward, vy left, ω; zero unless kOk
   int iterations{0};
   double final_cost{0.0};
   double solver_time_s{0.0};

@@ -553,6 +553,34 @@ TEST_F(DialogueManagerTest, AHumanWhoLeavesTheSceneEndsItsInteraction) {
   EXPECT_EQ(controls_.back().command, path_assessor_control_t::COMMAND_STOP);
 }
 
+TEST_F(DialogueManagerTest, AHumanGoneForAMinuteIsForgottenAndItsIdStartsAfresh) {
+  // Given human 1 told round 1, then out of the agent states.
+  start({"--set", "human_gone_s=0.5"});
+  primePeers();
+  agents(1, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  fullStep(1, {{1, 6.9, T, F, F}}, {});
+  ASSERT_EQ(utterancesOf(1).size(), 1u);
+  std::int64_t k = 2;
+  auto absentUntil = [&](std::int64_t last) {
+    for (; k <= last; ++k) {
+      agents(k, 6.0, 0.7, {});
+      fullStep(k, {}, {});
+    }
+  };
+  // When the id comes back 10 s later: the same interaction, ended; nothing is said again.
+  absentUntil(100);
+  agents(k, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  fullStep(k++, {{1, 6.8, T, F, F}}, {});
+  EXPECT_EQ(utterancesOf(1).size(), 1u);
+  // When it comes back after more than a minute away: someone new to the dialogue manager
+  // (its state was forgotten, as the assessors forget theirs), whose round 1 is said.
+  absentUntil(k + 610);
+  agents(k, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  fullStep(k++, {{1, 6.8, T, F, F}}, {});
+  ASSERT_EQ(utterancesOf(1).size(), 2u);
+  EXPECT_EQ(utterancesOf(1)[1].round, 1);
+}
+
 TEST_F(DialogueManagerTest, SigtermExitsZeroWithinOneSecond) {
   start();
   dut_->signal(SIGTERM);

@@ -14,8 +14,11 @@ coopnav_sanitizer_pass() {
   local dir="$COOPNAV_ROOT/build-$name"
   local logs="$dir/sanitizer-reports"
   local t0=$SECONDS
+  # -O1 -g1: sanitizer stacks need line tables only, and most of a sanitized build's time is -O2
+  # optimisation and full debug info of instrumented template code (docs/sanitizers.md).
   COOPNAV_BUILD_DIR="$dir" COOPNAV_BUILD_TARGETS="$targets" coopnav_build \
-    -DCOOPNAV_SANITIZE="$sanitize" -DCOOPNAV_BUILD_BENCH=OFF
+    -DCOOPNAV_SANITIZE="$sanitize" -DCOOPNAV_BUILD_BENCH=OFF \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
   echo "coopnav: $name: built in $((SECONDS - t0)) s"
   rm -rf "$logs"
   mkdir -p "$logs"

@@ -51,19 +51,45 @@ fuzz_build() {
 fuzz_seed() {
   local c="$FUZZ_SRC/corpus"
   "$FUZZ_BUILD_DIR/test/fuzz/fuzz_seed_gen" "$c"
-  # Configs: selector byte (the daemon, as fuzz_config.cpp numbers them) + the repo's YAML.
+  # Configs: selector byte (the daemon, as fuzz_config.cpp numbers them) + the repo's YAML without
+  # its comment and blank lines (every key and value kept, a first comment names the file). The
+  # files are 75-95 % comments (band_source.yaml: 10 KB, above fuzz_config's -max_len of 4096);
+  # one seed keeps them all, so the parser's comment paths stay seeded (test/fuzz/README.md).
   local i=0 d
+  mkdir -p "$c/fuzz_config"
+  rm -f "$c"/fuzz_config/*.yaml
   for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
     world_sim; do
-    mkdir -p "$c/fuzz_config"
-    { printf "\\$(printf '%03o' "$i")"; cat "$COOPNAV_ROOT/config/$d.yaml"; } >"$c/fuzz_config/$d.yaml"
+    { printf "\\$(printf '%03o' "$i")"; echo "# config/$d.yaml without its comment lines"
+      grep -v -E '^[[:space:]]*(#|$)' "$COOPNAV_ROOT/config/$d.yaml"; } >"$c/fuzz_config/$d.yaml"
     i=$((i + 1))
   done
+  { printf '\000'; cat "$COOPNAV_ROOT/config/obstacle_distance_server.yaml"; } \
+    >"$c/fuzz_config/obstacle_distance_server_commented.yaml"
+  # Scenarios: the repo's, with a map resolution_m finer than 0.1 m coarsened to 0.1 m (noted in
+  # a first comment): the paper's 6 m corridors at 0.05 m are 84 000 cells, ~90 ms per execution
+  # in the instrumented build, 3x the same scenario at 0.1 m. Everything else is kept as it is.
   mkdir -p "$c/fuzz_scenario"
-  cp "$COOPNAV_ROOT"/config/scenarios/*.yaml "$c/fuzz_scenario/"
+  rm -f "$c"/fuzz_scenario/*.yaml
   local s
+  coarse_scenario() {
+    awk -v src="$1" '
+      BEGIN { n = 0 }
+      { lines[n++] = $0 }
+      /^[[:space:]]+resolution_m:[[:space:]]*[0-9.]+[[:space:]]*$/ {
+        split($0, kv, ":"); v = kv[2] + 0
+        if (v < 0.1) { sub(/:[[:space:]]*[0-9.]+/, ": 0.1", lines[n - 1]); from = v }
+      }
+      END {
+        if (from != "") print "# fuzz seed: " src ", map resolution_m " from " -> 0.1 m"
+        for (k = 0; k < n; ++k) print lines[k]
+      }' "$COOPNAV_ROOT/$1"
+  }
+  for s in "$COOPNAV_ROOT"/config/scenarios/*.yaml; do
+    coarse_scenario "config/scenarios/$(basename "$s")" >"$c/fuzz_scenario/$(basename "$s")"
+  done
   for s in "$COOPNAV_ROOT"/test/data/scenarios/*.yaml; do
-    cp "$s" "$c/fuzz_scenario/test_$(basename "$s")"
+    coarse_scenario "test/data/scenarios/$(basename "$s")" >"$c/fuzz_scenario/test_$(basename "$s")"
   done
   cp "$COOPNAV_ROOT"/config/scenarios/narrow_minimal.yaml "$c/fuzz_map_yaml/scenario_narrow.yaml"
 }

@@ -132,6 +132,7 @@ struct ModeMachineOptionsYaml {
     ModeMachineOptions& o = options;
     v("human_passed_margin_m", o.human_passed_margin_m, Range{0.0, 10.0});
     v("human_far_m", o.human_far_m, Range{0.5, 100.0});
+    v("human_receding_m", o.human_receding_m, Range{0.0, 100.0});
     v("hold_timeout_s", o.hold_timeout_s, Range{0.1, 3600.0});
     v("wall_margin_m", o.dock.margin_m, Range{0.0, 2.0});
     v("search_range_m", o.dock.search_range_m, Range{0.1, 50.0});

@@ -120,5 +120,35 @@ TEST(DockModeMachineTest, HoldTimesOutAndFailedDockIsReported) {
   EXPECT_EQ(*out.dock_failure, DockStatus::kNoWall);
 }
 
+TEST(DockModeMachineTest, ADockAskedForWhileTheHumanIsFarWaitsForItToComeAndPass) {
+  // Given a dock request with the human 7 m ahead and walking towards the robot (t_CROSS ~4 s).
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in;
+  in.robot = {10.0, 1.575, 0.0};
+  in.goal = {25.0, 1.575, 0.0};
+  in.has_human = true;
+  in.human = {17.0, 1.9, M_PI};
+  in.dock_requested = true;
+  ASSERT_EQ(dut.update(*map, in).mode, RobotMode::kDocking);
+  in.dock_requested = false;
+  // Then it keeps docking while the human approaches from beyond human_far_m ...
+  for (double x = 16.5; x > 11.0; x -= 0.5) {
+    in.human.x_m = x;
+    in.stamp_s += 0.5;
+    EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kDocking) << "human at x = " << x;
+  }
+  // ... and resumes once it has passed; or, in another run, once it turns and walks away.
+  in.human.x_m = 9.0;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kResuming);
+  DockModeMachine dut2;
+  in.human = {17.0, 1.9, M_PI};
+  in.dock_requested = true;
+  ASSERT_EQ(dut2.update(*map, in).mode, RobotMode::kDocking);
+  in.dock_requested = false;
+  in.human = {18.0, 1.9, 0.0};
+  EXPECT_EQ(dut2.update(*map, in).mode, RobotMode::kResuming);
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -56,7 +56,8 @@ struct ModeMachineOptions {
   double dock_reached_tolerance_m{0.15};
   double goal_tolerance_m{0.2};
   double human_passed_margin_m{0.3};  ///< robot this far behind the human along its heading
-  double human_far_m{5.0};            ///< or the human this far away
+  double human_far_m{5.0};            ///< or the human this far away and going away:
+  double human_receding_m{0.5};       ///< farther than at the dock request by this much
   double hold_timeout_s{30.0};        ///< CoHAN's backoff timeout
   DockOptions dock{};
 };
@@ -94,6 +95,7 @@ class DockModeMachine {
   RobotMode mode_{RobotMode::kNavigate};
   Pose2 dock_;
   double hold_since_s_{0.0};
+  double dock_start_dist_m_{0.0};  ///< robot–human distance when the dock was asked for
 };
 
 }  // namespace coopnav

@@ -88,15 +88,22 @@ TEST(DockModeMachineTest, NavigateDockHoldResumeGoal) {
   EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kGoalReached);
 }
 
-TEST(DockModeMachineTest, HoldTimesOutAndFailedDockIsReported) {
-  auto map = narrow();
-  DockModeMachine dut;
+/// The robot in the narrow corridor heading +x to its goal, a human ahead at x walking towards
+/// it, and a dock asked for.
+ModeInput dockRequestInNarrow(double human_x_m) {
   ModeInput in;
   in.robot = {10.0, 1.575, 0.0};
   in.goal = {25.0, 1.575, 0.0};
   in.has_human = true;
-  in.human = {12.0, 1.9, M_PI};
+  in.human = {human_x_m, 1.9, M_PI};
   in.dock_requested = true;
+  return in;
+}
+
+TEST(DockModeMachineTest, HoldTimesOutAndFailedDockIsReported) {
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in = dockRequestInNarrow(12.0);
   ModeOutput out = dut.update(*map, in);
   ASSERT_EQ(out.mode, RobotMode::kDocking);
   in.dock_requested = false;
@@ -124,12 +131,7 @@ TEST(DockModeMachineTest, ADockAskedForWhileTheHumanIsFarWaitsForItToComeAndPass
   // Given a dock request with the human 7 m ahead and walking towards the robot (t_CROSS ~4 s).
   auto map = narrow();
   DockModeMachine dut;
-  ModeInput in;
-  in.robot = {10.0, 1.575, 0.0};
-  in.goal = {25.0, 1.575, 0.0};
-  in.has_human = true;
-  in.human = {17.0, 1.9, M_PI};
-  in.dock_requested = true;
+  ModeInput in = dockRequestInNarrow(17.0);
   ASSERT_EQ(dut.update(*map, in).mode, RobotMode::kDocking);
   in.dock_requested = false;
   // Then it keeps docking while the human approaches from beyond human_far_m ...
@@ -142,8 +144,7 @@ TEST(DockModeMachineTest, ADockAskedForWhileTheHumanIsFarWaitsForItToComeAndPass
   in.human.x_m = 9.0;
   EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kResuming);
   DockModeMachine dut2;
-  in.human = {17.0, 1.9, M_PI};
-  in.dock_requested = true;
+  in = dockRequestInNarrow(17.0);
   ASSERT_EQ(dut2.update(*map, in).mode, RobotMode::kDocking);
   in.dock_requested = false;
   in.human = {18.0, 1.9, 0.0};

@@ -1,7 +1,9 @@
 // coopnav_lossy_relay: joins LCM endpoints (one udpm URL per process of a run) and forwards every
 // message from each to all the others, dropping each forwarded copy with a seeded probability:
 // message loss between every pair of processes, for the fault tests (scripts/faults.sh), on a
-// machine without netem. Endpoints given with --lossless (the logger, scripts) get every message.
+// machine without netem. Which copies are dropped depends on the seed and the messages only, not
+// on their arrival order (loss_decision.hpp): the same run and seed drop the same copies. Endpoints
+// given with --lossless (the logger, scripts) get every message.
 //
 //   coopnav_lossy_relay --endpoint URL --endpoint URL ... [--lossless URL ...]
 //                       [--loss 0.1] [--seed 1]
@@ -19,9 +21,10 @@
 #include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
+
+#include "loss_decision.hpp"
 
 namespace {
 
@@ -42,9 +45,7 @@ struct Endpoint;
 
 struct Relay {
   std::vector<std::unique_ptr<Endpoint>> endpoints;
-  double loss{0.1};
-  std::mt19937_64 rng;
-  std::uniform_real_distribution<double> uniform{0.0, 1.0};
+  std::unique_ptr<coopnav::relay::LossDecider> loss;
   void forward(std::size_t from, const lcm::ReceiveBuffer* rbuf, const std::string& channel);
 };
 
@@ -72,13 +73,14 @@ struct Endpoint {
 };
 
 void Relay::forward(std::size_t from, const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  const std::uint64_t h = fnv1a(channel, rbuf->data, rbuf->data_size);
   for (auto& ep : endpoints) {
     if (ep->index == from) continue;
-    if (!ep->lossless && uniform(rng) < loss) {
+    if (!ep->lossless && loss->drop(from, ep->index, h)) {
       ++ep->dropped_in;
       continue;
     }
-    ++ep->echoes[fnv1a(channel, rbuf->data, rbuf->data_size)];
+    ++ep->echoes[h];
     ep->lcm->publish(channel, rbuf->data, rbuf->data_size);
     ++ep->forwarded_in;
   }
@@ -109,8 +111,7 @@ int main(int argc, char** argv) {
   sigaction(SIGTERM, &sa, nullptr);
 
   Relay relay;
-  relay.loss = loss;
-  relay.rng.seed(seed);
+  relay.loss = std::make_unique<coopnav::relay::LossDecider>(seed, loss);
   auto add = [&](const std::string& url, bool is_lossless) {
     auto ep = std::make_unique<Endpoint>();
     ep->index = relay.endpoints.size();

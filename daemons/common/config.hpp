@@ -39,6 +39,13 @@ struct OneOf {
   std::vector<std::string> values;
 };
 
+/// Why a config string would not survive `--print-config` and loading again, or empty when it
+/// is text: not UTF-8, a control character (C0, DEL, C1) or a character YAML reads as a line
+/// break (U+2028, U+2029) or a byte order mark. yaml-cpp prints such a string as it is, and a
+/// "\r" before the line end, for example, is read back as part of the line break (found by
+/// fuzz_config in a dialogue template).
+std::string notConfigText(const std::string& s);
+
 namespace detail {
 template <class T>
 struct IsVector : std::false_type {};
@@ -158,6 +165,14 @@ class ConfigReader {
             return;
           }
           field = x;
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          const std::string text = v.as<std::string>();
+          const std::string why = notConfigText(text);
+          if (!why.empty()) {
+            error(key, "(line " + std::to_string(v.Mark().line + 1) + ") " + why);
+            return;
+          }
+          field = text;
         } else {
           field = v.as<T>();
         }

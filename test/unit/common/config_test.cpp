@@ -118,5 +118,41 @@ TEST(ConfigTest, PrintedConfigLoadsBackToTheSameValues) {
   EXPECT_EQ(back.inner.gain, 4.0);
 }
 
+struct TextConfig {
+  std::string words{"left"};
+  template <class V>
+  void visit(V& v) {
+    v("words", words);
+  }
+};
+
+TEST(ConfigTest, TextThatWouldNotPrintBackIsRejectedNamingTheKey) {
+  // Found by fuzz_config: a dialogue template ending in "\r" printed as it was, and "\r\n" then
+  // read back as one line break, so --print-config loaded to a different config.
+  const std::vector<std::string> bad = {
+      "\"I will pass\r\"",  // carriage return
+      "\"tab\there\"",      // any C0 control
+      "\"a\\x85b\"",        // C1 NEL, a line break to YAML 1.1
+      "\"a\\u2028b\"",      // line separator
+  };
+  for (const auto& v : bad) {
+    try {
+      loadConfig<TextConfig>(writeTemp("words: " + v + "\n"));
+      ADD_FAILURE() << "accepted " << v;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("key 'words'"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("control character"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NE(notConfigText(std::string("r\x9c\x98ht")), "");  // not UTF-8
+  EXPECT_NE(notConfigText(std::string("\xC0\xAF")), "");     // overlong
+  EXPECT_NE(notConfigText(std::string("\xE2\x82")), "");     // truncated
+  EXPECT_EQ(notConfigText("Je passe à votre gauche, 右"), "");
+  // Printable text, with YAML's special characters, prints and loads back as it was.
+  SampleConfig c;
+  c.participants = {"a: b", "#x", " lead", "trail ", "\"q\"", "à gauche"};
+  EXPECT_EQ(loadConfig<SampleConfig>(writeTemp(configToYaml(c))).participants, c.participants);
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -28,6 +28,11 @@ std::int64_t secondsToUtime(double t_s);
 /// INT64_MIN or INT64_MAX); exact, like the integer difference, while both are below 2^53 us.
 double utimeDiffSeconds(std::int64_t later_utime, std::int64_t earlier_utime);
 
+/// [s] of message time after which a daemon forgets a human it no longer hears of (per-human
+/// state must not grow with every person a robot ever met; a tracker reusing an id later means
+/// someone new). One policy for the assessors and the dialogue manager.
+inline constexpr double kForgetHumanAfter_s = 60.0;
+
 /// All agents at one instant (coopnav_agent_states_t).
 struct AgentStatesSnapshot {
   std::int64_t utime{0};

@@ -244,12 +244,11 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
     // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
     // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
     // new, whose rounds start afresh.
-    constexpr double kForgetAfter_s = 60.0;
     for (auto it = tracked_.begin(); it != tracked_.end();) {
       const std::int32_t id = it->first;
       const bool gone = it->second.last_seen_utime >= 0 &&
                         utimeDiffSeconds(latest_agents_utime_, it->second.last_seen_utime) >
-                            std::max(kForgetAfter_s, config_.human_gone_s);
+                            std::max(kForgetHumanAfter_s, config_.human_gone_s);
       const auto h = humans_.find(id);
       if (!gone || (h != humans_.end() && !h->second.decision.ended())) {
         ++it;

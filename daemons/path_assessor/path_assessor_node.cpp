@@ -179,10 +179,9 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
   // A human absent for a minute of message time has left (the dialogue manager ended its
   // interaction long before): its recorder is forgotten, so that memory does not grow with
   // every person the robot ever met (docs/soak.md).
-  constexpr double kForgetAfter_s = 60.0;
   for (const AgentState& a : states.humans) last_seen_utime_[a.id] = states.utime;
   for (auto it = last_seen_utime_.begin(); it != last_seen_utime_.end();) {
-    if (utimeDiffSeconds(states.utime, it->second) > kForgetAfter_s) {
+    if (utimeDiffSeconds(states.utime, it->second) > kForgetHumanAfter_s) {
       humans_.erase(it->first);
       it = last_seen_utime_.erase(it);
     } else {

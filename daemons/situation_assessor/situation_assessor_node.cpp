@@ -93,9 +93,8 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
   // The band source republishes every known human's path each second: a path not refreshed for
   // a minute of message time belongs to someone who left. Forgetting it keeps a long-running
   // assessor's memory bounded (it grew with every person ever met; docs/soak.md).
-  constexpr double kForgetAfter_s = 60.0;
   for (auto it = references_.begin(); it != references_.end();) {
-    if (utimeDiffSeconds(paths.utime, it->second.utime) > kForgetAfter_s) {
+    if (utimeDiffSeconds(paths.utime, it->second.utime) > kForgetHumanAfter_s) {
       it = references_.erase(it);
     } else {
       ++it;

@@ -14,6 +14,11 @@ namespace {
 
 /// A cached path is re-used while its goal moved less than this [m].
 constexpr double kSameGoal_m = 1e-3;
+
+/// The agent's disc radius: its own when the request gives one, else its kind's default.
+double radiusOf(const AgentState& st, const BandPlannerConfig& cfg) {
+  return st.radius_m > 0.0 ? st.radius_m : cfg.kinematics(st.kind).radius_m;
+}
 /// Head-on test for the symmetry break: lateral offset of the other agent at closest approach
 /// below which neither side is preferred by the geometry [m].
 constexpr double kHeadOnLateral_m = 0.1;
@@ -105,7 +110,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     return out;
   }
   const AgentKinematics& my_kin = cfg.kinematics(me.kind);
-  const double my_radius = me.radius_m > 0.0 ? me.radius_m : my_kin.radius_m;
+  const double my_radius = radiusOf(me, cfg);
   const Eigen::Vector2d my_pos = me.pose.position();
   const Eigen::Vector2d goal_pos = req.goal.position();
   const double horizon_fallback_s = cfg.max_plan_length_m / my_kin.max_vel_x_m_s;
@@ -201,8 +206,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     for (std::size_t i = 0; i < req.others.size(); ++i) {
       const AgentState& st = req.others[i].state;
       if (!valid(st)) continue;
-      const double r = st.radius_m > 0.0 ? st.radius_m : cfg.kinematics(st.kind).radius_m;
-      by_clearance.push_back({{(st.pose.position() - my_pos).norm() - r - my_radius, st.id}, i});
+      by_clearance.push_back(
+          {{(st.pose.position() - my_pos).norm() - radiusOf(st, cfg) - my_radius, st.id}, i});
     }
     std::sort(by_clearance.begin(), by_clearance.end());
     const std::size_t n = std::min(by_clearance.size(),
@@ -222,7 +227,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       continue;
     }
     const AgentKinematics& k = cfg.kinematics(st.kind);
-    const double radius = st.radius_m > 0.0 ? st.radius_m : k.radius_m;
+    const double radius = radiusOf(st, cfg);
     const double nominal =
         std::min(std::max(k.min_nominal_vel_m_s, speedOf(st.velocity)), k.max_vel_x_m_s);
     const Eigen::Vector2d pos = st.pose.position();

@@ -57,7 +57,8 @@ fuzz_seed() {
   # one seed keeps them all, so the parser's comment paths stay seeded (test/fuzz/README.md).
   local i=0 d
   mkdir -p "$c/fuzz_config"
-  rm -f "$c"/fuzz_config/*.yaml
+  # Only the copies are replaced: regression_*.yaml are crash inputs kept by hand.
+  find "$c/fuzz_config" -name '*.yaml' ! -name 'regression_*' -delete
   for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
     world_sim; do
     { printf "\\$(printf '%03o' "$i")"; echo "# config/$d.yaml without its comment lines"
@@ -70,7 +71,7 @@ fuzz_seed() {
   # a first comment): the paper's 6 m corridors at 0.05 m are 84 000 cells, ~90 ms per execution
   # in the instrumented build, 3x the same scenario at 0.1 m. Everything else is kept as it is.
   mkdir -p "$c/fuzz_scenario"
-  rm -f "$c"/fuzz_scenario/*.yaml
+  find "$c/fuzz_scenario" -name '*.yaml' ! -name 'regression_*' -delete
   local s
   coarse_scenario() {
     awk -v src="$1" '

@@ -224,7 +224,7 @@ LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
   map.tree_origin_m = options.bt_origin_m;
   try {
     map.grid = octreeToGrid(*map.tree, options.bt_z_min_m, options.bt_z_max_m, options.bt_origin_m,
-                            kMaxMapCells);
+                            options.max_cells);
   } catch (const std::invalid_argument& e) {
     // Too large, or a resolution that is not a number > 0: a bad file (exit 3), not a crash of
     // the loader's caller with an exception it does not expect.
@@ -253,9 +253,10 @@ LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& b
 LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
                       const MapLoadOptions& options, const std::string& where, int nesting) {
   if (!node.IsMap()) fail(where, "expected a YAML mapping, got " + scalarOf(node));
-  if (node["image"]) return fromGrid(loadRosMap(node, base_dir, where), options, where);
+  if (node["image"])
+    return fromGrid(loadRosMap(node, base_dir, where, options.max_cells), options, where);
   if (node["walls"] || node["boxes"])
-    return fromGrid(rasteriseWallsMap(node, where), options, where);
+    return fromGrid(rasteriseWallsMap(node, where, options.max_cells), options, where);
   // A scenario file: its `map:` (a file or walls) is the map, so every daemon of a run can be
   // pointed at the scenario itself and is sure to load what the simulator loads.
   if (node["map"] && node["map"].IsMap())
@@ -348,7 +349,7 @@ PgmImage readPgm(const std::string& path) {
 }
 
 OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
-                          const std::string& where) {
+                          const std::string& where, std::int64_t max_cells) {
   const std::string image = requireString(node, "image", where);
   const double resolution_m = requireDouble(node, "resolution", where);
   if (!(resolution_m > 0.0)) {
@@ -404,10 +405,10 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
                     ") not found");
   }
   const PgmImage img = readPgm(image_path.string());
-  if (std::int64_t{img.width} * img.height > kMaxMapCells) {
+  if (std::int64_t{img.width} * img.height > max_cells) {
     fail(where, "image '" + image_path.string() + "' of " + std::to_string(img.width) + " x " +
                     std::to_string(img.height) + " pixels is larger than " +
-                    std::to_string(kMaxMapCells) + " cells");
+                    std::to_string(max_cells) + " cells (max_map_cells)");
   }
 
   // ROS map_server trinary semantics: p = (maxval - v) / maxval (v / maxval when negated);
@@ -431,7 +432,8 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
   return grid;
 }
 
-OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where) {
+OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where,
+                                 std::int64_t max_cells) {
   const double res = requireDouble(node, "resolution_m", where);
   if (!(res > 0.0))
     fail(where, "key 'resolution_m'" + lineOf(node["resolution_m"]) + " must be > 0");
@@ -487,10 +489,10 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
   // The 1e-9 keeps an extent that is an exact multiple of res from gaining a column.
   const double w = std::ceil(size.x() / res - 1e-9);
   const double h = std::ceil(size.y() / res - 1e-9);
-  if (w * h > static_cast<double>(kMaxMapCells)) {
+  if (w * h > static_cast<double>(max_cells)) {
     std::ostringstream os;
     os << "walls map of " << w << " x " << h << " cells at resolution_m " << res
-       << " is larger than " << kMaxMapCells << " cells";
+       << " is larger than " << max_cells << " cells (max_map_cells)";
     fail(where, os.str());
   }
   OccupancyGrid2 grid(std::max(1, static_cast<int>(w)), std::max(1, static_cast<int>(h)), res,

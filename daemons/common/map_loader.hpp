@@ -28,11 +28,13 @@ class MapLoadError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Most cells a loaded map may have (2048 x 2048: 102 m square at 5 cm). Loading one that large
-/// (grid, OctoMap of record, distance field) takes a few seconds and ~0.5 GB; a walls YAML of a
-/// few lines or a .bt of a few coarse leaves could otherwise ask for up to 2^30 cells, minutes
-/// and GBs at start (found by the fuzzers).
+/// Most cells a loaded map may have by default (2048 x 2048: 102 m square at 5 cm). Loading one
+/// that large (grid, OctoMap of record, distance field) takes a few seconds and ~0.5 GB; a walls
+/// YAML of a few lines or a .bt of a few coarse leaves could otherwise ask for up to 2^30 cells,
+/// minutes and GBs at start (found by the fuzzers). A daemon raises it with `max_map_cells`.
 inline constexpr std::int64_t kMaxMapCells = std::int64_t{1} << 22;
+/// Ceiling of `max_map_cells`: 2^26 cells (410 m square at 5 cm) take ~8 GB to load.
+inline constexpr std::int64_t kMaxMapCellsCeiling = std::int64_t{1} << 26;
 
 struct MapLoadOptions {
   /// Voxel layers of the OcTree built from a 2-D source (even numbers let the tree prune).
@@ -44,6 +46,8 @@ struct MapLoadOptions {
   /// World position [m] of a .bt's frame origin (trees we write are in the grid frame, so this is
   /// the origin of the grid they came from).
   Eigen::Vector2d bt_origin_m{0.0, 0.0};
+  /// A map of more cells than this is a MapLoadError, raised before the grid is allocated.
+  std::int64_t max_cells{kMaxMapCells};
 };
 
 /// A loaded map: the OcTree of record and the grid the distance field is built from.
@@ -83,7 +87,7 @@ PgmImage readPgm(const std::string& path);
 /// occupied_thresh, free_thresh, optional mode (only `trinary`). An image path is taken relative
 /// to base_dir unless absolute. where names the YAML file in messages.
 OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
-                          const std::string& where);
+                          const std::string& where, std::int64_t max_cells = kMaxMapCells);
 
 /// Rasterises `resolution_m`, `walls: [{x0_m, y0_m, x1_m, y1_m, thickness_m}]`,
 /// `boxes: [{min_x_m, min_y_m, max_x_m, max_y_m}]`, optional `margin_m` (>= 0, default 0) into a
@@ -91,7 +95,8 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
 /// occupies the cells whose centre is within thickness/2 of its segment plus the 4-connected
 /// cells its centre line crosses, so no distance wave leaks through a thin diagonal wall. A box
 /// occupies every cell its rectangle overlaps.
-OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where);
+OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where,
+                                 std::int64_t max_cells = kMaxMapCells);
 
 /// Writes tree as an OctoMap binary file (octovis) without modifying it.
 void writeBt(const octomap::OcTree& tree, const std::string& path);

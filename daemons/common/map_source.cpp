@@ -14,6 +14,7 @@ LoadedField loadDistanceField(const MapSource& source) {
     MapLoadOptions opts;
     opts.bt_z_min_m = source.bt_z_min_m;
     opts.bt_z_max_m = source.bt_z_max_m;
+    opts.max_cells = source.max_map_cells;
     out.map = loadMap(source.map_file, opts);
   } catch (const MapLoadError& e) {
     throw StartupError(e.what());

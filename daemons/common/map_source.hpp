@@ -3,6 +3,7 @@
 /// band source), and the one place that turns them into a distance field. Their keys sit at the
 /// top level of the daemon's YAML: the parent's visit() calls MapSource::visit with its visitor.
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -21,6 +22,9 @@ struct MapSource {
   /// Height band [m] of a .bt map projected to 2-D.
   double bt_z_min_m{0.05};
   double bt_z_max_m{2.0};
+  /// Most cells the map may have: a bigger one stops the daemon at start (exit 3) before it is
+  /// allocated. 2^22 (102 m square at 5 cm) loads in a few seconds and ~0.5 GB.
+  std::int64_t max_map_cells{kMaxMapCells};
 
   template <class V>
   void visit(V& v) {
@@ -28,6 +32,7 @@ struct MapSource {
     v("unknown_is_obstacle", unknown_is_obstacle);
     v("bt_z_min_m", bt_z_min_m, Range{-100.0, 100.0});
     v("bt_z_max_m", bt_z_max_m, Range{-100.0, 100.0});
+    v("max_map_cells", max_map_cells, Range{1.0, static_cast<double>(kMaxMapCellsCeiling)});
     v.require(bt_z_max_m > bt_z_min_m, "bt_z_max_m", "must be greater than bt_z_min_m");
     v.require(!map_file.empty(), "map_file", "must name a map file");
   }

@@ -393,7 +393,7 @@ void checkScenarioAgainstMap(const Scenario& sc, const DistanceMap& map) {
   }
 }
 
-LoadedMap loadScenarioMap(const Scenario& sc) {
+LoadedMap loadScenarioMap(const Scenario& sc, std::int64_t max_cells) {
   // The loader reads YAML; rebuilding the validated section keeps one walls rasteriser for the
   // distance server and the simulator, so both see the same cells.
   YAML::Node node(YAML::NodeType::Map);
@@ -419,7 +419,9 @@ LoadedMap loadScenarioMap(const Scenario& sc) {
       node["boxes"].push_back(n);
     }
   }
-  return loadMapFromNode(node, ".", MapLoadOptions{}, sc.source + ": map");
+  MapLoadOptions options;
+  options.max_cells = max_cells;
+  return loadMapFromNode(node, ".", options, sc.source + ": map");
 }
 
 sim::WorldSpec toWorldSpec(const Scenario& sc) {

@@ -73,8 +73,9 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
 /// space with the agent's radius of clearance. Throws ScenarioError listing every offender.
 void checkScenarioAgainstMap(const Scenario& scenario, const DistanceMap& map);
 /// Loads the scenario's map section (its file, or its walls and boxes rasterised) with the
-/// daemons' map loader. Throws MapLoadError naming the file or "<scenario>: map".
-LoadedMap loadScenarioMap(const Scenario& scenario);
+/// daemons' map loader. Throws MapLoadError naming the file or "<scenario>: map", also when the
+/// map has more than max_cells cells.
+LoadedMap loadScenarioMap(const Scenario& scenario, std::int64_t max_cells = kMaxMapCells);
 /// The simulator's input for the scenario.
 sim::WorldSpec toWorldSpec(const Scenario& scenario);
 

@@ -8,6 +8,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace coopnav;
   MapSource source;
+  source.max_map_cells = fuzz::kMaxMapCells;
   source.map_file = fuzz::scratch().write("map.bt", data, size);
   // The band our own 2-D trees hold (map_loader.hpp: MapLoadOptions), so seeds written by writeBt
   // load and the fuzzer starts from real trees.

@@ -12,6 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::vector<std::string> parts = fuzz::splitParts(data, size, 2);
   const auto& dir = fuzz::scratch();
   MapSource source;
+  source.max_map_cells = fuzz::kMaxMapCells;
   source.map_file = dir.write("map.yaml", reinterpret_cast<const std::uint8_t*>(parts[0].data()),
                               parts[0].size());
   dir.write("map.pgm", reinterpret_cast<const std::uint8_t*>(parts[1].data()), parts[1].size());

@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const world_sim::Scenario scenario =
         world_sim::parseScenario(text, "scenario.yaml", fuzz::scratch().path());
-    LoadedMap map = world_sim::loadScenarioMap(scenario);
+    LoadedMap map = world_sim::loadScenarioMap(scenario, fuzz::kMaxMapCells);
     auto field = std::make_shared<GridDistanceField>(std::move(map.grid), UnknownPolicy::kObstacle);
     world_sim::checkScenarioAgainstMap(scenario, *field);
     sim::Simulation sim(world_sim::toWorldSpec(scenario), field.get(),

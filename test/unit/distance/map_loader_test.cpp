@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/daemon_main.hpp"
+#include "common/map_source.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance/octree_conversion.hpp"
 
@@ -385,6 +387,52 @@ TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {
                                   "  - {min_x_m: 0, min_y_m: 0, max_x_m: 10, max_y_m: 10}\n"));
               }),
               AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 4194304 cells")));
+}
+
+// A 100 x 100-cell walls map: within the default limit, over a lowered one, whichever the source.
+TEST(MapLoaderTest, MaxCellsLowersTheLimitOfEverySourceAndTheMessageNamesTheKey) {
+  TempDir tmp;
+  const std::string walls = tmp.write(
+      "walls.yaml",
+      "resolution_m: 0.1\nboxes:\n  - {min_x_m: 0, min_y_m: 0, max_x_m: 10, max_y_m: 10}\n");
+  EXPECT_EQ(loadMap(walls).grid.width(), 100);
+  MapLoadOptions options;
+  options.max_cells = 10000;
+  EXPECT_EQ(loadMap(walls, options).grid.height(), 100);  // the limit itself is allowed
+  options.max_cells = 9999;
+  EXPECT_THAT(errorOf([&] { loadMap(walls, options); }),
+              AllOf(HasSubstr("walls.yaml"), HasSubstr("larger than 9999 cells (max_map_cells)")));
+
+  // The same map as a .bt (its leaves span 100 x 100 cells) and as a ROS map (a 100 x 100 image).
+  OccupancyGrid2 grid(100, 100, 0.1, Eigen::Vector2d::Zero(), CellState::kFree);
+  grid.set(0, 0, CellState::kOccupied);
+  grid.set(99, 99, CellState::kOccupied);
+  const std::string bt = tmp.dir() + "/map.bt";
+  writeBt(*gridToOctree(grid, 2), bt);
+  options.bt_z_min_m = 0.0;
+  options.bt_z_max_m = 0.1;
+  EXPECT_THAT(errorOf([&] { loadMap(bt, options); }), HasSubstr("map.bt"));
+  options.max_cells = kMaxMapCells;
+  EXPECT_EQ(loadMap(bt, options).grid.width(), 100);
+
+  std::string pgm = "P5 100 100 255\n" + std::string(100 * 100, static_cast<char>(254));
+  tmp.write("map.pgm", pgm);
+  const std::string ros =
+      tmp.write("ros.yaml",
+                "image: map.pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+                "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  EXPECT_EQ(loadMap(ros).grid.width(), 100);
+  options.max_cells = 9999;
+  EXPECT_THAT(errorOf([&] { loadMap(ros, options); }),
+              AllOf(HasSubstr("ros.yaml"), HasSubstr("larger than 9999 cells (max_map_cells)")));
+
+  // A daemon's max_map_cells reaches the loader: exit 3 at start.
+  MapSource source;
+  source.map_file = walls;
+  source.max_map_cells = 9999;
+  EXPECT_THROW(loadDistanceField(source), StartupError);
+  source.max_map_cells = 10000;
+  EXPECT_NE(loadDistanceField(source).field, nullptr);
 }
 
 }  // namespace

@@ -3,9 +3,9 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
-#include <unordered_map>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -252,8 +252,19 @@ class EnvelopeLdlt {
 /// Reverse Cuthill–McKee order of an undirected graph (adjacency lists): breadth-first from a
 /// pseudo-peripheral start per component, neighbours by increasing degree, reversed. Small
 /// envelope for a chain-like graph such as coupled bands. Deterministic (ties by index).
-std::vector<int> reverseCuthillMcKee(const std::vector<std::vector<int>>& adj) {
-  const int n = static_cast<int>(adj.size());
+/// An undirected graph as compressed adjacency lists (one array each, not a vector per node:
+/// ~700 nodes, ~2.5 graphs a cycle).
+struct Graph {
+  std::vector<int> start;  ///< node v's neighbours: nbr[start[v] .. start[v + 1])
+  std::vector<int> nbr;
+  int size() const { return static_cast<int>(start.size()) - 1; }
+  int degree(int v) const { return start[v + 1] - start[v]; }
+  const int* begin(int v) const { return nbr.data() + start[v]; }
+  const int* end(int v) const { return nbr.data() + start[v + 1]; }
+};
+
+std::vector<int> reverseCuthillMcKee(const Graph& adj) {
+  const int n = adj.size();
   std::vector<int> order, level(n, -1);
   order.reserve(n);
   std::vector<char> placed(n, 0);
@@ -266,20 +277,21 @@ std::vector<int> reverseCuthillMcKee(const std::vector<std::vector<int>>& adj) {
     local.push_back(start);
     for (std::size_t h = 0; h < local.size(); ++h) {
       next.clear();
-      for (int v : adj[local[h]]) {
+      for (const int* it = adj.begin(local[h]); it != adj.end(local[h]); ++it) {
+        const int v = *it;
         if (level[v] < 0 && !placed[v]) {
           level[v] = level[local[h]] + 1;
           next.push_back(v);
         }
       }
       std::sort(next.begin(), next.end(), [&](int a, int b) {
-        return adj[a].size() != adj[b].size() ? adj[a].size() < adj[b].size() : a < b;
+        return adj.degree(a) != adj.degree(b) ? adj.degree(a) < adj.degree(b) : a < b;
       });
       local.insert(local.end(), next.begin(), next.end());
     }
     int far = local.back();
     for (int v : local) {
-      if (level[v] == level[local.back()] && adj[v].size() < adj[far].size()) far = v;
+      if (level[v] == level[local.back()] && adj.degree(v) < adj.degree(far)) far = v;
     }
     if (out != nullptr) *out = std::move(local);
     return far;
@@ -291,7 +303,7 @@ std::vector<int> reverseCuthillMcKee(const std::vector<std::vector<int>>& adj) {
     std::vector<int> comp;
     bfs(s, &comp);
     for (int v : comp) {
-      if (adj[v].size() < adj[start].size()) start = v;
+      if (adj.degree(v) < adj.degree(start)) start = v;
     }
     start = bfs(start, nullptr);
     start = bfs(start, nullptr);
@@ -303,6 +315,53 @@ std::vector<int> reverseCuthillMcKee(const std::vector<std::vector<int>>& adj) {
   std::reverse(order.begin(), order.end());
   return order;
 }
+
+/// Index of each parameter block by its address: open addressing with linear probing, so that
+/// declaring the ~700 blocks of a band problem (rebuilt ~2.5 times a cycle) allocates a few
+/// arrays, not a node per block as std::unordered_map does.
+class PointerIndex {
+ public:
+  /// -1 when absent.
+  int find(const double* key) const {
+    if (keys_.empty()) return -1;
+    for (std::size_t h = slotOf(key);; h = (h + 1) & mask_) {
+      if (keys_[h] == key) return values_[h];
+      if (keys_[h] == nullptr) return -1;
+    }
+  }
+  /// key must be non-null and absent.
+  void insert(const double* key, int value) {
+    if (2 * (size_ + 1) > keys_.size()) grow();
+    std::size_t h = slotOf(key);
+    while (keys_[h] != nullptr) h = (h + 1) & mask_;
+    keys_[h] = key;
+    values_[h] = value;
+    ++size_;
+  }
+
+ private:
+  std::size_t slotOf(const double* key) const {
+    // Fibonacci hashing of the address (doubles: the low 3 bits are zero).
+    const auto x = static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(key) >> 3);
+    return static_cast<std::size_t>((x * 0x9E3779B97F4A7C15ull) >> 32) & mask_;
+  }
+  void grow() {
+    std::vector<const double*> old_keys = std::move(keys_);
+    std::vector<int> old_values = std::move(values_);
+    const std::size_t cap = std::max<std::size_t>(64, 2 * old_keys.size());
+    keys_.assign(cap, nullptr);
+    values_.assign(cap, -1);
+    mask_ = cap - 1;
+    size_ = 0;
+    for (std::size_t k = 0; k < old_keys.size(); ++k) {
+      if (old_keys[k] != nullptr) insert(old_keys[k], old_values[k]);
+    }
+  }
+  std::vector<const double*> keys_;
+  std::vector<int> values_;
+  std::size_t mask_{0};
+  std::size_t size_{0};
+};
 
 }  // namespace
 
@@ -322,7 +381,7 @@ struct SparseLm::Impl {
   };
 
   std::vector<Param> params;
-  std::unordered_map<const double*, int> param_index;
+  PointerIndex param_index;
   std::vector<Block> blocks;
   std::vector<int> block_params;  ///< param indices of every block, flattened
   int num_unknowns{0};
@@ -372,22 +431,39 @@ struct SparseLm::Impl {
         param_of.push_back(static_cast<int>(k));
       }
     }
-    std::vector<std::vector<int>> adj(param_of.size());
-    // A pose meets ~5 blocks of <= 6 parameter blocks; one allocation per list in the common case.
-    for (auto& a : adj) a.reserve(32);
-    for (const Block& blk : blocks) {
-      for (int i = 0; i < blk.num_params; ++i) {
-        const int vi = var_of[block_params[blk.first_param + i]];
-        for (int j = 0; j < blk.num_params && vi >= 0; ++j) {
-          const int vj = var_of[block_params[blk.first_param + j]];
-          if (vj >= 0 && vi != vj) adj[vi].push_back(vj);
+    // Edges of every block's pairs of unknowns, counted, placed, then sorted and deduplicated
+    // per node: the same sorted neighbour lists as a set per node.
+    const int nv = static_cast<int>(param_of.size());
+    Graph adj;
+    adj.start.assign(nv + 1, 0);
+    auto forEachPair = [&](auto&& f) {
+      for (const Block& blk : blocks) {
+        for (int i = 0; i < blk.num_params; ++i) {
+          const int vi = var_of[block_params[blk.first_param + i]];
+          for (int j = 0; j < blk.num_params && vi >= 0; ++j) {
+            const int vj = var_of[block_params[blk.first_param + j]];
+            if (vj >= 0 && vi != vj) f(vi, vj);
+          }
         }
       }
+    };
+    forEachPair([&](int vi, int) { ++adj.start[vi + 1]; });
+    for (int v = 0; v < nv; ++v) adj.start[v + 1] += adj.start[v];
+    adj.nbr.resize(adj.start[nv]);
+    std::vector<int> fill(adj.start.begin(), adj.start.end() - 1);
+    forEachPair([&](int vi, int vj) { adj.nbr[fill[vi]++] = vj; });
+    int out = 0;
+    for (int v = 0; v < nv; ++v) {
+      int* b = adj.nbr.data() + adj.start[v];
+      int* e = adj.nbr.data() + adj.start[v + 1];
+      std::sort(b, e);
+      e = std::unique(b, e);
+      const int first = out;
+      for (int* it = b; it != e; ++it) adj.nbr[out++] = *it;
+      adj.start[v] = first;
     }
-    for (auto& a : adj) {
-      std::sort(a.begin(), a.end());
-      a.erase(std::unique(a.begin(), a.end()), a.end());
-    }
+    adj.start[nv] = out;
+    adj.nbr.resize(out);
     num_unknowns = 0;
     for (int v : reverseCuthillMcKee(adj)) {
       Param& p = params[param_of[v]];
@@ -575,25 +651,30 @@ SparseLm::SparseLm() : impl_(std::make_unique<Impl>()) {}
 SparseLm::~SparseLm() = default;
 
 void SparseLm::addParameterBlock(double* values, int size, bool constant) {
-  if (impl_->param_index.count(values) != 0) throw std::logic_error("parameter block added twice");
-  impl_->param_index[values] = static_cast<int>(impl_->params.size());
+  if (values == nullptr) throw std::logic_error("parameter block without storage");
+  if (impl_->param_index.find(values) >= 0) throw std::logic_error("parameter block added twice");
+  impl_->param_index.insert(values, static_cast<int>(impl_->params.size()));
   impl_->params.push_back({values, size, constant ? -1 : 0});
   impl_->structure_ready = false;
 }
 
 std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost,
                                        const std::vector<double*>& params) {
+  return addResidualBlock(cost, params.data(), static_cast<int>(params.size()));
+}
+
+std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost, double* const* params,
+                                       int num_params) {
   const auto& sizes = cost->parameter_block_sizes();
-  if (sizes.size() != params.size()) throw std::logic_error("residual block: parameter count");
-  Impl::Block blk{
-      cost, impl_->block_params.size(), static_cast<int>(params.size()), cost->num_residuals(), 0,
-      0};
-  for (std::size_t i = 0; i < params.size(); ++i) {
-    const auto it = impl_->param_index.find(params[i]);
-    if (it == impl_->param_index.end() || impl_->params[it->second].size != sizes[i]) {
+  if (num_params < 0 || sizes.size() != static_cast<std::size_t>(num_params))
+    throw std::logic_error("residual block: parameter count");
+  Impl::Block blk{cost, impl_->block_params.size(), num_params, cost->num_residuals(), 0, 0};
+  for (int i = 0; i < num_params; ++i) {
+    const int k = impl_->param_index.find(params[i]);
+    if (k < 0 || impl_->params[k].size != sizes[i]) {
       throw std::logic_error("residual block: undeclared or mis-sized parameter block");
     }
-    impl_->block_params.push_back(it->second);
+    impl_->block_params.push_back(k);
   }
   impl_->blocks.push_back(blk);
   impl_->structure_ready = false;

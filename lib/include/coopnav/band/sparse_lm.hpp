@@ -67,6 +67,9 @@ class SparseLm {
   /// Adds a residual block over declared parameter blocks; `cost` is not owned and must outlive
   /// the solver. Returns its index.
   std::size_t addResidualBlock(const ceres::CostFunction* cost, const std::vector<double*>& params);
+  /// The same for params[0, num_params).
+  std::size_t addResidualBlock(const ceres::CostFunction* cost, double* const* params,
+                               int num_params);
 
   /// Runs LM from the current parameter values.
   Summary solve(const Options& options);

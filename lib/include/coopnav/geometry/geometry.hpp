@@ -3,7 +3,9 @@
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstddef>
 #include <optional>
+#include <vector>
 
 #include "coopnav/geometry/types.hpp"
 
@@ -32,7 +34,30 @@ struct PathProjection {
 };
 
 /// Projects p onto a polyline of >= 1 points. Returns nullopt for an empty path or a non-finite p.
+/// The closest point is the first one of least distance along the path.
 std::optional<PathProjection> projectOntoPath(const Path2& path, const Eigen::Vector2d& p);
+
+/// projectOntoPath() for many points on one path (the planner's via-points: every band pose, a
+/// few times per cycle, onto paths of hundreds of segments). Its arc lengths are computed once,
+/// and segments that cannot hold the closest point are skipped: a segment whose arc-length span
+/// from the nearest one examined so far is shorter than their distance difference is farther
+/// (triangle inequality along the path). The result is exactly projectOntoPath()'s.
+class PathProjector {
+ public:
+  /// path must outlive the projector.
+  explicit PathProjector(const Path2& path);
+  /// As projectOntoPath(path, p). hint_segment (any value; best: the answer for a point nearby)
+  /// only makes the search faster.
+  std::optional<PathProjection> project(const Eigen::Vector2d& p,
+                                        std::size_t hint_segment = 0) const;
+  const Path2& path() const { return *path_; }
+
+ private:
+  const Path2* path_;
+  std::vector<double> arc_m_;      ///< arc length at each point, summed from the start
+  std::vector<double> seg_len_m_;  ///< length of each segment
+  bool can_skip_{true};            ///< false for a path with a non-finite point
+};
 
 /// True when every coordinate of the pose is finite.
 bool isFinite(const Pose2& p);

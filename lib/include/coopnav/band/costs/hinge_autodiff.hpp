@@ -8,11 +8,14 @@
 /// linearisation: Jet<11> with sin/cos/atan2 for the acceleration term) is skipped. The result
 /// is exactly what ceres::AutoDiffCostFunction computes.
 ///
-/// The functor and Ceres' autodiff wrapper live inside this object: one allocation per residual
-/// block instead of three (the problem is rebuilt whenever the bands are resized, ~2.5 times a
-/// cycle, with ~1000 blocks each time).
+/// The functor lives inside this object and the dual numbers are Ceres' own AutoDifferentiate(),
+/// the code ceres::AutoDiffCostFunction::Evaluate runs, without an AutoDiffCostFunction object
+/// (whose base allocates its parameter-size list): two allocations per residual block instead
+/// of four (the problem is rebuilt whenever the bands are resized, ~2.5 times a cycle, with
+/// ~1000 blocks each time).
 
-#include <ceres/autodiff_cost_function.h>
+#include <ceres/internal/autodiff.h>
+#include <ceres/internal/variadic_evaluate.h>
 #include <ceres/sized_cost_function.h>
 
 #include <algorithm>
@@ -33,25 +36,24 @@ template <typename Functor, int kNumResiduals, int... kBlockSizes>
 class HingeAutoDiffCostFunction final
     : public ceres::SizedCostFunction<kNumResiduals, kBlockSizes...> {
  public:
-  explicit HingeAutoDiffCostFunction(Functor functor)
-      : functor_(std::move(functor)), autodiff_(&functor_, ceres::DO_NOT_TAKE_OWNERSHIP) {}
+  explicit HingeAutoDiffCostFunction(Functor functor) : functor_(std::move(functor)) {}
   HingeAutoDiffCostFunction(const HingeAutoDiffCostFunction&) = delete;
   HingeAutoDiffCostFunction& operator=(const HingeAutoDiffCostFunction&) = delete;
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     if constexpr (!HasInactiveTest<Functor>::value) {
-      return autodiff_.Evaluate(parameters, residuals, jacobians);
+      return full(parameters, residuals, jacobians);
     } else {
       if (jacobians == nullptr || !functor_.zeroMeansInactive()) {
-        return autodiff_.Evaluate(parameters, residuals, jacobians);
+        return full(parameters, residuals, jacobians);
       }
       if (!call(parameters, residuals, std::make_index_sequence<sizeof...(kBlockSizes)>{})) {
         return false;
       }
       const bool inactive =
           std::all_of(residuals, residuals + kNumResiduals, [](double r) { return r == 0.0; });
-      if (!inactive) return autodiff_.Evaluate(parameters, residuals, jacobians);
+      if (!inactive) return full(parameters, residuals, jacobians);
       constexpr int kSizes[] = {kBlockSizes...};
       for (std::size_t i = 0; i < sizeof...(kBlockSizes); ++i) {
         if (jacobians[i] != nullptr)
@@ -62,13 +64,20 @@ class HingeAutoDiffCostFunction final
   }
 
  private:
+  using Dims = typename ceres::SizedCostFunction<kNumResiduals, kBlockSizes...>::ParameterDims;
+  /// What ceres::AutoDiffCostFunction<Functor, kNumResiduals, kBlockSizes...>::Evaluate does.
+  bool full(double const* const* parameters, double* residuals, double** jacobians) const {
+    if (jacobians == nullptr)
+      return ceres::internal::VariadicEvaluate<Dims>(functor_, parameters, residuals);
+    return ceres::internal::AutoDifferentiate<kNumResiduals, Dims>(
+        functor_, parameters, kNumResiduals, residuals, jacobians);
+  }
   template <std::size_t... I>
   bool call(double const* const* p, double* r, std::index_sequence<I...>) const {
     return functor_(p[I]..., r);
   }
 
-  Functor functor_;  // before autodiff_, which points at it
-  ceres::AutoDiffCostFunction<Functor, kNumResiduals, kBlockSizes...> autodiff_;
+  Functor functor_;
 };
 
 }  // namespace coopnav::band_costs

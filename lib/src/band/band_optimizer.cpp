@@ -14,6 +14,7 @@
 #include "coopnav/band/costs/acceleration_cost.hpp"
 #include "coopnav/band/costs/agent_safety_cost.hpp"
 #include "coopnav/band/costs/hinge_autodiff.hpp"
+#include "coopnav/band/costs/holonomic_motion_costs.hpp"
 #include "coopnav/band/costs/kinematics_cost.hpp"
 #include "coopnav/band/costs/obstacle_cost.hpp"
 #include "coopnav/band/costs/relative_velocity_cost.hpp"
@@ -184,29 +185,36 @@ class ProblemBuilder {
     const double sw_nh = sq(diff ? w.kinematics_nh_diff_drive : w.kinematics_nh);
     const double sw_fwd = diff ? sq(w.kinematics_forward_drive) : 0.0;
     for (std::size_t i = 0; i + 1 < n; ++i) {
-      add(kVelocity, autodiff<VelocityCost, 4, 3, 3, 1>(VelocityCost(lim)),
+      add(kVelocity,
+          lim.holonomic ? new HolonomicVelocityCostFunction(lim)
+                        : autodiff<VelocityCost, 4, 3, 3, 1>(VelocityCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.dtData(i)});
       add(kTimeOptimal,
           autodiff<TimeOptimalCost, 2, 1>(TimeOptimalCost(sq(w.optimaltime), cfg_.dt_min_s)),
           {b.dtData(i)});
       if (sw_nh > 0.0 || sw_fwd > 0.0) {
-        add(kKinematics, autodiff<KinematicsCost, 2, 3, 3>(KinematicsCost(sw_nh, sw_fwd)),
+        add(kKinematics, new KinematicsCostFunction(sw_nh, sw_fwd),
             {b.poseData(i), b.poseData(i + 1)});
       }
     }
     for (std::size_t i = 0; i + 2 < n; ++i) {
-      add(kAcceleration, autodiff<AccelerationCost, 3, 3, 3, 3, 1, 1>(AccelerationCost(lim)),
+      add(kAcceleration,
+          lim.holonomic ? new HolonomicAccelerationCostFunction(lim)
+                        : autodiff<AccelerationCost, 3, 3, 3, 3, 1, 1>(AccelerationCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.poseData(i + 2), b.dtData(i), b.dtData(i + 1)});
     }
     const Velocity2& v0 = a.start_velocity_body;
-    add(kAcceleration,
-        autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
-            BoundaryAccelerationCost(lim, v0.vx_m_s, v0.vy_m_s, v0.omega_rad_s, true)),
+    // Hand-derived Jacobians where the band is holonomic (holonomic_motion_costs.hpp).
+    auto boundary = [&](double vx, double vy, double om, bool at_start) -> ceres::CostFunction* {
+      if (lim.holonomic)
+        return new HolonomicBoundaryAccelerationCostFunction(lim, vx, vy, om, at_start);
+      return autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
+          BoundaryAccelerationCost(lim, vx, vy, om, at_start));
+    };
+    add(kAcceleration, boundary(v0.vx_m_s, v0.vy_m_s, v0.omega_rad_s, true),
         {b.poseData(0), b.poseData(1), b.dtData(0)});
     if (a.end_is_goal) {
-      add(kAcceleration,
-          autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
-              BoundaryAccelerationCost(lim, 0.0, 0.0, 0.0, false)),
+      add(kAcceleration, boundary(0.0, 0.0, 0.0, false),
           {b.poseData(n - 2), b.poseData(n - 1), b.dtData(n - 2)});
     }
     const double sw_obst = sq(w.obstacle);

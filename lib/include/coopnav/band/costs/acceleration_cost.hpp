@@ -49,6 +49,8 @@ struct BoundaryAccelerationCost {
   BoundaryAccelerationCost(const MotionLimits& lim, double vx_m_s, double vy_m_s,
                            double omega_rad_s, bool at_start)
       : lim_(lim), vx_(vx_m_s), vy_(vy_m_s), om_(omega_rad_s), at_start_(at_start) {}
+  /// The measured (start) or standstill (goal) velocity the band's end segment is compared with.
+  SegmentVelocity<double> fixedVelocity() const { return {vx_, lim_.holonomic ? vy_ : 0.0, om_}; }
   template <typename T>
   bool operator()(const T* p0, const T* p1, const T* dt, T* r) const {
     const auto v = segmentVelocity(p0, p1, dt[0], lim_.holonomic);

@@ -1,0 +1,127 @@
+// The hand-derived Jacobians of the holonomic velocity / acceleration terms and of the
+// kinematics term against Ceres' automatic differentiation of the same functors, on random
+// segments with every penalty branch (inside, below, above) and with the nominal-speed residual.
+#include "coopnav/band/costs/holonomic_motion_costs.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "coopnav/band/costs/hinge_autodiff.hpp"
+
+namespace coopnav::band_costs {
+namespace {
+
+// Residuals and Jacobians to rounding: Ceres' dual numbers divide as f * (1 / g) and take
+// atan2 of sin / cos with a derivative of 1 ± a few ulp, where ours divides and uses 1. With
+// and without Jacobians our residuals are the same bits (the solver's cost and its
+// linearisation agree).
+void expectSameTerm(const ceres::CostFunction& ours, const ceres::CostFunction& autodiff,
+                    const std::vector<double*>& params) {
+  const int m = ours.num_residuals();
+  ASSERT_EQ(m, autodiff.num_residuals());
+  const auto& sizes = ours.parameter_block_sizes();
+  ASSERT_EQ(sizes, autodiff.parameter_block_sizes());
+  std::vector<double> r1(m), r2(m);
+  std::vector<std::vector<double>> j1, j2;
+  std::vector<double*> jp1, jp2;
+  for (int s : sizes) {
+    j1.emplace_back(m * s, -7.0);  // garbage: every entry must be written
+    j2.emplace_back(m * s, 7.0);
+  }
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    jp1.push_back(j1[i].data());
+    jp2.push_back(j2[i].data());
+  }
+  ASSERT_TRUE(ours.Evaluate(params.data(), r1.data(), jp1.data()));
+  ASSERT_TRUE(autodiff.Evaluate(params.data(), r2.data(), jp2.data()));
+  for (int k = 0; k < m; ++k)
+    EXPECT_NEAR(r1[k], r2[k], 1e-12 * (1.0 + std::abs(r2[k]))) << "residual " << k;
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    for (int e = 0; e < m * sizes[i]; ++e) {
+      EXPECT_NEAR(j1[i][e], j2[i][e], 1e-9 * (1.0 + std::abs(j2[i][e])))
+          << "block " << i << " row " << e / sizes[i] << " col " << e % sizes[i];
+    }
+  }
+  // Without Jacobians: the same residuals.
+  std::vector<double> r3(m);
+  ASSERT_TRUE(ours.Evaluate(params.data(), r3.data(), nullptr));
+  EXPECT_EQ(r3, r1);
+}
+
+MotionLimits limits(bool nominal) {
+  MotionLimits lim;
+  lim.holonomic = true;
+  lim.max_vel_x_m_s = 0.7;
+  lim.max_vel_x_backwards_m_s = 0.3;
+  lim.max_vel_y_m_s = 0.4;
+  lim.max_vel_theta_rad_s = 1.0;
+  lim.acc_lim_x_m_s2 = 0.5;
+  lim.acc_lim_y_m_s2 = 0.4;
+  lim.acc_lim_theta_rad_s2 = 0.6;
+  lim.sqrt_w_vel_x = 1.4;
+  lim.sqrt_w_vel_y = 1.1;
+  lim.sqrt_w_vel_theta = 0.9;
+  lim.sqrt_w_acc_x = 1.3;
+  lim.sqrt_w_acc_y = 0.8;
+  lim.sqrt_w_acc_theta = 1.2;
+  if (nominal) {
+    lim.sqrt_w_nominal = 1.5;
+    lim.nominal_vel_m_s = 1.1;
+  }
+  return lim;
+}
+
+TEST(HolonomicMotionCosts, JacobiansMatchAutodiffOnRandomSegments) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> pos(-0.25, 0.25), ang(-3.0, 3.0), dt(0.05, 0.4);
+  int active = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const MotionLimits lim = limits(trial % 2 == 0);
+    double p0[3] = {pos(rng), pos(rng), ang(rng)};
+    double p1[3] = {p0[0] + pos(rng), p0[1] + pos(rng), p0[2] + 0.3 * pos(rng)};
+    double p2[3] = {p1[0] + pos(rng), p1[1] + pos(rng), p1[2] + 0.3 * pos(rng)};
+    double t0[1] = {dt(rng)}, t1[1] = {dt(rng)};
+
+    const HolonomicVelocityCostFunction vel(lim);
+    const HingeAutoDiffCostFunction<VelocityCost, 4, 3, 3, 1> vel_ad{VelocityCost(lim)};
+    expectSameTerm(vel, vel_ad, {p0, p1, t0});
+
+    const HolonomicAccelerationCostFunction acc(lim);
+    const HingeAutoDiffCostFunction<AccelerationCost, 3, 3, 3, 3, 1, 1> acc_ad{
+        AccelerationCost(lim)};
+    expectSameTerm(acc, acc_ad, {p0, p1, p2, t0, t1});
+    double r[3];
+    acc.Evaluate(std::vector<double*>{p0, p1, p2, t0, t1}.data(), r, nullptr);
+    active += (r[0] != 0.0 || r[1] != 0.0 || r[2] != 0.0);
+
+    for (bool at_start : {true, false}) {
+      const HolonomicBoundaryAccelerationCostFunction b(lim, 0.4, -0.1, 0.2, at_start);
+      const HingeAutoDiffCostFunction<BoundaryAccelerationCost, 3, 3, 3, 1> b_ad{
+          BoundaryAccelerationCost(lim, 0.4, -0.1, 0.2, at_start)};
+      expectSameTerm(b, b_ad, {p0, p1, t0});
+    }
+
+    for (double fwd : {0.0, 2.0}) {
+      const KinematicsCostFunction kin(1.7, fwd);
+      const HingeAutoDiffCostFunction<KinematicsCost, 2, 3, 3> kin_ad{KinematicsCost(1.7, fwd)};
+      expectSameTerm(kin, kin_ad, {p0, p1});
+    }
+  }
+  // The random segments exercise the penalties, not only their zero branch.
+  EXPECT_GT(active, 200);
+}
+
+TEST(HolonomicMotionCosts, ANonHolonomicBandIsRefused) {
+  MotionLimits lim = limits(false);
+  lim.holonomic = false;
+  EXPECT_THROW(HolonomicVelocityCostFunction{lim}, std::invalid_argument);
+  EXPECT_THROW(HolonomicAccelerationCostFunction{lim}, std::invalid_argument);
+  EXPECT_THROW((HolonomicBoundaryAccelerationCostFunction{lim, 0.0, 0.0, 0.0, true}),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace coopnav::band_costs

@@ -184,30 +184,35 @@ class ProblemBuilder {
     const bool diff = !lim.holonomic;
     const double sw_nh = sq(diff ? w.kinematics_nh_diff_drive : w.kinematics_nh);
     const double sw_fwd = diff ? sq(w.kinematics_forward_drive) : 0.0;
+    // One heading-trigonometry cache per band, shared by its velocity, acceleration and
+    // kinematics terms (holonomic_motion_costs.hpp: BandTrig).
+    const BandTrig* trig = &trigs_.emplace_back(n);
     for (std::size_t i = 0; i + 1 < n; ++i) {
       add(kVelocity,
-          lim.holonomic ? new HolonomicVelocityCostFunction(lim)
+          lim.holonomic ? new HolonomicVelocityCostFunction(lim, {trig, i})
                         : autodiff<VelocityCost, 4, 3, 3, 1>(VelocityCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.dtData(i)});
       add(kTimeOptimal,
           autodiff<TimeOptimalCost, 2, 1>(TimeOptimalCost(sq(w.optimaltime), cfg_.dt_min_s)),
           {b.dtData(i)});
       if (sw_nh > 0.0 || sw_fwd > 0.0) {
-        add(kKinematics, new KinematicsCostFunction(sw_nh, sw_fwd),
+        add(kKinematics, new KinematicsCostFunction(sw_nh, sw_fwd, {trig, i}),
             {b.poseData(i), b.poseData(i + 1)});
       }
     }
     for (std::size_t i = 0; i + 2 < n; ++i) {
       add(kAcceleration,
-          lim.holonomic ? new HolonomicAccelerationCostFunction(lim)
+          lim.holonomic ? new HolonomicAccelerationCostFunction(lim, {trig, i})
                         : autodiff<AccelerationCost, 3, 3, 3, 3, 1, 1>(AccelerationCost(lim)),
           {b.poseData(i), b.poseData(i + 1), b.poseData(i + 2), b.dtData(i), b.dtData(i + 1)});
     }
     const Velocity2& v0 = a.start_velocity_body;
     // Hand-derived Jacobians where the band is holonomic (holonomic_motion_costs.hpp).
     auto boundary = [&](double vx, double vy, double om, bool at_start) -> ceres::CostFunction* {
-      if (lim.holonomic)
-        return new HolonomicBoundaryAccelerationCostFunction(lim, vx, vy, om, at_start);
+      if (lim.holonomic) {
+        return new HolonomicBoundaryAccelerationCostFunction(lim, vx, vy, om, at_start,
+                                                             {trig, at_start ? 0 : n - 2});
+      }
       return autodiff<BoundaryAccelerationCost, 3, 3, 3, 1>(
           BoundaryAccelerationCost(lim, vx, vy, om, at_start));
     };
@@ -307,6 +312,7 @@ class ProblemBuilder {
   std::vector<ResidualSpec> residuals_;
   std::vector<std::size_t> blocks_[kNumTerms];
   // Deques: stable addresses for the pointers the cost terms hold.
+  std::deque<BandTrig> trigs_;            ///< one per band
   std::deque<PathProjector> projectors_;  ///< one per band with a reference path
   std::deque<Via> vias_;
   std::deque<ViaAnchor> anchors_;

@@ -114,6 +114,55 @@ TEST(HolonomicMotionCosts, JacobiansMatchAutodiffOnRandomSegments) {
   EXPECT_GT(active, 200);
 }
 
+// Terms sharing a band's trigonometry cache give the bits of terms without one, also after
+// the poses move (the cache notices by the exact bits: -0.0 is not 0.0 to sin).
+TEST(HolonomicMotionCosts, TheSharedTrigCacheChangesNoBit) {
+  const MotionLimits lim = limits(true);
+  std::vector<double> poses = {0.0, 0.0, 0.3, 0.1, 0.02, 0.35, 0.22, 0.01, -0.0};
+  double t0[1] = {0.12}, t1[1] = {0.15};
+  const BandTrig trig(3);
+  auto same = [](const ceres::CostFunction& a, const ceres::CostFunction& b,
+                 std::vector<double*> params) {
+    const int m = a.num_residuals();
+    std::vector<double> ra(m), rb(m);
+    std::vector<std::vector<double>> ja, jb;
+    std::vector<double*> pa, pb;
+    for (int sz : a.parameter_block_sizes()) {
+      ja.emplace_back(m * sz, 0.0);
+      jb.emplace_back(m * sz, 1.0);
+    }
+    for (std::size_t i = 0; i < ja.size(); ++i) {
+      pa.push_back(ja[i].data());
+      pb.push_back(jb[i].data());
+    }
+    ASSERT_TRUE(a.Evaluate(params.data(), ra.data(), pa.data()));
+    ASSERT_TRUE(b.Evaluate(params.data(), rb.data(), pb.data()));
+    EXPECT_EQ(ra, rb);
+    EXPECT_EQ(ja, jb);
+  };
+  for (int round = 0; round < 3; ++round) {
+    double* p0 = poses.data();
+    double* p1 = poses.data() + 3;
+    double* p2 = poses.data() + 6;
+    // Two terms of the same band read each entry: the second one hits the cache.
+    for (int pass = 0; pass < 2; ++pass) {
+      same(HolonomicVelocityCostFunction(lim, {&trig, 1}), HolonomicVelocityCostFunction(lim),
+           {p1, p2, t1});
+      same(HolonomicAccelerationCostFunction(lim, {&trig, 0}),
+           HolonomicAccelerationCostFunction(lim), {p0, p1, p2, t0, t1});
+      same(HolonomicBoundaryAccelerationCostFunction(lim, 0.5, 0.1, -0.2, true, {&trig, 0}),
+           HolonomicBoundaryAccelerationCostFunction(lim, 0.5, 0.1, -0.2, true), {p0, p1, t0});
+      same(KinematicsCostFunction(1.0, 2.0, {&trig, 1}), KinematicsCostFunction(1.0, 2.0),
+           {p1, p2});
+    }
+    // The optimiser moves the poses: the cached entries must not be reused.
+    poses[2] += 0.7;
+    poses[5] = -poses[5];
+    poses[8] = round == 0 ? 0.0 : -0.0;
+    poses[3] += 0.05;
+  }
+}
+
 TEST(HolonomicMotionCosts, ANonHolonomicBandIsRefused) {
   MotionLimits lim = limits(false);
   lim.holonomic = false;

@@ -53,14 +53,18 @@ struct BoundaryAccelerationCost {
   SegmentVelocity<double> fixedVelocity() const { return {vx_, lim_.holonomic ? vy_ : 0.0, om_}; }
   template <typename T>
   bool operator()(const T* p0, const T* p1, const T* dt, T* r) const {
-    const auto v = segmentVelocity(p0, p1, dt[0], lim_.holonomic);
+    residuals(segmentVelocity(p0, p1, dt[0], lim_.holonomic), dt[0], r);
+    return true;
+  }
+  /// The residuals of the end segment's velocity v.
+  template <typename T>
+  void residuals(const SegmentVelocity<T>& v, const T& dt, T* r) const {
     const SegmentVelocity<T> k{T(vx_), T(lim_.holonomic ? vy_ : 0.0), T(om_)};
     if (at_start_) {
-      accelerationResiduals(lim_, k, v, dt[0], r);
+      accelerationResiduals(lim_, k, v, dt, r);
     } else {
-      accelerationResiduals(lim_, v, k, dt[0], r);
+      accelerationResiduals(lim_, v, k, dt, r);
     }
-    return true;
   }
 
  private:

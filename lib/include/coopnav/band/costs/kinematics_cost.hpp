@@ -17,12 +17,17 @@ struct KinematicsCost {
   bool operator()(const T* a, const T* b, T* r) const {
     using std::cos;
     using std::sin;
+    residuals(a, b, T(cos(a[2])), T(sin(a[2])), T(cos(b[2])), T(sin(b[2])), r);
+    return true;
+  }
+  /// The residuals from the headings' cosines and sines (a BandTrig cache can supply them).
+  template <typename T>
+  void residuals(const T* a, const T* b, const T& ca, const T& sa, const T& cb, const T& sb,
+                 T* r) const {
     const T dx = b[0] - a[0];
     const T dy = b[1] - a[1];
-    r[0] = sw_nh_ * ((cos(a[2]) + cos(b[2])) * dy - (sin(a[2]) + sin(b[2])) * dx);
-    r[1] = sw_fwd_ > 0.0 ? T(sw_fwd_ * penaltyBelow(T(cos(a[2]) * dx + sin(a[2]) * dy), 0.0, 0.0))
-                         : T(0.0);
-    return true;
+    r[0] = sw_nh_ * ((ca + cb) * dy - (sa + sb) * dx);
+    r[1] = sw_fwd_ > 0.0 ? T(sw_fwd_ * penaltyBelow(T(ca * dx + sa * dy), 0.0, 0.0)) : T(0.0);
   }
 
  private:

@@ -14,14 +14,13 @@ struct SegmentVelocity {
   T omega;
 };
 
+/// The same from pose a's heading cosine / sine and the wrapped heading change θb − θa, which
+/// segmentVelocity() computes and a BandTrig cache can supply (the same bits either way).
 template <typename T>
-SegmentVelocity<T> segmentVelocity(const T* a, const T* b, const T& dt, bool holonomic) {
-  using std::cos;
-  using std::sin;
+SegmentVelocity<T> segmentVelocityFrom(const T* a, const T* b, const T& dt, bool holonomic,
+                                       const T& c, const T& s, const T& dtheta) {
   const T dx = b[0] - a[0];
   const T dy = b[1] - a[1];
-  const T c = cos(a[2]);
-  const T s = sin(a[2]);
   SegmentVelocity<T> v;
   if (holonomic) {
     v.vx = (c * dx + s * dy) / dt;
@@ -30,8 +29,17 @@ SegmentVelocity<T> segmentVelocity(const T* a, const T* b, const T& dt, bool hol
     v.vx = safeNorm(dx, dy) / dt * smoothSign(c * dx + s * dy);
     v.vy = T(0.0);
   }
-  v.omega = angleDiff(b[2], a[2]) / dt;
+  v.omega = dtheta / dt;
   return v;
+}
+
+template <typename T>
+SegmentVelocity<T> segmentVelocity(const T* a, const T* b, const T& dt, bool holonomic) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(a[2]);
+  const T s = sin(a[2]);
+  return segmentVelocityFrom(a, b, dt, holonomic, c, s, angleDiff(b[2], a[2]));
 }
 
 /// Limits and √weights of the velocity / acceleration terms of one band.

@@ -14,6 +14,21 @@
 namespace coopnav::band_costs {
 namespace {
 
+// One evaluation with Jacobians, every entry pre-filled with `fill` (so each must be written).
+struct Evaluated {
+  std::vector<double> r;
+  std::vector<std::vector<double>> j;
+};
+Evaluated evaluate(const ceres::CostFunction& f, const std::vector<double*>& params, double fill) {
+  const int m = f.num_residuals();
+  Evaluated e{std::vector<double>(m), {}};
+  std::vector<double*> jp;
+  for (int s : f.parameter_block_sizes()) e.j.emplace_back(m * s, fill);
+  for (auto& block : e.j) jp.push_back(block.data());
+  EXPECT_TRUE(f.Evaluate(params.data(), e.r.data(), jp.data()));
+  return e;
+}
+
 // Residuals and Jacobians to rounding: Ceres' dual numbers divide as f * (1 / g) and take
 // atan2 of sin / cos with a derivative of 1 ± a few ulp, where ours divides and uses 1. With
 // and without Jacobians our residuals are the same bits (the solver's cost and its
@@ -24,31 +39,20 @@ void expectSameTerm(const ceres::CostFunction& ours, const ceres::CostFunction& 
   ASSERT_EQ(m, autodiff.num_residuals());
   const auto& sizes = ours.parameter_block_sizes();
   ASSERT_EQ(sizes, autodiff.parameter_block_sizes());
-  std::vector<double> r1(m), r2(m);
-  std::vector<std::vector<double>> j1, j2;
-  std::vector<double*> jp1, jp2;
-  for (int s : sizes) {
-    j1.emplace_back(m * s, -7.0);  // garbage: every entry must be written
-    j2.emplace_back(m * s, 7.0);
-  }
-  for (std::size_t i = 0; i < sizes.size(); ++i) {
-    jp1.push_back(j1[i].data());
-    jp2.push_back(j2[i].data());
-  }
-  ASSERT_TRUE(ours.Evaluate(params.data(), r1.data(), jp1.data()));
-  ASSERT_TRUE(autodiff.Evaluate(params.data(), r2.data(), jp2.data()));
+  const Evaluated a = evaluate(ours, params, -7.0);
+  const Evaluated b = evaluate(autodiff, params, 7.0);
   for (int k = 0; k < m; ++k)
-    EXPECT_NEAR(r1[k], r2[k], 1e-12 * (1.0 + std::abs(r2[k]))) << "residual " << k;
+    EXPECT_NEAR(a.r[k], b.r[k], 1e-12 * (1.0 + std::abs(b.r[k]))) << "residual " << k;
   for (std::size_t i = 0; i < sizes.size(); ++i) {
     for (int e = 0; e < m * sizes[i]; ++e) {
-      EXPECT_NEAR(j1[i][e], j2[i][e], 1e-9 * (1.0 + std::abs(j2[i][e])))
+      EXPECT_NEAR(a.j[i][e], b.j[i][e], 1e-9 * (1.0 + std::abs(b.j[i][e])))
           << "block " << i << " row " << e / sizes[i] << " col " << e % sizes[i];
     }
   }
   // Without Jacobians: the same residuals.
   std::vector<double> r3(m);
   ASSERT_TRUE(ours.Evaluate(params.data(), r3.data(), nullptr));
-  EXPECT_EQ(r3, r1);
+  EXPECT_EQ(r3, a.r);
 }
 
 MotionLimits limits(bool nominal) {
@@ -122,23 +126,11 @@ TEST(HolonomicMotionCosts, TheSharedTrigCacheChangesNoBit) {
   double t0[1] = {0.12}, t1[1] = {0.15};
   const BandTrig trig(3);
   auto same = [](const ceres::CostFunction& a, const ceres::CostFunction& b,
-                 std::vector<double*> params) {
-    const int m = a.num_residuals();
-    std::vector<double> ra(m), rb(m);
-    std::vector<std::vector<double>> ja, jb;
-    std::vector<double*> pa, pb;
-    for (int sz : a.parameter_block_sizes()) {
-      ja.emplace_back(m * sz, 0.0);
-      jb.emplace_back(m * sz, 1.0);
-    }
-    for (std::size_t i = 0; i < ja.size(); ++i) {
-      pa.push_back(ja[i].data());
-      pb.push_back(jb[i].data());
-    }
-    ASSERT_TRUE(a.Evaluate(params.data(), ra.data(), pa.data()));
-    ASSERT_TRUE(b.Evaluate(params.data(), rb.data(), pb.data()));
-    EXPECT_EQ(ra, rb);
-    EXPECT_EQ(ja, jb);
+                 const std::vector<double*>& params) {
+    const Evaluated ea = evaluate(a, params, 0.0);
+    const Evaluated eb = evaluate(b, params, 1.0);
+    EXPECT_EQ(ea.r, eb.r);
+    EXPECT_EQ(ea.j, eb.j);
   };
   for (int round = 0; round < 3; ++round) {
     double* p0 = poses.data();

@@ -397,7 +397,7 @@ struct SparseLm::Impl {
   std::vector<double> jacobian_storage;
   std::vector<double*> jacobians;
   std::vector<const double*> param_ptrs;
-  std::vector<double> columns;  ///< accumulatePadded(): kPad entries per Jacobian column
+  std::vector<double> columns;  ///< accumulateFixed(): up to kPad entries per Jacobian column
   /// Parameter blocks per residual block that accumulatePadded() handles on the stack.
   static constexpr int kMaxBlockParams = 16;
 
@@ -550,16 +550,26 @@ struct SparseLm::Impl {
     return c;
   }
 
-  /// Residual count up to which a block's Jacobian is transposed into columns of kPad entries
-  /// (zero-padded): every JᵀJ entry is then the same four products, with no loop over the
-  /// residuals (all band terms have 1-4 residuals).
+  /// Residual count up to which a block's Jacobian is transposed into columns of kM <= kPad
+  /// entries: every JᵀJ entry is then kM products with no loop over the residuals (all band
+  /// terms have 1-4 residuals).
   static constexpr int kPad = 4;
 
-  /// Adds a block's Jᵀr and JᵀJ (block evaluated into the scratch, m <= kPad).
-  void accumulatePadded(const Block& blk) {
-    const int m = blk.num_residuals;
-    double r[kPad] = {0.0, 0.0, 0.0, 0.0};
-    std::copy(residuals.begin(), residuals.begin() + m, r);
+  /// Σ_k x[k] y[k], left to right.
+  template <int kM>
+  static double dotFixed(const double* x, const double* y) {
+    double s = x[0] * y[0];
+    for (int k = 1; k < kM; ++k) s += x[k] * y[k];
+    return s;
+  }
+
+  /// Adds a block's Jᵀr and JᵀJ (block evaluated into the scratch, kM residuals). The sums are
+  /// those of four products padded with zeros, to the bit (a padded +0.0 changes no sum that
+  /// starts from +0.0, as the gradient and the Hessian do).
+  template <int kM>
+  void accumulateFixed(const Block& blk) {
+    double r[kM];
+    std::copy(residuals.begin(), residuals.begin() + kM, r);
     // Columns of the unknown parameters, in block order: column (i, a) at col_base[i] + a.
     double* cols = columns.data();
     int col_base[kMaxBlockParams];
@@ -568,20 +578,39 @@ struct SparseLm::Impl {
       const Param& p = params[block_params[blk.first_param + i]];
       col_base[i] = ncols;
       if (p.offset < 0) continue;
-      const double* J = jacobians[i];  // row-major m × size
+      const double* J = jacobians[i];  // row-major kM × size
       for (int a = 0; a < p.size; ++a, ++ncols) {
-        double* c = cols + kPad * ncols;
-        for (int k = 0; k < kPad; ++k) c[k] = k < m ? J[k * p.size + a] : 0.0;
-        gradient[p.offset + a] += c[0] * r[0] + c[1] * r[1] + c[2] * r[2] + c[3] * r[3];
+        double* c = cols + kM * ncols;
+        for (int k = 0; k < kM; ++k) c[k] = J[k * p.size + a];
+        gradient[p.offset + a] += dotFixed<kM>(c, r);
       }
     }
     double* h = hessian.data();
     const int* slot = slots.data() + blk.first_slot;  // laid out in forEachEntry()'s order
     forEachEntry(blk, [&](int i, int j, int a, int b, int, int) {
-      const double* ca = cols + kPad * (col_base[i] + a);
-      const double* cb = cols + kPad * (col_base[j] + b);
-      h[*slot++] += ca[0] * cb[0] + ca[1] * cb[1] + ca[2] * cb[2] + ca[3] * cb[3];
+      h[*slot++] += dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
     });
+  }
+
+  /// accumulateFixed<m>() for the block's residual count m in 1..kPad; false otherwise.
+  bool accumulatePadded(const Block& blk) {
+    if (blk.num_params > kMaxBlockParams) return false;
+    switch (blk.num_residuals) {
+      case 1:
+        accumulateFixed<1>(blk);
+        return true;
+      case 2:
+        accumulateFixed<2>(blk);
+        return true;
+      case 3:
+        accumulateFixed<3>(blk);
+        return true;
+      case 4:
+        accumulateFixed<4>(blk);
+        return true;
+      default:
+        return false;
+    }
   }
 
   /// As accumulatePadded() for any residual count.
@@ -615,7 +644,6 @@ struct SparseLm::Impl {
     double c = 0.0;
     for (const Block& blk : blocks) {
       c += evaluateBlock(blk, true);
-      const int m = blk.num_residuals;
       // An inactive penalty (a hinge inside its allowed set) has an exactly zero Jacobian and
       // adds nothing: most blocks of a band are such at any time (no limit violated, no wall or
       // agent near).
@@ -623,11 +651,7 @@ struct SparseLm::Impl {
       if (std::all_of(jac, jac + blk.jacobian_size, [](double v) { return v == 0.0; })) {
         continue;
       }
-      if (m <= kPad && blk.num_params <= kMaxBlockParams) {
-        accumulatePadded(blk);
-      } else {
-        accumulateGeneral(blk);
-      }
+      if (!accumulatePadded(blk)) accumulateGeneral(blk);
     }
     return c;
   }

@@ -79,9 +79,18 @@ void requireInRange(double value, double lo, double hi, const YAML::Node& node,
 }
 
 std::string readFile(const std::string& path, const std::string& what) {
+  // A directory opens like a file and fails at the first read, where libstdc++ throws
+  // std::ios_base::failure past the loader (found by fuzz_map_yaml: a scenario's `map: {file:
+  // ..}` stopped the daemon with exit 1, the fuzz target with std::terminate).
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw MapLoadError(path + ": is a directory, not a " + what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MapLoadError(path + ": cannot open " + what);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  try {
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::ios_base::failure& e) {
+    throw MapLoadError(path + ": cannot read " + what + ": " + e.what());
+  }
 }
 
 YAML::Node loadYamlFile(const std::string& path) {
@@ -210,6 +219,8 @@ LoadedMap fromGrid(OccupancyGrid2 grid, const MapLoadOptions& options, const std
 }
 
 LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) fail(path, "is a directory, not an OctoMap file");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open OctoMap file");
   if (!(options.bt_z_min_m < options.bt_z_max_m)) {

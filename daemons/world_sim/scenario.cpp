@@ -350,6 +350,9 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
 }
 
 Scenario loadScenario(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ScenarioError(path + ": is a directory, not a scenario file");
   std::ifstream in(path);
   if (!in) throw ScenarioError(path + ": cannot open the scenario file");
   std::stringstream ss;

@@ -188,6 +188,14 @@ TEST(Scenario, LoadsFromFileAndResolvesTheMapPath) {
   const Scenario sc = loadScenario((dir / "s.yaml").string());
   EXPECT_EQ(fs::path(sc.map.file), (dir / "maps" / "m.yaml").lexically_normal());
 
+  // A directory where the scenario file should be (it opens, and fails at the first read).
+  try {
+    loadScenario((dir / "maps").string());
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+
   std::ofstream(dir / "bad.yaml") << replaced(text, "maps/m.yaml", "maps/none.yaml");
   try {
     loadScenario((dir / "bad.yaml").string());

@@ -389,6 +389,25 @@ TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {
               AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 4194304 cells")));
 }
 
+// A directory opens like a file and fails at the first read, where libstdc++ throws past the
+// loader (fuzz_map_yaml: `map: {file: ..}` in a scenario). Named anywhere, it is a bad map.
+TEST(MapLoaderTest, ADirectoryIsABadMapFileWhereverItIsNamed) {
+  TempDir tmp;
+  fs::create_directories(tmp.dir() + "/dir.bt");
+  fs::create_directories(tmp.dir() + "/dir.yaml");
+  const std::string scenario = tmp.write("scenario.yaml", "map:\n  file: ..\n");
+  const std::string ros = tmp.write("ros.yaml",
+                                    "image: .\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+                                    "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  for (const std::string& path :
+       {tmp.dir(), tmp.dir() + "/dir.bt", tmp.dir() + "/dir.yaml", scenario, ros}) {
+    EXPECT_THAT(errorOf([&] { loadMap(path); }), HasSubstr("is a directory")) << path;
+  }
+  MapSource source;
+  source.map_file = scenario;
+  EXPECT_THROW(loadDistanceField(source), StartupError);
+}
+
 // A 100 x 100-cell walls map: within the default limit, over a lowered one, whichever the source.
 TEST(MapLoaderTest, MaxCellsLowersTheLimitOfEverySourceAndTheMessageNamesTheKey) {
   TempDir tmp;

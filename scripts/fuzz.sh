@@ -160,6 +160,9 @@ case "$mode" in
         run_target "$t" -max_total_time="$SHORT_S"
       else
         # Long runs share the machine: lowest priority, one target at a time, one process each.
+        # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
+        # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
+        # a 60 s pause, ended a 10M run at 4.3M).
         NICE=(nice -n 19)
         # No allocation stacks in ASan's reports of a long run: their depot only grows (yaml-cpp's
         # recursion makes ever new stacks) until storing one is a third of the time (fuzz_config:

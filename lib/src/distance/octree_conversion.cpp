@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,6 +14,19 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
   if (grid.empty()) throw std::invalid_argument("gridToOctree: empty grid");
   if (slab_layers < 1) throw std::invalid_argument("gridToOctree: slab_layers must be >= 1");
   const double res = grid.resolution_m();
+  // OctoMap takes coordinates as floats: a resolution whose farthest voxel centre is not a
+  // finite float (a walls map at resolution_m 8.9e53, found by fuzz_map_yaml: undefined
+  // behaviour in OcTreeBaseImpl::coordToKeyChecked), or that is 0 as a float (every voxel at
+  // the same key: a wrong map, silently), is no map an OcTree can hold.
+  const int extent_cells = std::max({grid.width(), grid.height(), slab_layers});
+  const float res_f = static_cast<float>(res);
+  const float far_f = static_cast<float>((extent_cells + 0.5) * res);
+  if (!(res_f > 0.0f) || !std::isfinite(res_f) || !std::isfinite(far_f)) {
+    std::ostringstream os;
+    os << "gridToOctree: resolution " << res << " m is outside what an OcTree holds (float "
+       << "coordinates of " << extent_cells << " cells)";
+    throw std::invalid_argument(os.str());
+  }
   auto tree = std::make_unique<octomap::OcTree>(res);
   // Fixed values rather than updateNode(): the map is given, not observed, so every voxel gets
   // the clamped certainty directly.

@@ -389,6 +389,30 @@ TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {
               AllOf(HasSubstr("fine.yaml"), HasSubstr("larger than 4194304 cells")));
 }
 
+// OctoMap's coordinates are floats: a resolution whose voxel centres overflow a float (found by
+// fuzz_map_yaml: undefined behaviour inside OctoMap) or underflow to 0 is a bad map, not a crash
+// or a tree with every voxel at one key.
+TEST(MapLoaderTest, AResolutionAnOcTreeCannotHoldIsABadMap) {
+  TempDir tmp;
+  const std::string huge = tmp.write(
+      "huge.yaml",
+      "resolution_m: 8.9e53\nboxes:\n  - {min_x_m: 0, min_y_m: 0, max_x_m: 1, max_y_m: 1}\n");
+  const std::string tiny = tmp.write("tiny.yaml",
+                                     "resolution_m: 1e-50\nboxes:\n  - {min_x_m: 0, min_y_m: 0, "
+                                     "max_x_m: 2e-50, max_y_m: 2e-50}\n");
+  for (const std::string& path : {huge, tiny}) {
+    EXPECT_THAT(errorOf([&] { loadMap(path); }),
+                AllOf(HasSubstr(path), HasSubstr("outside what an OcTree holds")));
+  }
+  EXPECT_THROW(gridToOctree(OccupancyGrid2(2, 2, 1e39, Eigen::Vector2d::Zero(), CellState::kFree)),
+               std::invalid_argument);
+  // The largest a float holds still loads (a map of one 1e30 m cell is absurd, but consistent).
+  const std::string big = tmp.write(
+      "big.yaml",
+      "resolution_m: 1e30\nboxes:\n  - {min_x_m: 0, min_y_m: 0, max_x_m: 1, max_y_m: 1}\n");
+  EXPECT_EQ(loadMap(big).grid.width(), 1);
+}
+
 // A directory opens like a file and fails at the first read, where libstdc++ throws past the
 // loader (fuzz_map_yaml: `map: {file: ..}` in a scenario). Named anywhere, it is a bad map.
 TEST(MapLoaderTest, ADirectoryIsABadMapFileWhereverItIsNamed) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -18,10 +19,11 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
   // finite float (a walls map at resolution_m 8.9e53, found by fuzz_map_yaml: undefined
   // behaviour in OcTreeBaseImpl::coordToKeyChecked), or that is 0 as a float (every voxel at
   // the same key: a wrong map, silently), is no map an OcTree can hold.
+  // Compared as doubles: converting an out-of-range double to float is itself undefined.
   const int extent_cells = std::max({grid.width(), grid.height(), slab_layers});
-  const float res_f = static_cast<float>(res);
-  const float far_f = static_cast<float>((extent_cells + 0.5) * res);
-  if (!(res_f > 0.0f) || !std::isfinite(res_f) || !std::isfinite(far_f)) {
+  const double far_m = (extent_cells + 0.5) * res;
+  if (!(res >= static_cast<double>(std::numeric_limits<float>::min())) ||
+      !(far_m < static_cast<double>(std::numeric_limits<float>::max()))) {
     std::ostringstream os;
     os << "gridToOctree: resolution " << res << " m is outside what an OcTree holds (float "
        << "coordinates of " << extent_cells << " cells)";

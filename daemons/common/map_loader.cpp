@@ -411,9 +411,12 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
 
   const fs::path image_path =
       fs::path(image).is_absolute() ? fs::path(image) : fs::path(base_dir) / image;
-  if (!fs::exists(image_path)) {
+  // The error_code overload: the throwing one throws filesystem_error past the loader for a
+  // name the system refuses (a 300-byte component: ENAMETOOLONG; found by fuzz_map_yaml).
+  std::error_code ec;
+  if (!fs::exists(image_path, ec)) {
     fail(where, "image file '" + image_path.string() + "' (key 'image'" + lineOf(node["image"]) +
-                    ") not found");
+                    ") not found" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
   const PgmImage img = readPgm(image_path.string());
   if (std::int64_t{img.width} * img.height > max_cells) {

@@ -196,8 +196,11 @@ void readMap(Reader& root, MapSpec& map, const std::string& base_dir,
     std::filesystem::path p(map.file);
     if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
     map.file = p.lexically_normal().string();
-    if (!std::filesystem::is_regular_file(p))
-      r.error("file", "= '" + map.file + "' does not exist");
+    // Not the throwing overload: a name the system refuses (ENAMETOOLONG) is a missing file.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(p, ec))
+      r.error("file", "= '" + map.file + "' does not exist" +
+                          (ec ? " (" + ec.message() + ")" : std::string()));
   }
 }
 

@@ -196,6 +196,15 @@ TEST(Scenario, LoadsFromFileAndResolvesTheMapPath) {
     EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
   }
 
+  // A map file name the system refuses (ENAMETOOLONG): does not exist, no filesystem_error.
+  try {
+    parseScenario(replaced(text, "maps/m.yaml", "maps/" + std::string(300, 'A') + ".yaml"),
+                  "long.yaml", dir.string());
+    FAIL() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+  }
+
   std::ofstream(dir / "bad.yaml") << replaced(text, "maps/m.yaml", "maps/none.yaml");
   try {
     loadScenario((dir / "bad.yaml").string());

@@ -427,6 +427,18 @@ TEST(MapLoaderTest, ADirectoryIsABadMapFileWhereverItIsNamed) {
        {tmp.dir(), tmp.dir() + "/dir.bt", tmp.dir() + "/dir.yaml", scenario, ros}) {
     EXPECT_THAT(errorOf([&] { loadMap(path); }), HasSubstr("is a directory")) << path;
   }
+  // A name the system refuses (a 300-byte component, ENAMETOOLONG) is a file not found, not a
+  // filesystem_error past the loader (fuzz_map_yaml).
+  const std::string long_name(300, 'A');
+  const std::string long_image =
+      tmp.write("long.yaml", "image: " + long_name +
+                                 ".pgm\nresolution: 0.1\norigin: [0, 0, 0]\nnegate: 0\n"
+                                 "occupied_thresh: 0.65\nfree_thresh: 0.196\n");
+  EXPECT_THAT(errorOf([&] { loadMap(long_image); }), HasSubstr("not found"));
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/" + long_name + ".yaml"); }),
+              HasSubstr("cannot open"));
+  EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/" + long_name + ".bt"); }),
+              HasSubstr("cannot open"));
   MapSource source;
   source.map_file = scenario;
   EXPECT_THROW(loadDistanceField(source), StartupError);

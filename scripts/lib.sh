@@ -77,6 +77,25 @@ coopnav_spawn() {  # coopnav_spawn LOGFILE CMD ARGS...
   "$@" >"$log" 2>&1 &
   COOPNAV_PIDS+=($!)
 }
+# coopnav_record FILE REGEX LOGFILE: the recorder of a run in the background (tools/record: no
+# message dropped when it is starved of CPU, unlike lcm-logger 1.3.1's queue of 30).
+coopnav_record() {
+  coopnav_spawn "$3" "$COOPNAV_BUILD_DIR/tools/coopnav_record" -f -c "$2" \
+    --lcm-url "$LCM_DEFAULT_URL" "$1"
+}
+
+# coopnav_wait_recorded FILE: the last messages reach the recorder; on a loaded machine it may lag
+# behind the run. Returns once the file stopped growing for 0.3 s (at most ~5 s).
+coopnav_wait_recorded() {
+  local size=-1 now_size i
+  for i in $(seq 1 16); do
+    sleep 0.3
+    now_size=$(stat -c %s "$1" 2>/dev/null || echo 0)
+    [ "$now_size" = "$size" ] && return 0
+    size=$now_size
+  done
+}
+
 coopnav_stop_all() {
   local p
   for p in "${COOPNAV_PIDS[@]}"; do kill -TERM "$p" 2>/dev/null || true; done

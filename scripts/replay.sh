@@ -43,10 +43,9 @@ cfg="$COOPNAV_ROOT/config"
 
 trap coopnav_stop_all EXIT
 
-# The logger first: it is listening by the time the daemons are ready (a loaded machine can
+# The recorder first: it is listening by the time the daemons are ready (a loaded machine can
 # take a while to start it).
-coopnav_spawn "$outdir/lcm-logger.log" \
-  lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$outdir/replay.lcm"
+coopnav_record "$outdir/replay.lcm" 'COOPNAV_.*' "$outdir/record.log"
 coopnav_spawn "$outdir/obstacle_distance_server.log" "$(coopnav_bin obstacle_distance_server)" \
   -c "$cfg/obstacle_distance_server.yaml" --set "map_file=$map"
 for d in situation_assessor path_assessor dialogue_manager; do
@@ -63,6 +62,6 @@ lcm-logplayer -s "$speed" -l "$LCM_DEFAULT_URL" \
   -e 'COOPNAV_(AGENT_STATES|GOALS|BANDS|REFERENCE_PATHS|SIM_STATUS)' "$log" \
   >"$outdir/lcm-logplayer.log" 2>&1
 wait "$waiter" || echo "replay.sh: the replay did not reach the log's last step" >&2
-sleep 0.3  # the logger flushes every 100 ms
+coopnav_wait_recorded "$outdir/replay.lcm"
 coopnav_stop_all
 "$ctl" transcript "$outdir/replay.lcm"

@@ -3,7 +3,7 @@
 # share. Sourced after lib.sh, not executed.
 #
 #   coopnav_run_scenario SCENARIO.yaml DIR PORT
-#     Starts lcm-logger (DIR/<name>.lcm), the distance server, the band source, the assessors
+#     Starts the recorder (DIR/<name>.lcm, tools/record), the distance server, the band source, the assessors
 #     and the dialogue manager, waits until they are ready, runs world_sim in lockstep and stops
 #     everything. Returns world_sim's exit code (DIR/world_sim.log). Every process logs to
 #     DIR/<process>.log (appended to when a daemon is started again).
@@ -79,8 +79,7 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
       "${eps[@]}" --lossless "$LCM_DEFAULT_URL" --loss "$COOPNAV_LOSS" \
       --seed "${COOPNAV_LOSS_SEED:-1}"
   fi
-  coopnav_spawn "$_cn_dir/lcm-logger.log" \
-    lcm-logger -f -c 'COOPNAV_.*' --lcm-url="$LCM_DEFAULT_URL" "$_cn_dir/$name.lcm"
+  coopnav_record "$_cn_dir/$name.lcm" 'COOPNAV_.*' "$_cn_dir/record.log"
   local ready=()
   for d in "${COOPNAV_DAEMONS[@]}"; do
     case " ${COOPNAV_ABSENT:-} " in *" $d "*) continue ;; esac
@@ -92,7 +91,7 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
     coopnav_stop_all
     return 1
   fi
-  sleep 0.3  # the logger subscribes before the first step
+  sleep 0.3  # the recorder subscribes before the first step
   local sim_extra=()
   read -r -a sim_extra <<<"${COOPNAV_DAEMON_ARGS_world_sim:-}"
   "$(coopnav_bin world_sim)" -c "$_cn_cfg/world_sim.yaml" --set "scenario=$_cn_scenario" \
@@ -100,15 +99,7 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
   local sim=$!
   if declare -F coopnav_scenario_hook >/dev/null; then coopnav_scenario_hook "$name" || true; fi
   wait "$sim" || rc=$?
-  # The last messages reach the logger: on a loaded machine it may lag behind; wait until its
-  # file stops growing (at most ~5 s).
-  local size=-1 now_size i
-  for i in $(seq 1 16); do
-    sleep 0.3
-    now_size=$(stat -c %s "$_cn_dir/$name.lcm" 2>/dev/null || echo 0)
-    [ "$now_size" = "$size" ] && break
-    size=$now_size
-  done
+  coopnav_wait_recorded "$_cn_dir/$name.lcm"
   if declare -F coopnav_scenario_after_hook >/dev/null; then coopnav_scenario_after_hook "$name"; fi
   coopnav_stop_all
   return "$rc"

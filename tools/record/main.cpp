@@ -17,7 +17,6 @@
 #include <poll.h>
 
 #include <CLI/CLI.hpp>
-#include <csignal>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -27,10 +26,9 @@
 #include <memory>
 #include <string>
 
-namespace {
+#include "stop_signals.hpp"
 
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) { g_stop = 1; }
+namespace {
 
 struct Recorder {
   lcm::LogFile* log{nullptr};
@@ -78,11 +76,7 @@ int main(int argc, char** argv) {
     return 2;
   }
 
-  struct sigaction sa {};
-  sa.sa_handler = onSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  coopnav::tools::installStopSignals();
 
   lcm::LCM lcm(url);
   if (!lcm.good() || lcm.getFileno() < 0) {
@@ -111,7 +105,7 @@ int main(int argc, char** argv) {
     while (lcm.handleTimeout(0) > 0) ++handled;
     if (handled > 0) std::fflush(log.getFilePtr());
   };
-  while (!g_stop && !rec.write_failed) {
+  while (!coopnav::tools::stopRequested() && !rec.write_failed) {
     if (::poll(&fd, 1, 200) > 0) drain();
   }
   // What reached the socket before the stop is recorded too: LCM's receive thread may not have

@@ -15,7 +15,6 @@
 #include <poll.h>
 
 #include <CLI/CLI.hpp>
-#include <csignal>
 #include <cstdint>
 #include <iostream>
 #include <lcm/lcm-cpp.hpp>
@@ -25,11 +24,9 @@
 #include <vector>
 
 #include "loss_decision.hpp"
+#include "stop_signals.hpp"
 
 namespace {
-
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) { g_stop = 1; }
 
 std::uint64_t fnv1a(const std::string& channel, const void* data, std::size_t size) {
   std::uint64_t h = 1469598103934665603ull;
@@ -104,11 +101,7 @@ int main(int argc, char** argv) {
     std::cerr << "coopnav_lossy_relay: need at least two endpoints\n";
     return 2;
   }
-  struct sigaction sa {};
-  sa.sa_handler = onSignal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  coopnav::tools::installStopSignals();
 
   Relay relay;
   relay.loss = std::make_unique<coopnav::relay::LossDecider>(seed, loss);
@@ -138,7 +131,7 @@ int main(int argc, char** argv) {
   for (auto& ep : relay.endpoints) fds.push_back({ep->lcm->getFileno(), POLLIN, 0});
   std::cerr << "coopnav_lossy_relay: " << relay.endpoints.size() << " endpoints, loss " << loss
             << ", seed " << seed << std::endl;
-  while (!g_stop) {
+  while (!coopnav::tools::stopRequested()) {
     const int n = ::poll(fds.data(), fds.size(), 200);
     if (n <= 0) continue;
     for (std::size_t i = 0; i < fds.size(); ++i)

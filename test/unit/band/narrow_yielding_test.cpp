@@ -85,8 +85,10 @@ struct Failures {
   double worst_tcross_step_s{0.0};
 };
 
-Failures runNarrowFacilitating(bool verbose) {
-  DualBandPlanner planner(BandPlannerConfig{}, openPgm());
+Failures runNarrowFacilitating(bool warm_start, bool verbose) {
+  BandPlannerConfig cfg;
+  cfg.warm_start = warm_start;
+  DualBandPlanner planner(cfg, openPgm());
   const Eigen::Vector2d robot_goal(34.0, kCorridorY_m);
   const Eigen::Vector2d human_goal(10.5, kCorridorY_m);
   AgentState robot =
@@ -178,21 +180,42 @@ Failures runNarrowFacilitating(bool verbose) {
   return f;
 }
 
-// Disabled: reproduces the open bug (fails on robot_behind / robot_long / human_behind /
-// tcross_jump); enable with --gtest_also_run_disabled_tests. See the band3 report.
-TEST(NarrowYieldingTest, DISABLED_BandsProgressAndCrossingTimeFallsWhileClosingIn) {
-  // Given the paper's narrow facilitating scenario with a human who steps aside early,
-  const Failures f = runNarrowFacilitating(std::getenv("COOPNAV_TEST_VERBOSE") != nullptr);
-  // then every cycle's bands head for their goals, stay of bounded duration, and the predicted
-  // crossing comes 0.1 s nearer per 0.1 s step (± 0.5 s).
+bool verbose() { return std::getenv("COOPNAV_TEST_VERBOSE") != nullptr; }
+
+// As band_source runs (config/band_source.yaml: warm_start false, every cycle from a fresh band):
+// the bands head for their goals and stay of bounded duration while the agents close in, and
+// the robot gets past the human.
+TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
+  const Failures f = runNarrowFacilitating(false, verbose());
   ASSERT_EQ(f.failed_plans, 0);
   EXPECT_GT(f.cycles_checked, 50);
   EXPECT_EQ(f.robot_behind, 0);
   EXPECT_EQ(f.human_behind, 0);
   EXPECT_EQ(f.robot_long, 0);
   EXPECT_EQ(f.human_long, 0);
-  EXPECT_EQ(f.tcross_jump, 0);
   EXPECT_TRUE(f.robot_passed);
+}
+
+// Disabled: reproduces the open bugs. Warm-started (the lib default), the bands drift into the
+// "wait" minimum (robot_behind / robot_long / human_behind, 2026-12-02: 74 cycles too long, 17
+// with the human band behind). Cold-started, t_CROSS on the bands still jumps by more than 0.5 s
+// from one cycle to the next in 16 of 134 cycles (worst 1.14 s): it rises while the human steps
+// aside (t 3-4.5 s) and while the robot slows for it. Run with --gtest_also_run_disabled_tests.
+TEST(NarrowYieldingTest, DISABLED_WarmStartedBandsProgressAndStayBounded) {
+  const Failures f = runNarrowFacilitating(true, verbose());
+  ASSERT_EQ(f.failed_plans, 0);
+  EXPECT_EQ(f.robot_behind, 0);
+  EXPECT_EQ(f.human_behind, 0);
+  EXPECT_EQ(f.robot_long, 0);
+  EXPECT_EQ(f.human_long, 0);
+  EXPECT_TRUE(f.robot_passed);
+}
+
+TEST(NarrowYieldingTest, DISABLED_CrossingTimeFallsWhileClosingIn) {
+  // The predicted crossing comes 0.1 s nearer per 0.1 s step (± 0.5 s).
+  const Failures f = runNarrowFacilitating(false, verbose());
+  ASSERT_EQ(f.failed_plans, 0);
+  EXPECT_EQ(f.tcross_jump, 0);
 }
 
 }  // namespace

@@ -185,8 +185,7 @@ bool verbose() { return std::getenv("COOPNAV_TEST_VERBOSE") != nullptr; }
 // As band_source runs (config/band_source.yaml: warm_start false, every cycle from a fresh band):
 // the bands head for their goals and stay of bounded duration while the agents close in, and
 // the robot gets past the human.
-TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
-  const Failures f = runNarrowFacilitating(false, verbose());
+void expectProgressAndBounded(const Failures& f) {
   ASSERT_EQ(f.failed_plans, 0);
   EXPECT_GT(f.cycles_checked, 50);
   EXPECT_EQ(f.robot_behind, 0);
@@ -196,19 +195,17 @@ TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
   EXPECT_TRUE(f.robot_passed);
 }
 
+TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
+  expectProgressAndBounded(runNarrowFacilitating(false, verbose()));
+}
+
 // Disabled: reproduces the open bugs. Warm-started (the lib default), the bands drift into the
 // "wait" minimum (robot_behind / robot_long / human_behind, 2026-12-02: 74 cycles too long, 17
 // with the human band behind). Cold-started, t_CROSS on the bands still jumps by more than 0.5 s
 // from one cycle to the next in 16 of 134 cycles (worst 1.14 s): it rises while the human steps
 // aside (t 3-4.5 s) and while the robot slows for it. Run with --gtest_also_run_disabled_tests.
 TEST(NarrowYieldingTest, DISABLED_WarmStartedBandsProgressAndStayBounded) {
-  const Failures f = runNarrowFacilitating(true, verbose());
-  ASSERT_EQ(f.failed_plans, 0);
-  EXPECT_EQ(f.robot_behind, 0);
-  EXPECT_EQ(f.human_behind, 0);
-  EXPECT_EQ(f.robot_long, 0);
-  EXPECT_EQ(f.human_long, 0);
-  EXPECT_TRUE(f.robot_passed);
+  expectProgressAndBounded(runNarrowFacilitating(true, verbose()));
 }
 
 TEST(NarrowYieldingTest, DISABLED_CrossingTimeFallsWhileClosingIn) {

@@ -39,11 +39,13 @@ struct TemplatesConfig : dialogue::TextTemplates {
     v("repeat_direction", repeat_direction);
     v("ask_to_move_more", ask_to_move_more);
     v("inform_docking", inform_docking);
+    v("inform_precautionary_docking", inform_precautionary_docking);
     v("thank", thank);
     v("left_word", left_word);
     v("right_word", right_word);
-    for (const auto* t : {&inform_direction, &ask_to_move, &inform_dock_if_needed,
-                          &repeat_direction, &ask_to_move_more, &inform_docking, &thank})
+    for (const auto* t :
+         {&inform_direction, &ask_to_move, &inform_dock_if_needed, &repeat_direction,
+          &ask_to_move_more, &inform_docking, &inform_precautionary_docking, &thank})
       v.require(!t->empty(), "templates", "no template may be empty");
     v.require(!left_word.empty() && !right_word.empty(), "left_word",
               "left_word and right_word must not be empty");

@@ -209,7 +209,7 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
         }
       } else if (contributing == Tristate::kFalse) {
         r.branch = "still & robot_constrained & !contributing -> dock";
-        dock(out);
+        dock(out, false);
       } else {
         r.branch = "still & robot_constrained & contributing unknown";
         r.reason = "IsContributing unknown: no dock, silent";
@@ -269,15 +269,20 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
   r.degraded = true;
   // As a flowchart dock: the recorder restarts, so that round 3 judges the human from here.
   out.recorder_commands.push_back(RecorderCommand::kReset);
-  dock(out);
+  dock(out, true);
   return true;
 }
 
 // Round 2's dock, from the flowchart or as a precaution: request it and tell the human.
-void HumanDecision::dock(DecisionOutput& out) {
+void HumanDecision::dock(DecisionOutput& out, bool precautionary) {
   out.robot_actions.push_back(RobotAction::kDock);
   docked_ = true;
-  say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
+  if (precautionary) {
+    out.utterances.push_back({SpeechAct::kInformDocking, Side::kUndefined, 2,
+                              config_.templates.inform_precautionary_docking});
+  } else {
+    say(SpeechAct::kInformDocking, Side::kUndefined, 2, out);
+  }
 }
 
 // Paper §II-D, round 3: after crossing, stop the recorder; thank if the human facilitated.

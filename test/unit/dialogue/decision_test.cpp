@@ -175,6 +175,14 @@ TEST_P(DecisionTable, BranchGivesItsUtteranceActionAndRecorderCommand) {
   EXPECT_EQ(out.recorder_commands, row.recorder);
   EXPECT_EQ(out.robot_actions, row.actions);
   EXPECT_EQ(dut.docked(), !row.actions.empty());
+  // A dock promises to wait only when the flowchart docks: the precautionary one cannot know
+  // that a wall is near to wait at (in an open corridor the robot gives way on its band).
+  const dialogue::TextTemplates texts;
+  for (const auto& u : out.utterances) {
+    if (u.act != Act::kInformDocking) continue;
+    EXPECT_EQ(u.text,
+              out.rounds[0].degraded ? texts.inform_precautionary_docking : texts.inform_docking);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Flowchart, DecisionTable, ::testing::ValuesIn(kRows),

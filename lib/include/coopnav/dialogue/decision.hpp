@@ -50,6 +50,11 @@ struct TextTemplates {
   std::string repeat_direction{"I am passing on your {dir}."};
   std::string ask_to_move_more{"Could you move a little more to your {dir}, please?"};
   std::string inform_docking{"I will wait here for you to pass."};
+  /// The precautionary dock's sentence (DecisionConfig::precautionary_dock), same act. Without
+  /// the distance server the dialogue manager cannot know that a wall is near: in an open
+  /// corridor the band source finds no dock pose and the robot keeps its band, which gives way
+  /// without stopping, so "I will wait here" would be untrue. This promise holds either way.
+  std::string inform_precautionary_docking{"I will make room for you to pass."};
   std::string thank{"Thank you."};
   std::string left_word{"left"};
   std::string right_word{"right"};
@@ -156,7 +161,8 @@ class HumanDecision {
   /// Round 2's fallback when an input is unknown; true when it docked (r filled in).
   bool precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
                          DecisionOutput& out);
-  void dock(DecisionOutput& out);
+  /// precautionary: the sentence is TextTemplates::inform_precautionary_docking.
+  void dock(DecisionOutput& out, bool precautionary);
   void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
 
   DecisionConfig config_;

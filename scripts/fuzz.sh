@@ -30,6 +30,7 @@ RSS_MB="${COOPNAV_FUZZ_RSS_MB:-2048}"
 MAX_LEN="${COOPNAV_FUZZ_MAX_LEN:-8192}"
 
 NICE=()
+INTERRUPTED=0
 TARGETS=(fuzz_lcm_band_source fuzz_lcm_situation_assessor fuzz_lcm_path_assessor
   fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_run_log
   fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
@@ -112,12 +113,43 @@ run_target() {
   fi
   echo "fuzz: $name $*"
   # New inputs go to the work corpus (first directory); the committed seeds are only read.
-  (cd "$findings" && ${NICE[@]+"${NICE[@]}"} "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
-    -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
-    "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1
-  local rc=$?
+  local rc
+  if [ ${#NICE[@]} -gt 0 ]; then
+    # A long run's fuzzer gets a session of its own and that session's autogroup the lowest
+    # priority. Linux's autogroup scheduling (sched_autogroup_enabled, on in Debian's kernels)
+    # shares the CPU between sessions first and applies nice only within a session: a fuzzer at
+    # nice 19 beside a build or a benchmark started from another terminal took half their CPU
+    # (bench_band, 1 human: p99 29 ms with the fuzzers' autogroup at 0, 9-14 ms at 19). Its own
+    # session leaves the caller's untouched; INT / TERM are passed on, as Ctrl-C would be. (A
+    # script's background job is no process group leader, so setsid does not fork: $! is the
+    # fuzzer.)
+    # shellcheck disable=SC2016 # expanded by the inner sh
+    (cd "$findings" && exec setsid sh -c 'echo 19 >/proc/self/autogroup 2>/dev/null; exec "$@"' \
+      fuzz "${NICE[@]}" "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
+      -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
+      "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1 &
+    local pid=$!
+    trap 'INTERRUPTED=1; kill -INT "$pid" 2>/dev/null' INT TERM
+    wait "$pid"
+    rc=$?
+    # A signal interrupts the first wait; the fuzzer then prints its stats and exits.
+    while kill -0 "$pid" 2>/dev/null; do
+      wait "$pid"
+      rc=$?
+    done
+    trap - INT TERM
+  else
+    (cd "$findings" && "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
+      -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
+      "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1
+    rc=$?
+  fi
   grep -a -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::average_exec_per_sec|stat::peak_rss_mb)' \
     "$findings/log.txt" | sed "s/^/fuzz:   /"
+  if [ "$INTERRUPTED" = 1 ]; then
+    echo "fuzz: $name interrupted (stopped by a signal, no finding); log: $findings/log.txt" >&2
+    exit 130
+  fi
   if [ $rc -ne 0 ]; then
     echo "fuzz: $name FAILED (rc $rc); log: $findings/log.txt" >&2
     grep -a -E '==ERROR|ERROR: libFuzzer|SUMMARY|invariant|Test unit written|runtime error|terminate' \

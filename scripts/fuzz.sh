@@ -9,6 +9,10 @@
 #                                        scenarios and maps into test/fuzz/corpus/
 #   scripts/fuzz.sh --build              build only
 #
+# COOPNAV_FUZZ_WORKERS=N (--long, default 1): a campaign of N fuzzer processes on the target's one
+# corpus directory, as libFuzzer's -jobs runs them, each for ceil(runs / N) executions; their
+# counts add up (the campaign's total is printed).
+#
 # COOPNAV_FUZZ_SKIP_BUILD=1 runs the fuzzers already in build-fuzz/ (a long campaign goes on while
 # the tree is edited and rebuilt by hand; two builds in one directory would clash).
 #
@@ -28,6 +32,7 @@ LONG_S="${COOPNAV_FUZZ_LONG_S:-0}"
 TIMEOUT_S="${COOPNAV_FUZZ_TIMEOUT_S:-10}"
 RSS_MB="${COOPNAV_FUZZ_RSS_MB:-2048}"
 MAX_LEN="${COOPNAV_FUZZ_MAX_LEN:-8192}"
+WORKERS="${COOPNAV_FUZZ_WORKERS:-1}"
 
 NICE=()
 INTERRUPTED=0
@@ -115,29 +120,57 @@ run_target() {
   # New inputs go to the work corpus (first directory); the committed seeds are only read.
   local rc
   if [ ${#NICE[@]} -gt 0 ]; then
-    # A long run's fuzzer gets a session of its own and that session's autogroup the lowest
+    # A long run's fuzzers get a session of their own and that session's autogroup the lowest
     # priority. Linux's autogroup scheduling (sched_autogroup_enabled, on in Debian's kernels)
     # shares the CPU between sessions first and applies nice only within a session: a fuzzer at
     # nice 19 beside a build or a benchmark started from another terminal took half their CPU
     # (bench_band, 1 human: p99 29 ms with the fuzzers' autogroup at 0, 9-14 ms at 19). Its own
     # session leaves the caller's untouched; INT / TERM are passed on, as Ctrl-C would be. (A
     # script's background job is no process group leader, so setsid does not fork: $! is the
-    # fuzzer.)
-    # shellcheck disable=SC2016 # expanded by the inner sh
-    (cd "$findings" && exec setsid sh -c 'echo 19 >/proc/self/autogroup 2>/dev/null; exec "$@"' \
-      fuzz "${NICE[@]}" "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
-      -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
-      "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1 &
-    local pid=$!
-    trap 'INTERRUPTED=1; kill -INT "$pid" 2>/dev/null' INT TERM
-    wait "$pid"
-    rc=$?
-    # A signal interrupts the first wait; the fuzzer then prints its stats and exits.
-    while kill -0 "$pid" 2>/dev/null; do
-      wait "$pid"
-      rc=$?
+    # fuzzer.) Worker w of a campaign logs to log-w<w>.txt, and log.txt gathers their stats.
+    local w pids=() logs=()
+    local a runs_arg=() other=()
+    for a in "$@"; do
+      case "$a" in
+        -runs=*) runs_arg=("-runs=$(((${a#-runs=} + WORKERS - 1) / WORKERS))") ;;
+        *) other+=("$a") ;;
+      esac
+    done
+    for ((w = 1; w <= WORKERS; ++w)); do
+      local log="$findings/log.txt"
+      [ "$WORKERS" -gt 1 ] && log="$findings/log-w$w.txt"
+      logs+=("$log")
+      # shellcheck disable=SC2016 # expanded by the inner sh
+      (cd "$findings" && exec setsid sh -c 'echo 19 >/proc/self/autogroup 2>/dev/null; exec "$@"' \
+        fuzz "${NICE[@]}" "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
+        -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "${other[@]}" \
+        ${runs_arg[@]+"${runs_arg[@]}"} "$work" "$FUZZ_SRC/corpus/$name") >"$log" 2>&1 &
+      pids+=($!)
+    done
+    trap 'INTERRUPTED=1; kill -INT "${pids[@]}" 2>/dev/null' INT TERM
+    rc=0
+    local pid r
+    for pid in "${pids[@]}"; do
+      # A signal interrupts a wait; the fuzzers then print their stats and exit.
+      while :; do
+        wait "$pid"
+        r=$?
+        kill -0 "$pid" 2>/dev/null || break
+      done
+      [ $r -ne 0 ] && rc=$r
     done
     trap - INT TERM
+    if [ "$WORKERS" -gt 1 ]; then
+      {
+        for w in "${!logs[@]}"; do
+          echo "== worker $((w + 1)): ${logs[$w]}"
+          grep -a -E '^(stat::|==ERROR|ERROR: libFuzzer|SUMMARY)' "${logs[$w]}"
+        done
+        awk -F: '/^stat::number_of_executed_units/ { n += $NF }
+          END { printf "stat::number_of_executed_units: %d (campaign of %d workers)\n", n, w }' \
+          w="$WORKERS" "${logs[@]}"
+      } >"$findings/log.txt"
+    fi
   else
     (cd "$findings" && "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
       -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
@@ -191,7 +224,8 @@ case "$mode" in
       if [ "$mode" = --short ]; then
         run_target "$t" -max_total_time="$SHORT_S"
       else
-        # Long runs share the machine: lowest priority, one target at a time, one process each.
+        # Long runs share the machine: lowest priority, one target at a time, COOPNAV_FUZZ_WORKERS
+        # processes each.
         # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
         # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
         # a 60 s pause, ended a 10M run at 4.3M).
@@ -213,7 +247,7 @@ case "$mode" in
     echo "fuzz: ${#selected[@]} targets, no finding"
     ;;
   *)
-    sed -n '2,17p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n '2,21p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

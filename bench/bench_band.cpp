@@ -4,7 +4,8 @@
 /// own: the `planner` section of config/band_source.yaml, loaded by the daemon's loader (CoHAN's
 /// sim values, cold-started every cycle as CoHAN 2.0 runs), so the headline figures are those of
 /// the deployed daemon. The lib default, warm start, is measured beside them. Closed loop: every
-/// 0.1 s the agents advance along their planned bands and the planner runs again. Both solvers
+/// 0.1 s world_sim's physics moves the robot by the planner's command and the humans as
+/// minimally contributing walkers, and the planner runs again. Both solvers
 /// (our SparseLm and Ceres) on the same problems, interleaved so they share the machine's load.
 /// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS]` runs one case only (for a
 /// profiler).
@@ -23,6 +24,7 @@
 #include "common/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/sim/simulation.hpp"
 
 namespace {
 
@@ -30,7 +32,7 @@ using namespace coopnav;  // NOLINT
 
 constexpr double kBudget_s = 0.1;  // CoHAN 2.0 controller rate 10 Hz
 constexpr double kCycle_s = 0.1;
-constexpr int kCycles = 60;
+constexpr int kCycles = 120;  // 12 s: the approach, the crossing (~9 s) and the first steps apart
 int g_repeats = 3;  // runs of kCycles per case; `bench_band SOLVER HUMANS REPEATS` sets it
 
 /// CPU time of this thread [s]: unlike wall time it does not count the time the scheduler gave
@@ -41,26 +43,46 @@ double threadCpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-Eigen::Vector2d positionAt(const Band& b, double t) {
-  if (b.poses.size() < 2 || t <= 0.0) return b.poses.front().pose.position();
-  for (std::size_t i = 0; i + 1 < b.poses.size(); ++i) {
-    const auto& p0 = b.poses[i];
-    const auto& p1 = b.poses[i + 1];
-    if (t <= p1.t_s) {
-      const double s = (t - p0.t_s) / std::max(p1.t_s - p0.t_s, 1e-9);
-      return (1.0 - s) * p0.pose.position() + s * p1.pose.position();
-    }
+/// The head-on world of every case: world_sim's physics (lib/sim), as the daemons meet it in the
+/// paper's scenarios. The robot follows the planner's velocity command under its acceleration
+/// limits (its kinematics and limits are the planner's robot); each human walks at 1 m/s to its
+/// goal as world_sim's minimally contributing human does (a sidestep of at most 0.3 m when the
+/// robot is about to touch it), whatever the robot anticipated for it. 1 human: robot and human on
+/// the corridor's middle line, 14 m apart; 5 humans: a group abreast and staggered around it.
+sim::WorldSpec headOnWorld(const BandPlannerConfig& cfg, int n_humans) {
+  sim::WorldSpec w;
+  w.seed = 1;
+  w.settings.physics_dt_s = kCycle_s / 2.0;
+  w.settings.substeps_per_step = 2;  // one step() = one planning cycle
+  w.settings.time_limit_s = 3600.0;
+  w.settings.end_on_goals = false;
+  w.settings.end_on_robot_collision = false;  // every case runs all its cycles
+  const AgentKinematics& k = cfg.robot;
+  w.robot.start = {6.5, 6.5, 0.0};
+  w.robot.goal = {20.5, 6.5, 0.0};
+  w.robot.radius_m = k.radius_m;
+  w.robot.kinematics = k.holonomic ? sim::Kinematics::kHolonomic : sim::Kinematics::kDifferential;
+  w.robot.limits.max_forward_m_s = k.max_vel_x_m_s;
+  w.robot.limits.max_backward_m_s = k.max_vel_x_backwards_m_s;
+  w.robot.limits.max_lateral_m_s = k.max_vel_y_m_s;
+  w.robot.limits.max_omega_rad_s = k.max_vel_theta_rad_s;
+  w.robot.limits.max_acc_forward_m_s2 = k.acc_lim_x_m_s2;
+  w.robot.limits.max_acc_lateral_m_s2 = k.acc_lim_y_m_s2;
+  w.robot.limits.max_acc_omega_rad_s2 = k.acc_lim_theta_rad_s2;
+  w.robot.goal_tolerance_m = cfg.xy_goal_tolerance_m;
+  const double ys[5] = {6.5, 5.0, 8.0, 4.2, 8.8};
+  const double xs[5] = {20.5, 19.5, 19.0, 18.0, 17.5};
+  for (int h = 0; h < n_humans; ++h) {
+    sim::HumanSpec hs;
+    hs.id = h + 1;
+    hs.start = {xs[h], ys[h], M_PI};
+    hs.goal = {6.5, ys[h], M_PI};
+    hs.speed_m_s = 1.0;
+    hs.radius_m = cfg.human.radius_m;
+    hs.behaviour.type = sim::BehaviourType::kMinimal;
+    w.humans.push_back(hs);
   }
-  return b.poses.back().pose.position();
-}
-
-void advance(AgentState* s, const Band& b) {
-  const Eigen::Vector2d p = positionAt(b, kCycle_s);
-  const Eigen::Vector2d v = (p - s->pose.position()) / kCycle_s;
-  s->pose.x_m = p.x();
-  s->pose.y_m = p.y();
-  if (s->kind == AgentKind::kHuman && v.norm() > 0.1) s->pose.theta_rad = std::atan2(v.y(), v.x());
-  s->velocity = {v.x(), v.y(), 0.0};
+  return w;
 }
 
 struct Stats {
@@ -91,14 +113,11 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
     cfg.solver = solver;
     cfg.warm_start = warm_start;
     DualBandPlanner planner(cfg, map);
+    const sim::WorldSpec spec = headOnWorld(cfg, n_humans);
+    sim::Simulation world(spec, map.get());
+    std::vector<AgentState> agents = world.agents();
     PlanRequest req;
-    req.stamp_s = 0.0;
-    req.agent.id = 0;
-    req.agent.kind = AgentKind::kRobot;
-    req.agent.pose = {6.5, 6.5, 0.0};
-    req.agent.velocity = {0.7, 0.0, 0.0};
-    req.agent.radius_m = 0.34;
-    req.goal = {20.5, 6.5, 0.0};
+    req.goal = spec.robot.goal;
     // As band_source in lockstep: the iteration budget only (CoHAN 8 x 4), no time limit.
     req.max_iterations = g_max_iterations;
     req.time_budget_s = 0.0;
@@ -106,25 +125,25 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
       return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
           .count();
     };
-    const double ys[5] = {6.5, 5.0, 8.0, 4.2, 8.8};
-    const double xs[5] = {20.5, 19.5, 19.0, 18.0, 17.5};
-    for (int h = 0; h < n_humans; ++h) {
-      OtherAgentInput o;
-      o.state.id = h + 1;
-      o.state.kind = AgentKind::kHuman;
-      o.state.pose = {xs[h], ys[h], M_PI};
-      o.state.velocity = {-1.0, 0.0, 0.0};
-      o.state.radius_m = 0.3;
-      o.goal = {6.5, ys[h], M_PI};
-      req.others.push_back(o);
-    }
+    double t_s = 0.0;
     for (int c = 0; c < kCycles; ++c) {
+      // As band_source: the robot plans, every human with its known goal is anticipated.
+      req.stamp_s = t_s;
+      req.agent = agents.front();
+      req.others.clear();
+      for (std::size_t h = 1; h < agents.size(); ++h) {
+        OtherAgentInput o;
+        o.state = agents[h];
+        o.goal = spec.humans[h - 1].goal;
+        req.others.push_back(o);
+      }
       const double c0 = threadCpu_s();
       const auto t0 = std::chrono::steady_clock::now();
       const PlanResult r = planner.plan(req);
       const auto t1 = std::chrono::steady_clock::now();
-      cpu.push_back(threadCpu_s() - c0);
+      const double cpu_s = threadCpu_s() - c0;
       if (r.status != PlanStatus::kOk) break;
+      cpu.push_back(cpu_s);
       times.push_back(std::chrono::duration<double>(t1 - t0).count());
       solver_s += r.solver_time_s;
       iterations += r.iterations;
@@ -135,10 +154,10 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
         robot_poses = r.agent_band.poses.size();
         human_poses = r.others.empty() ? 0 : r.others[0].band.poses.size();
       }
-      advance(&req.agent, r.agent_band);
-      for (std::size_t h = 0; h < r.others.size(); ++h)
-        advance(&req.others[h].state, r.others[h].band);
-      req.stamp_s += kCycle_s;
+      world.setRobotBand(r.agent_band, t_s);
+      const sim::StepResult step = world.step(r.command_body);
+      agents = step.agents;
+      t_s = step.t_s;
     }
   }
   std::sort(times.begin(), times.end());

@@ -500,17 +500,18 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
     fail(where, "walls map without any wall or box" + lineOf(node));
   const Eigen::Vector2d origin = extent.min() - Eigen::Vector2d::Constant(margin_m);
   const Eigen::Vector2d size = extent.sizes() + Eigen::Vector2d::Constant(2.0 * margin_m);
-  // The 1e-9 keeps an extent that is an exact multiple of res from gaining a column.
-  const double w = std::ceil(size.x() / res - 1e-9);
-  const double h = std::ceil(size.y() / res - 1e-9);
+  // The 1e-9 keeps an extent that is an exact multiple of res from gaining a column. At least one
+  // cell each way: an extent far below res would otherwise give 0 x huge cells, which passed the
+  // size check and overflowed the int cast (fuzz_map_yaml, 2026-12-02).
+  const double w = std::max(1.0, std::ceil(size.x() / res - 1e-9));
+  const double h = std::max(1.0, std::ceil(size.y() / res - 1e-9));
   if (w * h > static_cast<double>(max_cells)) {
     std::ostringstream os;
     os << "walls map of " << w << " x " << h << " cells at resolution_m " << res
        << " is larger than " << max_cells << " cells (max_map_cells)";
     fail(where, os.str());
   }
-  OccupancyGrid2 grid(std::max(1, static_cast<int>(w)), std::max(1, static_cast<int>(h)), res,
-                      origin, CellState::kFree);
+  OccupancyGrid2 grid(static_cast<int>(w), static_cast<int>(h), res, origin, CellState::kFree);
   for (const Wall& wall : walls) rasteriseSegment(&grid, wall.a, wall.b, wall.half_m);
   for (const Eigen::AlignedBox2d& b : boxes) {
     const int i0 = std::max(0, static_cast<int>(std::floor((b.min().x() - origin.x()) / res)));

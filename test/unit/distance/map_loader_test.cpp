@@ -413,6 +413,20 @@ TEST(MapLoaderTest, AResolutionAnOcTreeCannotHoldIsABadMap) {
   EXPECT_EQ(loadMap(big).grid.width(), 1);
 }
 
+// fuzz_map_yaml (2026-12-02, after 9.7M executions): an extent far longer one way than the cell
+// count allows and far shorter than one cell the other way rounded to 0 rows, so w x h passed the
+// size check as 0 and the width overflowed its int cast (undefined behaviour). Now every map has
+// at least one row and one column, and such a map is too large, with its size named.
+TEST(MapLoaderTest, AnExtentBelowOneCellOneWayStillCountsItsCellsTheOther) {
+  TempDir tmp;
+  const std::string thin = tmp.write(
+      "thin.yaml",
+      "resolution_m: 888777776.1\nboxes:\n  - {min_x_m: 2.0, min_y_m: 0.0, max_x_m: 7.7e65, "
+      "max_y_m: 0.7}\n");
+  EXPECT_THAT(errorOf([&] { loadMap(thin); }),
+              AllOf(HasSubstr(thin), HasSubstr("cells (max_map_cells)")));
+}
+
 // A directory opens like a file and fails at the first read, where libstdc++ throws past the
 // loader (fuzz_map_yaml: `map: {file: ..}` in a scenario). Named anywhere, it is a bad map.
 TEST(MapLoaderTest, ADirectoryIsABadMapFileWhereverItIsNamed) {

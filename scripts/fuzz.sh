@@ -118,6 +118,9 @@ run_target() {
   fi
   echo "fuzz: $name $*"
   # New inputs go to the work corpus (first directory); the committed seeds are only read.
+  local fuzzer=("$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN"
+    -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}")
+  local corpora=("$work" "$FUZZ_SRC/corpus/$name")
   local rc
   if [ ${#NICE[@]} -gt 0 ]; then
     # A long run's fuzzers get a session of their own and that session's autogroup the lowest
@@ -142,9 +145,8 @@ run_target() {
       logs+=("$log")
       # shellcheck disable=SC2016 # expanded by the inner sh
       (cd "$findings" && exec setsid sh -c 'echo 19 >/proc/self/autogroup 2>/dev/null; exec "$@"' \
-        fuzz "${NICE[@]}" "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
-        -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "${other[@]}" \
-        ${runs_arg[@]+"${runs_arg[@]}"} "$work" "$FUZZ_SRC/corpus/$name") >"$log" 2>&1 &
+        fuzz "${NICE[@]}" "${fuzzer[@]}" "${other[@]}" ${runs_arg[@]+"${runs_arg[@]}"} \
+        "${corpora[@]}") >"$log" 2>&1 &
       pids+=($!)
     done
     trap 'INTERRUPTED=1; kill -INT "${pids[@]}" 2>/dev/null' INT TERM
@@ -172,9 +174,7 @@ run_target() {
       } >"$findings/log.txt"
     fi
   else
-    (cd "$findings" && "$bin" -timeout="$TIMEOUT_S" -rss_limit_mb="$RSS_MB" -max_len="$MAX_LEN" \
-      -artifact_prefix="$findings/" -print_final_stats=1 "${extra[@]}" "$@" \
-      "$work" "$FUZZ_SRC/corpus/$name") >"$findings/log.txt" 2>&1
+    (cd "$findings" && "${fuzzer[@]}" "$@" "${corpora[@]}") >"$findings/log.txt" 2>&1
     rc=$?
   fi
   grep -a -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|stat::average_exec_per_sec|stat::peak_rss_mb)' \

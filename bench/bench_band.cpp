@@ -2,9 +2,8 @@
 /// wide corridor of open.pgm with CoHAN 2.0's sim settings, as a fraction of a 100 ms budget,
 /// and the 1 robot + 5 humans case as a ratio to 1 human. The planner settings are band_source's
 /// own: the `planner` section of config/band_source.yaml, loaded by the daemon's loader (CoHAN's
-/// sim values, warm-started with the 3 s delay limit), so the headline figures are those of the
-/// deployed daemon. A cold start every cycle (CoHAN 2.0's way, band_source's until 2026-12-02)
-/// is measured beside them. Closed loop: every
+/// sim values, cold-started every cycle as CoHAN 2.0 runs), so the headline figures are those of
+/// the deployed daemon. The lib default, warm start, is measured beside them. Closed loop: every
 /// 0.1 s world_sim's physics moves the robot by the planner's command and the humans as
 /// minimally contributing walkers, and the planner runs again. Both solvers
 /// (our SparseLm and Ceres) on the same problems, interleaved so they share the machine's load.
@@ -216,7 +215,7 @@ int main(int argc, char** argv) {
   const Stats one_ceres = run(map, 1, "ceres", deployed_warm);
   const Stats five = run(map, 5, "sparse_lm", deployed_warm);
   const Stats five_ceres = run(map, 5, "ceres", deployed_warm);
-  // The other warm-start setting (band_source.yaml runs warm; cold until 2026-12-02).
+  // The other warm-start setting (the lib default is warm, band_source.yaml runs cold).
   const Stats other = run(map, 1, "sparse_lm", !deployed_warm);
   const Stats other_five = run(map, 5, "sparse_lm", !deployed_warm);
   std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, g_repeats,

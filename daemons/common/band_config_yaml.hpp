@@ -80,7 +80,6 @@ struct BandPlannerConfigYaml {
     v("warm_start", c.warm_start);
     v("solver", c.solver, OneOf{{"sparse_lm", "ceres"}});
     v("warm_start_reset_dist_m", c.warm_start_reset_dist_m);
-    v("warm_start_max_delay_s", c.warm_start_max_delay_s);
     AgentKinematicsYaml robot{&c.robot};
     AgentKinematicsYaml human{&c.human};
     v("robot", robot);

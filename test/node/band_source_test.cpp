@@ -334,10 +334,10 @@ std::string run(const std::string& command) {
 }
 
 // The shipped file lists every default, except the settings it deliberately overrides (each
-// explained in the file): a warm band that stretches more than 3 s is re-initialised.
+// explained in the file): warm_start off, as CoHAN runs it.
 TEST(BandSourceConfigTest, ShippedConfigListsTheDefaultsAndLoads) {
   const std::string exe = test::daemonPath("band_source");
-  const std::string defaults = run(exe + " --set planner.warm_start_max_delay_s=3 --print-config");
+  const std::string defaults = run(exe + " --set planner.warm_start=false --print-config");
   const std::string shipped =
       run(exe + " --config " + COOPNAV_SOURCE_DIR + "/config/band_source.yaml --print-config");
   ASSERT_NE(defaults.find("planner:"), std::string::npos);

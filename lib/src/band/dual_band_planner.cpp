@@ -156,24 +156,14 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
             ? req.goal.theta_rad
             : pathHeadingAtEnd(local, me.pose.theta_rad);
     const Pose2 end{local.back().x(), local.back().y(), end_th};
-    TimedElasticBand::SpeedProfile profile;
-    profile.start_speed_m_s = speedOf(me.velocity);
-    profile.acc_m_s2 = my_kin.acc_lim_x_m_s2;
-    profile.stop_at_end = my_end_is_goal;
     auto mem = bands_.find(me.id);
     if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2) {
       TimedElasticBand warm = mem->second.band;
       warm.pruneToStart(me.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
-      bool near = warm.size() >= 2 &&
-                  (warm.pose(1).position() - my_pos).norm() < cfg.warm_start_reset_dist_m &&
-                  (warm.pose(warm.size() - 1).position() - end.position()).norm() <
-                      cfg.warm_start_reset_dist_m;
-      if (near && cfg.warm_start_max_delay_s > 0.0) {
-        const double fresh_s = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s,
-                                                          cfg.dt_ref_s, end_th, profile)
-                                   .duration_s();
-        near = warm.duration_s() <= fresh_s + cfg.warm_start_max_delay_s;
-      }
+      const bool near = warm.size() >= 2 &&
+                        (warm.pose(1).position() - my_pos).norm() < cfg.warm_start_reset_dist_m &&
+                        (warm.pose(warm.size() - 1).position() - end.position()).norm() <
+                            cfg.warm_start_reset_dist_m;
       if (near) {
         warm.setEnd(end);
         my_band = std::move(warm);
@@ -181,8 +171,12 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       }
     }
     if (cold_start) {
+      TimedElasticBand::SpeedProfile prof;
+      prof.start_speed_m_s = speedOf(me.velocity);
+      prof.acc_m_s2 = my_kin.acc_lim_x_m_s2;
+      prof.stop_at_end = my_end_is_goal;
       my_band = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
-                                           end_th, profile);
+                                           end_th, prof);
     }
   }
   out.agent_path = my_path;
@@ -310,13 +304,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     return out;
   }
 
-  // --- symmetry break: an exactly head-on pair has no lateral gradient ---
-  // On a cold start, and on a warm band that still meets an agent dead-on: such a band has the
-  // same symmetry, and the optimiser keeps it on the centre line from cycle to cycle, where the
-  // only way to keep the safety distance is to wait. A warm band already aside is the
-  // optimiser's choice and is left alone. (Paper scenarios with warm_start_max_delay_s 2, 3 and
-  // 4 keep their decisions with this; without it only 2.5 and 3 did.)
-  if (my_band.size() > 2) {
+  // --- symmetry break on a cold start: an exactly head-on pair has no lateral gradient ---
+  if (cold_start && my_band.size() > 2) {
     for (const auto& w : work) {
       const auto pairs = pairByTime(my_band, w.band);
       double best = std::numeric_limits<double>::infinity();
@@ -338,7 +327,6 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       const Eigen::Vector2d h = headingVector(pm.theta_rad);
       const Eigen::Vector2d left(-h.y(), h.x());
       const double lateral = cross2(h, other_at_best - pm.position());
-      if (!cold_start && std::abs(lateral) > kHeadOnLateral_m) continue;
       // Side away from the other; for a dead-on meeting the side with more room, a tie going
       // to the right (keep right).
       double side = lateral > 0.0 ? -1.0 : 1.0;

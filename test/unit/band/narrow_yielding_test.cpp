@@ -79,14 +79,15 @@ double bandLength(const Band& b) {
 
 struct Failures {
   int robot_behind{0}, human_behind{0}, robot_long{0}, human_long{0}, tcross_jump{0};
-  int robot_long_streak{0};  ///< most consecutive checked cycles with a too long robot band
   int cycles_checked{0};
   int failed_plans{0};
   bool robot_passed{false};
   double worst_tcross_step_s{0.0};
 };
 
-Failures runNarrowFacilitating(const BandPlannerConfig& cfg, bool verbose) {
+Failures runNarrowFacilitating(bool warm_start, bool verbose) {
+  BandPlannerConfig cfg;
+  cfg.warm_start = warm_start;
   DualBandPlanner planner(cfg, openPgm());
   const Eigen::Vector2d robot_goal(34.0, kCorridorY_m);
   const Eigen::Vector2d human_goal(10.5, kCorridorY_m);
@@ -96,7 +97,6 @@ Failures runNarrowFacilitating(const BandPlannerConfig& cfg, bool verbose) {
                                      kHumanSpeed_m_s, kHumanRadius_m);
   Failures f;
   double prev_tc = std::numeric_limits<double>::quiet_NaN();
-  int long_streak = 0;
   for (int cycle = 0; cycle < 300; ++cycle) {
     const double t = cycle * kCycle_s;
     PlanRequest req;
@@ -133,8 +133,6 @@ Failures runNarrowFacilitating(const BandPlannerConfig& cfg, bool verbose) {
       f.robot_behind += r_behind > 0.3;
       f.human_behind += h_behind > 0.3;
       f.robot_long += r_long;
-      long_streak = r_long ? long_streak + 1 : 0;
-      f.robot_long_streak = std::max(f.robot_long_streak, long_streak);
       f.human_long += h_long;
       if (!std::isnan(prev_tc)) {
         const double step = tc - prev_tc;
@@ -175,69 +173,44 @@ Failures runNarrowFacilitating(const BandPlannerConfig& cfg, bool verbose) {
     human.velocity = {vx, vy, 0.0};
   }
   std::printf(
-      "checked %d cycles: robot behind %d, human behind %d, robot long %d (at most %d in a row), "
-      "human long %d, t_cross jumps %d (worst |dt_cross + 0.1| %.2f s), passed %d\n",
-      f.cycles_checked, f.robot_behind, f.human_behind, f.robot_long, f.robot_long_streak,
-      f.human_long, f.tcross_jump, f.worst_tcross_step_s, f.robot_passed);
+      "checked %d cycles: robot behind %d, human behind %d, robot long %d, human long %d, "
+      "t_cross jumps %d (worst |dt_cross + 0.1| %.2f s), passed %d\n",
+      f.cycles_checked, f.robot_behind, f.human_behind, f.robot_long, f.human_long, f.tcross_jump,
+      f.worst_tcross_step_s, f.robot_passed);
   return f;
 }
 
 bool verbose() { return std::getenv("COOPNAV_TEST_VERBOSE") != nullptr; }
 
-BandPlannerConfig coldStarted() {
-  BandPlannerConfig cfg;
-  cfg.warm_start = false;
-  return cfg;
-}
-
-/// As band_source runs (config/band_source.yaml): warm-started, a robot band that would arrive
-/// more than 3 s later than a fresh one re-initialised.
-BandPlannerConfig asBandSource() {
-  BandPlannerConfig cfg;
-  cfg.warm_start = true;
-  cfg.warm_start_max_delay_s = 3.0;
-  return cfg;
-}
-
-// The bands head for their goals and stay of bounded duration while the agents close in, and
+// As band_source runs (config/band_source.yaml: warm_start false, every cycle from a fresh band):
+// the bands head for their goals and stay of bounded duration while the agents close in, and
 // the robot gets past the human.
-void expectProgressAndBounded(const Failures& f, int max_long_in_a_row) {
+void expectProgressAndBounded(const Failures& f) {
   ASSERT_EQ(f.failed_plans, 0);
   EXPECT_GT(f.cycles_checked, 50);
   EXPECT_EQ(f.robot_behind, 0);
   EXPECT_EQ(f.human_behind, 0);
-  EXPECT_LE(f.robot_long_streak, max_long_in_a_row);
+  EXPECT_EQ(f.robot_long, 0);
   EXPECT_EQ(f.human_long, 0);
   EXPECT_TRUE(f.robot_passed);
 }
 
 TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
-  expectProgressAndBounded(runNarrowFacilitating(coldStarted(), verbose()), 0);
+  expectProgressAndBounded(runNarrowFacilitating(false, verbose()));
 }
 
-// A warm band may be stretched by the cycle's optimisation (2026-12-02: 2 of 129 cycles over the
-// bound), but it is not carried on: the next cycle starts fresh. Without the limit it was
-// (DISABLED_ test below).
-TEST(NarrowYieldingTest, AsBandSourceRunsAStretchedBandIsNotCarriedOn) {
-  expectProgressAndBounded(runNarrowFacilitating(asBandSource(), verbose()), 1);
-}
-
-// Disabled: reproduces the open bugs. Warm-started without the delay limit (the lib default),
-// the bands drift into the "wait" minimum (2026-12-02: robot band too long in 19 cycles, the
-// human band behind its start in 7). On the bands, t_CROSS jumps by more than 0.5 s from one
-// cycle to the next in 16 of 134 cycles cold-started (worst 1.14 s) and 14 of 129 as band_source
-// runs (worst 2.44 s): it rises while the human steps aside (t 3-4.5 s) and while the robot
-// slows for it. Run with --gtest_also_run_disabled_tests.
+// Disabled: reproduces the open bugs. Warm-started (the lib default), the bands drift into the
+// "wait" minimum (robot_behind / robot_long / human_behind, 2026-12-02: 74 cycles too long, 17
+// with the human band behind). Cold-started, t_CROSS on the bands still jumps by more than 0.5 s
+// from one cycle to the next in 16 of 134 cycles (worst 1.14 s): it rises while the human steps
+// aside (t 3-4.5 s) and while the robot slows for it. Run with --gtest_also_run_disabled_tests.
 TEST(NarrowYieldingTest, DISABLED_WarmStartedBandsProgressAndStayBounded) {
-  BandPlannerConfig cfg;
-  cfg.warm_start = true;
-  cfg.warm_start_max_delay_s = 0.0;
-  expectProgressAndBounded(runNarrowFacilitating(cfg, verbose()), 0);
+  expectProgressAndBounded(runNarrowFacilitating(true, verbose()));
 }
 
 TEST(NarrowYieldingTest, DISABLED_CrossingTimeFallsWhileClosingIn) {
   // The predicted crossing comes 0.1 s nearer per 0.1 s step (± 0.5 s).
-  const Failures f = runNarrowFacilitating(asBandSource(), verbose());
+  const Failures f = runNarrowFacilitating(false, verbose());
   ASSERT_EQ(f.failed_plans, 0);
   EXPECT_EQ(f.tcross_jump, 0);
 }

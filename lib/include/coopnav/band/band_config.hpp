@@ -104,25 +104,12 @@ struct BandPlannerConfig {
   int no_outer_iterations{4};
   double weight_adapt_factor{2.0};
   double penalty_epsilon{0.01};
-  /// Start each cycle from the previous cycle's bands (TEB). CoHAN 2.0 disables it and pays
-  /// with full re-initialisation; we keep it (see warm_start_max_delay_s): a cold start every
-  /// cycle re-solved the same "move aside later" optimum each time, so the command (the first
-  /// segment) never moved the robot aside and it stopped in front of a minimally contributing
-  /// human (open corridor: 11 s standing, 0.12 m clearance; 2026-12-02 session).
-  bool warm_start{true};
+  bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
   /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp) or "ceres" (Ceres' sparse normal
   /// Cholesky LM, tuned as notes §9). Same residual blocks; bench_band compares the two.
   std::string solver{"sparse_lm"};
   /// Re-initialise a warm band whose start is farther than this from the agent [m].
   double warm_start_reset_dist_m{1.0};
-  /// Re-initialise the planning agent's warm band when it would reach its end more than this
-  /// later than a fresh band along the same path [s] (0: never). A warm band can carry a
-  /// "wait for each other" solution from cycle to cycle, postponing the meeting while the
-  /// agents close in (t_CROSS rising; narrow_yielding_test); a fresh band decides anew.
-  /// band_source runs 3 s (config/band_source.yaml). Off here: with 3 s, a robot passing a
-  /// human who walks its anticipated band averages 0.40 instead of 0.55 m/s until the crossing
-  /// (closed_loop_test), a price band_source pays for its narrow-corridor decisions.
-  double warm_start_max_delay_s{0.0};
 
   // --- agents: limits by kind (AgentState::kind), weights by role in the plan ---
   AgentKinematics robot{};  ///< CoHAN 2.0 sim PR2 (omni): 0.7 / 0.4 / 0.7 / 1.2, acc 0.3 / 0.4

@@ -5,6 +5,12 @@
 
 namespace coopnav {
 
+std::string notOneOfMessage(const std::string& value, const std::vector<std::string>& allowed) {
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  return "= '" + value + "' is not one of {" + list + "}";
+}
+
 std::string notConfigText(const std::string& s) {
   const auto* b = reinterpret_cast<const unsigned char*>(s.data());
   const std::size_t n = s.size();

@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include "common/config.hpp"
+
 namespace coopnav::world_sim {
 
 namespace {
@@ -90,9 +92,7 @@ class Reader {
         field = s;
         return;
       }
-    std::string list;
-    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-    error(key, "= '" + s + "' is not one of {" + list + "}");
+    error(key, notOneOfMessage(s, allowed));
   }
   template <class S>
   void nested(const char* key, S& sub) {
@@ -124,19 +124,10 @@ class Reader {
   const YAML::Node& node() const { return node_; }
 
  private:
+  // Called from the destructor: nothing in it may throw but allocation.
   void rejectUnknownKeys() {
-    if (!node_ || !node_.IsMap()) return;
-    for (const auto& kv : node_) {
-      // Called from the destructor: a key that is no name ("[a, b]: 1") made as<std::string>()
-      // throw out of it and world_sim abort instead of exiting 3 (found by fuzz_scenario).
-      if (!kv.first.IsScalar()) {
-        error("", "has a key that is not a name (line " + std::to_string(kv.first.Mark().line + 1) +
-                      ")");
-        continue;
-      }
-      const auto k = kv.first.Scalar();
-      if (!seen_.count(k)) error(k, "is not a known key");
-    }
+    reportUnknownKeys(node_, seen_,
+                      [this](const std::string& key, const std::string& msg) { error(key, msg); });
   }
 
   YAML::Node node_;

@@ -185,15 +185,20 @@ std::int32_t GridDistanceField::buildKd(std::int32_t begin, std::int32_t end, in
   return id;
 }
 
-DistanceStatus GridDistanceField::queryCellStatus(const Eigen::Vector2d& p, CellIndex* cell) const {
-  if (!p.allFinite()) return DistanceStatus::kInvalidQuery;
+std::optional<DistanceResult> GridDistanceField::answerUnlessFree(const Eigen::Vector2d& p,
+                                                                  CellIndex* cell) const {
+  if (!p.allFinite()) return statusOnly(DistanceStatus::kInvalidQuery);
   const auto c = grid_.cellOf(p);
-  if (!c) return DistanceStatus::kOutsideMap;
+  if (!c) return statusOnly(DistanceStatus::kOutsideMap);
   *cell = *c;
   const CellState s = grid_.at(c->x(), c->y());
-  if (s == CellState::kOccupied) return DistanceStatus::kInObstacle;
-  if (s == CellState::kUnknown) return DistanceStatus::kUnknownSpace;
-  return DistanceStatus::kOk;
+  if (s == CellState::kOccupied) {
+    DistanceResult r = statusOnly(DistanceStatus::kInObstacle);
+    r.obstacle = p;
+    return r;
+  }
+  if (s == CellState::kUnknown) return statusOnly(DistanceStatus::kUnknownSpace);
+  return std::nullopt;
 }
 
 DistanceResult GridDistanceField::resultFor(const CellIndex& c, const CellIndex& o,
@@ -210,13 +215,7 @@ DistanceResult GridDistanceField::resultFor(const CellIndex& c, const CellIndex&
 
 DistanceResult GridDistanceField::nearest(const Eigen::Vector2d& p) const {
   CellIndex c;
-  const DistanceStatus s = queryCellStatus(p, &c);
-  if (s == DistanceStatus::kInObstacle) {
-    DistanceResult r = statusOnly(s);
-    r.obstacle = p;
-    return r;
-  }
-  if (s != DistanceStatus::kOk) return statusOnly(s);
+  if (auto answer = answerUnlessFree(p, &c)) return *answer;
   const std::int64_t sq = squaredCellDistance(c.x(), c.y());
   if (sq < 0) return statusOnly(DistanceStatus::kNotFound);
   return resultFor(c, nearestObstacleCell(c.x(), c.y()), sq);
@@ -231,13 +230,7 @@ DistanceResult GridDistanceField::nearestInHalfPlane(const Eigen::Vector2d& q,
   const double n_norm = n.norm();
   if (!(n_norm > 0.0) || !std::isfinite(n_norm)) return statusOnly(DistanceStatus::kInvalidQuery);
   CellIndex c;
-  const DistanceStatus s = queryCellStatus(q, &c);
-  if (s == DistanceStatus::kInObstacle) {
-    DistanceResult r = statusOnly(s);
-    r.obstacle = q;
-    return r;
-  }
-  if (s != DistanceStatus::kOk) return statusOnly(s);
+  if (auto answer = answerUnlessFree(q, &c)) return *answer;
 
   DistanceResult not_found = statusOnly(DistanceStatus::kNotFound);
   not_found.distance_m = max_range_m;
@@ -324,13 +317,7 @@ DistanceResult GridDistanceField::ray(const Eigen::Vector2d& p, const Eigen::Vec
     return statusOnly(DistanceStatus::kInvalidQuery);
   }
   CellIndex c;
-  const DistanceStatus s = queryCellStatus(p, &c);
-  if (s == DistanceStatus::kInObstacle) {
-    DistanceResult r = statusOnly(s);
-    r.obstacle = p;
-    return r;
-  }
-  if (s != DistanceStatus::kOk) return statusOnly(s);
+  if (auto answer = answerUnlessFree(p, &c)) return *answer;
 
   // Amanatides & Woo (1987) in cell units; the next boundary crossing is recomputed from the
   // start each step rather than accumulated, so long rays do not drift.

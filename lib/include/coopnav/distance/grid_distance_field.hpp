@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "coopnav/distance/distance_map.hpp"
@@ -87,7 +88,10 @@ class GridDistanceField final : public DistanceMap {
   void computeEdt();
   void buildBoundaryTree();
   std::int32_t buildKd(std::int32_t begin, std::int32_t end, int depth);
-  DistanceStatus queryCellStatus(const Eigen::Vector2d& p, CellIndex* cell) const;
+  /// The whole answer for a query point that is not in free space (not finite, outside the map,
+  /// unknown, or in an obstacle, which is then its own nearest obstacle); otherwise nullopt, and
+  /// the point's cell in *cell.
+  std::optional<DistanceResult> answerUnlessFree(const Eigen::Vector2d& p, CellIndex* cell) const;
   DistanceResult resultFor(const CellIndex& c, const CellIndex& o, std::int64_t sq_cells) const;
 
   OccupancyGrid2 grid_;

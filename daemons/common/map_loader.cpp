@@ -173,8 +173,37 @@ void rasteriseSegment(OccupancyGrid2* grid, const Eigen::Vector2d& a_m, const Ei
                           static_cast<int>(std::floor((hi.y() - grid->origin_m().y()) / res)));
   const Eigen::Vector2d ab = b_m - a_m;
   const double len2 = ab.squaredNorm();
+  // Per row, only the cells near the part of the segment within reach of that row are tested:
+  // scanning the whole bounding box made a long diagonal wall cost its box's area, not its
+  // length (a walls map of ~100 diagonal walls took 200 ms under fuzz_map_yaml, 65 % of it
+  // here). The closest point of the segment to a cell centre that is within half_width_m lies
+  // within half_width_m of the row in y and of the centre in x; one cell more each way keeps
+  // the exact test below the judge, so the cells are those of the full scan.
+  const double reach_m = half_width_m + res;
   for (int j = j0; j <= j1; ++j) {
-    for (int i = i0; i <= i1; ++i) {
+    const double y_m = grid->cellCenter_m(i0, j).y();
+    double t_lo = 0.0, t_hi = 1.0;
+    if (ab.y() != 0.0) {
+      t_lo = (y_m - reach_m - a_m.y()) / ab.y();
+      t_hi = (y_m + reach_m - a_m.y()) / ab.y();
+      if (t_lo > t_hi) std::swap(t_lo, t_hi);
+      t_lo = std::max(t_lo, 0.0);
+      t_hi = std::min(t_hi, 1.0);
+      if (t_lo > t_hi) continue;
+    } else if (std::abs(y_m - a_m.y()) > reach_m) {
+      continue;
+    }
+    const double xa_m = a_m.x() + t_lo * ab.x(), xb_m = a_m.x() + t_hi * ab.x();
+    // Clamped as a double: no out-of-range int cast. (Not finite cannot happen on a grid that
+    // passed the cell limit; the whole row is then the safe answer.)
+    const bool finite = std::isfinite(xa_m) && std::isfinite(xb_m);
+    const auto column = [&](double x_m) {
+      const double c = std::floor((x_m - grid->origin_m().x()) / res);
+      return c < i0 ? i0 : (c > i1 ? i1 : static_cast<int>(c));
+    };
+    const int row_i0 = finite ? column(std::min(xa_m, xb_m) - reach_m) : i0;
+    const int row_i1 = finite ? column(std::max(xa_m, xb_m) + reach_m) : i1;
+    for (int i = row_i0; i <= row_i1; ++i) {
       const Eigen::Vector2d p = grid->cellCenter_m(i, j);
       const double t = len2 > 0.0 ? std::clamp((p - a_m).dot(ab) / len2, 0.0, 1.0) : 0.0;
       if ((p - (a_m + t * ab)).norm() <= half_width_m) grid->set(i, j, CellState::kOccupied);

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <random>
+#include <sstream>
 
 #include "common/daemon_main.hpp"
 #include "common/map_source.hpp"
@@ -374,6 +376,71 @@ TEST(MapLoaderTest, BtWhoseLeavesSpanTooManyCellsIsABadMap) {
     EXPECT_THAT(errorOf([&] { loadMap(path); }),
                 AllOf(HasSubstr("far.bt"), HasSubstr("cells, more than 4194304")))
         << corner_m;
+  }
+}
+
+// The rasteriser tests only the cells of each row near the wall (a long diagonal wall used to
+// cost its bounding box's area). Every cell whose centre is within half the thickness of a wall
+// must still be occupied, whatever the slope, thickness, resolution and grid origin; the other
+// occupied cells are the ones the centre line crosses (their centre within a half diagonal).
+TEST(MapLoaderTest, EveryCellWithinAWallsHalfThicknessIsOccupiedAtAnySlope) {
+  std::mt19937 rng(20261202);
+  std::uniform_real_distribution<double> coord(-3.0, 9.0), unit(0.0, 1.0);
+  struct W {
+    double x0, y0, x1, y1, half;
+  };
+  // Distance from (px, py) to the segment, written apart from the loader's Eigen code.
+  const auto dist = [](const W& w, double px, double py) {
+    const double dx = w.x1 - w.x0, dy = w.y1 - w.y0, len2 = dx * dx + dy * dy;
+    double t = len2 > 0.0 ? ((px - w.x0) * dx + (py - w.y0) * dy) / len2 : 0.0;
+    t = std::min(1.0, std::max(0.0, t));
+    return std::hypot(px - (w.x0 + t * dx), py - (w.y0 + t * dy));
+  };
+  for (int trial = 0; trial < 60; ++trial) {
+    const double res = 0.02 + 0.2 * unit(rng);
+    std::vector<W> walls;
+    std::ostringstream yaml;
+    yaml.precision(17);
+    yaml << "resolution_m: " << res << "\nmargin_m: " << 0.3 * unit(rng) << "\nwalls:\n";
+    const int n = 1 + trial % 5;
+    for (int k = 0; k < n; ++k) {
+      W w{coord(rng), coord(rng), coord(rng), coord(rng), 0.0};
+      if (k == 1) w.y1 = w.y0;               // horizontal,
+      if (k == 2) w.x1 = w.x0;               // vertical,
+      if (k == 3) w.x1 = w.x0, w.y1 = w.y0;  // a point
+      w.half = 0.5 * (0.005 + (trial % 2 ? 0.6 : 0.1) * unit(rng));
+      walls.push_back(w);
+      yaml << "  - {x0_m: " << w.x0 << ", y0_m: " << w.y0 << ", x1_m: " << w.x1
+           << ", y1_m: " << w.y1 << ", thickness_m: " << 2.0 * w.half << "}\n";
+    }
+    const OccupancyGrid2 g = rasteriseWallsMap(YAML::Load(yaml.str()), "walls.yaml");
+    int within = 0;
+    for (int j = 0; j < g.height(); ++j) {
+      for (int i = 0; i < g.width(); ++i) {
+        const Eigen::Vector2d c = g.cellCenter_m(i, j);
+        double nearest = std::numeric_limits<double>::infinity();
+        bool inside = false;
+        for (const W& w : walls) {
+          const double d = dist(w, c.x(), c.y());
+          nearest = std::min(nearest, d);
+          // (a margin of 1e-12 m: the loader's rounding may differ in the last bits)
+          if (d <= w.half - 1e-12) inside = true;
+        }
+        within += inside;
+        if (inside) {
+          ASSERT_EQ(g.at(i, j), CellState::kOccupied)
+              << "trial " << trial << " cell " << i << "," << j << "\n"
+              << yaml.str();
+        } else if (g.at(i, j) == CellState::kOccupied) {
+          ASSERT_LE(nearest, res * M_SQRT1_2 + 1e-9)
+              << "trial " << trial << " cell " << i << "," << j << "\n"
+              << yaml.str();
+        }
+      }
+    }
+    if (trial % 2) {
+      EXPECT_GT(within, 0) << yaml.str();  // the thick walls cover cell centres
+    }
   }
 }
 

@@ -87,7 +87,7 @@ void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePa
 
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
     : config_(config), runtime_(runtime), outputs_(runtime) {
-  map_ = loadDistanceField(config_.map).field;
+  map_ = loadDistanceField(config_.map, /*build_tree=*/false).field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
   if (!planner_->configErrors().empty()) {

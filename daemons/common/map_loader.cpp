@@ -237,7 +237,11 @@ void rasteriseSegment(OccupancyGrid2* grid, const Eigen::Vector2d& a_m, const Ei
 LoadedMap fromGrid(OccupancyGrid2 grid, const MapLoadOptions& options, const std::string& source) {
   LoadedMap map;
   try {
-    map.tree = gridToOctree(grid, options.slab_layers);
+    if (options.build_tree) {
+      map.tree = gridToOctree(grid, options.slab_layers);
+    } else {
+      checkOctreeCanHold(grid, options.slab_layers);
+    }
   } catch (const std::invalid_argument& e) {
     fail(source, e.what());
   }

@@ -48,11 +48,17 @@ struct MapLoadOptions {
   Eigen::Vector2d bt_origin_m{0.0, 0.0};
   /// A map of more cells than this is a MapLoadError, raised before the grid is allocated.
   std::int64_t max_cells{kMaxMapCells};
+  /// Build the OcTree of record from a 2-D source. Only the distance server keeps it (written with
+  /// write_bt_path); the band source and world_sim use the grid alone, and building the tree was
+  /// a third of world_sim's map loading. Either way a grid the tree could not hold is refused, so
+  /// every daemon accepts the same maps. (A .bt is read into its tree in any case.)
+  bool build_tree{true};
 };
 
 /// A loaded map: the OcTree of record and the grid the distance field is built from.
 struct LoadedMap {
-  /// Map of record, in the tree frame: world = tree + tree_origin_m (x, y; z unchanged).
+  /// Map of record, in the tree frame: world = tree + tree_origin_m (x, y; z unchanged). Null for
+  /// a 2-D source loaded with build_tree false.
   std::unique_ptr<octomap::OcTree> tree;
   /// World position [m] of the tree frame's origin.
   Eigen::Vector2d tree_origin_m{0.0, 0.0};

@@ -8,13 +8,14 @@ void MapSource::resolvePaths(const std::string& base_dir) {
   map_file = resolvePath(base_dir, map_file);
 }
 
-LoadedField loadDistanceField(const MapSource& source) {
+LoadedField loadDistanceField(const MapSource& source, bool build_tree) {
   LoadedField out;
   try {
     MapLoadOptions opts;
     opts.bt_z_min_m = source.bt_z_min_m;
     opts.bt_z_max_m = source.bt_z_max_m;
     opts.max_cells = source.max_map_cells;
+    opts.build_tree = build_tree;
     out.map = loadMap(source.map_file, opts);
   } catch (const MapLoadError& e) {
     throw StartupError(e.what());

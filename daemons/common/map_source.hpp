@@ -45,7 +45,7 @@ struct LoadedField {
 };
 
 /// Loads the map and builds its distance field; throws StartupError naming the file and the
-/// problem (a daemon stops at start with exit 3).
-LoadedField loadDistanceField(const MapSource& source);
+/// problem (a daemon stops at start with exit 3). build_tree: MapLoadOptions::build_tree.
+LoadedField loadDistanceField(const MapSource& source, bool build_tree = true);
 
 }  // namespace coopnav

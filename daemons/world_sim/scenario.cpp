@@ -418,6 +418,7 @@ LoadedMap loadScenarioMap(const Scenario& sc, std::int64_t max_cells) {
   }
   MapLoadOptions options;
   options.max_cells = max_cells;
+  options.build_tree = false;  // the simulator needs the grid only
   return loadMapFromNode(node, ".", options, sc.source + ": map");
 }
 

@@ -74,7 +74,8 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
 void checkScenarioAgainstMap(const Scenario& scenario, const DistanceMap& map);
 /// Loads the scenario's map section (its file, or its walls and boxes rasterised) with the
 /// daemons' map loader. Throws MapLoadError naming the file or "<scenario>: map", also when the
-/// map has more than max_cells cells.
+/// map has more than max_cells cells or more than an OcTree holds. No OcTree is built (the
+/// simulator needs the grid only): the result's tree is null.
 LoadedMap loadScenarioMap(const Scenario& scenario, std::int64_t max_cells = kMaxMapCells);
 /// The simulator's input for the scenario.
 sim::WorldSpec toWorldSpec(const Scenario& scenario);

@@ -11,7 +11,7 @@
 
 namespace coopnav {
 
-std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int slab_layers) {
+void checkOctreeCanHold(const OccupancyGrid2& grid, int slab_layers) {
   if (grid.empty()) throw std::invalid_argument("gridToOctree: empty grid");
   if (slab_layers < 1) throw std::invalid_argument("gridToOctree: slab_layers must be >= 1");
   const double res = grid.resolution_m();
@@ -29,6 +29,19 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
        << "coordinates of " << extent_cells << " cells)";
     throw std::invalid_argument(os.str());
   }
+  // Voxel i's key is i + 2^15 (cells start at the grid frame's origin), a 16-bit number.
+  constexpr int kMaxCellsPerAxis = 1 << 15;
+  if (extent_cells > kMaxCellsPerAxis) {
+    std::ostringstream os;
+    os << "gridToOctree: grid of " << grid.width() << " x " << grid.height()
+       << " cells exceeds the OcTree key range (" << kMaxCellsPerAxis << " cells each way)";
+    throw std::invalid_argument(os.str());
+  }
+}
+
+std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int slab_layers) {
+  checkOctreeCanHold(grid, slab_layers);
+  const double res = grid.resolution_m();
   auto tree = std::make_unique<octomap::OcTree>(res);
   // Fixed values rather than updateNode(): the map is given, not observed, so every voxel gets
   // the clamped certainty directly.

@@ -444,6 +444,40 @@ TEST(MapLoaderTest, EveryCellWithinAWallsHalfThicknessIsOccupiedAtAnySlope) {
   }
 }
 
+// The band source and world_sim load maps without the OcTree (build_tree false): the same grid,
+// no tree, and the same refusals, the tree's own limits included, as the distance server.
+TEST(MapLoaderTest, WithoutTheTreeTheGridAndTheRefusalsAreTheSame) {
+  MapLoadOptions no_tree;
+  no_tree.build_tree = false;
+  const LoadedMap with = loadMap(kOpenYaml);
+  const LoadedMap without = loadMap(kOpenYaml, no_tree);
+  ASSERT_NE(with.tree, nullptr);
+  EXPECT_EQ(without.tree, nullptr);
+  EXPECT_EQ(without.grid, with.grid);
+  MapSource source;
+  source.map_file = kOpenYaml;
+  const LoadedField field = loadDistanceField(source, /*build_tree=*/false);
+  EXPECT_EQ(field.map.tree, nullptr);
+  EXPECT_EQ(field.field->nearest({12.0, 1.5}).distance_m,
+            loadDistanceField(source).field->nearest({12.0, 1.5}).distance_m);
+  TempDir tmp;
+  // 40 001 x 1 cells: under max_map_cells, over OctoMap's 2^15 keys each way of the origin.
+  const std::string long_corridor =
+      tmp.write("long.yaml",
+                "resolution_m: 0.1\nmargin_m: 0.0\nwalls:\n"
+                "  - {x0_m: 0, y0_m: 0, x1_m: 4000, y1_m: 0, thickness_m: 0.01}\n");
+  const std::string huge_res =
+      tmp.write("huge.yaml",
+                "resolution_m: 8.9e53\nboxes:\n  - {min_x_m: 0, min_y_m: 0, max_x_m: 1, "
+                "max_y_m: 1}\n");
+  for (const MapLoadOptions& options : {MapLoadOptions{}, no_tree}) {
+    EXPECT_THAT(errorOf([&] { loadMap(long_corridor, options); }),
+                AllOf(HasSubstr("long.yaml"), HasSubstr("40001 x 1 cells exceeds the OcTree key")));
+    EXPECT_THAT(errorOf([&] { loadMap(huge_res, options); }),
+                HasSubstr("outside what an OcTree holds"));
+  }
+}
+
 // Found by fuzz_map_yaml's kind of input: a few lines of walls YAML at a tiny resolution asked for
 // up to 2^30 cells.
 TEST(MapLoaderTest, WallsMapOverTheCellLimitIsABadMap) {

@@ -15,11 +15,17 @@
 
 namespace coopnav {
 
+/// Throws std::invalid_argument unless an OcTree can hold the grid as gridToOctree builds it:
+/// a resolution whose farthest voxel centre is a finite, non-zero float, and at most 2^15 cells
+/// (OctoMap's 16-bit keys, half of them below the origin) each way. gridToOctree checks it first;
+/// a daemon that needs only the grid checks it too, so every daemon accepts the same maps.
+void checkOctreeCanHold(const OccupancyGrid2& grid, int slab_layers = 2);
+
 /// Builds an OcTree of the grid's resolution holding a slab of slab_layers (>= 1) voxel layers,
 /// layer k centred at z = (k + 0.5) * res [m] in the grid frame. Occupied / free cells get the
 /// clamping log-odds (max / min), unknown cells are left out; the tree is then pruned (pruning
 /// needs an even number of layers, so 2 or 4 keep the tree small). Throws std::invalid_argument
-/// on an empty grid or slab_layers < 1.
+/// on an empty grid, slab_layers < 1, or a grid checkOctreeCanHold refuses.
 std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int slab_layers = 2);
 
 /// Projects the leaves of tree whose z extent overlaps [z_min_m, z_max_m] (tree frame, metres)

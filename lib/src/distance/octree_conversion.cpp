@@ -57,6 +57,8 @@ std::unique_ptr<octomap::OcTree> gridToOctree(const OccupancyGrid2& grid, int sl
         const octomap::point3d p_tree(static_cast<float>((i + 0.5) * res),
                                       static_cast<float>((j + 0.5) * res),
                                       static_cast<float>((k + 0.5) * res));
+        // A backstop only: checkOctreeCanHold refused grids beyond the key range, and a centre's
+        // float rounding stays within its key; a wrong key would be a silently wrong map.
         if (!tree->coordToKeyChecked(p_tree, key)) {
           throw std::invalid_argument("gridToOctree: grid exceeds the OcTree key range");
         }

@@ -6,7 +6,8 @@
 /// the deployed daemon. The lib default, warm start, is measured beside them. Closed loop: every
 /// 0.1 s world_sim's physics moves the robot by the planner's command and the humans as
 /// minimally contributing walkers, and the planner runs again. Both solvers
-/// (our SparseLm and Ceres) on the same problems, interleaved so they share the machine's load.
+/// (our SparseLm and Ceres) on the same problems; every case's repeats interleaved with the
+/// others' so that all share the machine's load.
 /// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS]` runs one case only (for a
 /// profiler).
 
@@ -103,63 +104,72 @@ struct Stats {
 BandPlannerConfig g_deployed;
 int g_max_iterations = 0;  ///< band_source's max_iterations (0: inner x outer)
 
-Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
-          bool warm_start) {
+/// What the cycles of one case measured, over all its repeats so far.
+struct Samples {
   std::vector<double> times, cpu;
-  std::size_t robot_poses = 0, human_poses = 0;
+  std::size_t robot_poses = 0, human_poses = 0;  ///< first cycle of the first repeat
   double solver_s = 0.0, iterations = 0.0, final_cost = 0.0, sum_robot = 0.0, sum_human = 0.0;
-  for (int rep = 0; rep < g_repeats; ++rep) {
-    BandPlannerConfig cfg = g_deployed;
-    cfg.solver = solver;
-    cfg.warm_start = warm_start;
-    DualBandPlanner planner(cfg, map);
-    const sim::WorldSpec spec = headOnWorld(cfg, n_humans);
-    sim::Simulation world(spec, map.get());
-    std::vector<AgentState> agents = world.agents();
-    PlanRequest req;
-    req.goal = spec.robot.goal;
-    // As band_source in lockstep: the iteration budget only (CoHAN 8 x 4), no time limit.
-    req.max_iterations = g_max_iterations;
-    req.time_budget_s = 0.0;
-    req.clock_s = [] {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-          .count();
-    };
-    double t_s = 0.0;
-    for (int c = 0; c < kCycles; ++c) {
-      // As band_source: the robot plans, every human with its known goal is anticipated.
-      req.stamp_s = t_s;
-      req.agent = agents.front();
-      req.others.clear();
-      for (std::size_t h = 1; h < agents.size(); ++h) {
-        OtherAgentInput o;
-        o.state = agents[h];
-        o.goal = spec.humans[h - 1].goal;
-        req.others.push_back(o);
-      }
-      const double c0 = threadCpu_s();
-      const auto t0 = std::chrono::steady_clock::now();
-      const PlanResult r = planner.plan(req);
-      const auto t1 = std::chrono::steady_clock::now();
-      const double cpu_s = threadCpu_s() - c0;
-      if (r.status != PlanStatus::kOk) break;
-      cpu.push_back(cpu_s);
-      times.push_back(std::chrono::duration<double>(t1 - t0).count());
-      solver_s += r.solver_time_s;
-      iterations += r.iterations;
-      final_cost += r.final_cost;
-      sum_robot += static_cast<double>(r.agent_band.poses.size());
-      sum_human += r.others.empty() ? 0.0 : static_cast<double>(r.others[0].band.poses.size());
-      if (c == 0 && rep == 0) {
-        robot_poses = r.agent_band.poses.size();
-        human_poses = r.others.empty() ? 0 : r.others[0].band.poses.size();
-      }
-      world.setRobotBand(r.agent_band, t_s);
-      const sim::StepResult step = world.step(r.command_body);
-      agents = step.agents;
-      t_s = step.t_s;
+};
+
+/// One repeat of a case: kCycles closed-loop cycles from the start of the head-on world.
+void runOnce(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
+             bool warm_start, Samples* out) {
+  BandPlannerConfig cfg = g_deployed;
+  cfg.solver = solver;
+  cfg.warm_start = warm_start;
+  DualBandPlanner planner(cfg, map);
+  const sim::WorldSpec spec = headOnWorld(cfg, n_humans);
+  sim::Simulation world(spec, map.get());
+  std::vector<AgentState> agents = world.agents();
+  PlanRequest req;
+  req.goal = spec.robot.goal;
+  // As band_source in lockstep: the iteration budget only (CoHAN 8 x 4), no time limit.
+  req.max_iterations = g_max_iterations;
+  req.time_budget_s = 0.0;
+  req.clock_s = [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  };
+  const bool first_repeat = out->times.empty();
+  double t_s = 0.0;
+  for (int c = 0; c < kCycles; ++c) {
+    // As band_source: the robot plans, every human with its known goal is anticipated.
+    req.stamp_s = t_s;
+    req.agent = agents.front();
+    req.others.clear();
+    for (std::size_t h = 1; h < agents.size(); ++h) {
+      OtherAgentInput o;
+      o.state = agents[h];
+      o.goal = spec.humans[h - 1].goal;
+      req.others.push_back(o);
     }
+    const double c0 = threadCpu_s();
+    const auto t0 = std::chrono::steady_clock::now();
+    const PlanResult r = planner.plan(req);
+    const auto t1 = std::chrono::steady_clock::now();
+    const double cpu_s = threadCpu_s() - c0;
+    if (r.status != PlanStatus::kOk) break;
+    out->cpu.push_back(cpu_s);
+    out->times.push_back(std::chrono::duration<double>(t1 - t0).count());
+    out->solver_s += r.solver_time_s;
+    out->iterations += r.iterations;
+    out->final_cost += r.final_cost;
+    out->sum_robot += static_cast<double>(r.agent_band.poses.size());
+    out->sum_human += r.others.empty() ? 0.0 : static_cast<double>(r.others[0].band.poses.size());
+    if (c == 0 && first_repeat) {
+      out->robot_poses = r.agent_band.poses.size();
+      out->human_poses = r.others.empty() ? 0 : r.others[0].band.poses.size();
+    }
+    world.setRobotBand(r.agent_band, t_s);
+    const sim::StepResult step = world.step(r.command_body);
+    agents = step.agents;
+    t_s = step.t_s;
   }
+}
+
+Stats summarize(Samples in) {
+  std::vector<double>& times = in.times;
+  std::vector<double>& cpu = in.cpu;
   std::sort(times.begin(), times.end());
   Stats s;
   if (times.empty()) return s;
@@ -171,14 +181,21 @@ Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std
   double total_s = 0.0;
   for (double t : times) total_s += t;
   const double n = static_cast<double>(times.size());
-  s.solver_share = solver_s / total_s;
-  s.mean_iterations = iterations / n;
-  s.mean_robot_poses = sum_robot / n;
-  s.mean_human_poses = sum_human / n;
-  s.mean_final_cost = final_cost / n;
-  s.robot_poses = robot_poses;
-  s.human_poses = human_poses;
+  s.solver_share = in.solver_s / total_s;
+  s.mean_iterations = in.iterations / n;
+  s.mean_robot_poses = in.sum_robot / n;
+  s.mean_human_poses = in.sum_human / n;
+  s.mean_final_cost = in.final_cost / n;
+  s.robot_poses = in.robot_poses;
+  s.human_poses = in.human_poses;
   return s;
+}
+
+Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
+          bool warm_start) {
+  Samples samples;
+  for (int rep = 0; rep < g_repeats; ++rep) runOnce(map, n_humans, solver, warm_start, &samples);
+  return summarize(std::move(samples));
 }
 
 }  // namespace
@@ -203,21 +220,36 @@ int main(int argc, char** argv) {
     const Stats s = run(map, std::atoi(argv[2]), argv[1], deployed_warm);
     std::printf(
         "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations, "
-        "%.1f robot + %.1f human poses, final cost %.3f\n",
+        "%.1f robot + %.1f human poses, final cost %.17g\n",
         argv[1], argv[2], s.p50_s * 1e3, s.p99_s * 1e3, s.cpu_p50_s * 1e3, s.cpu_p99_s * 1e3,
         s.mean_iterations, s.mean_robot_poses, s.mean_human_poses, s.mean_final_cost);
     return 0;
   }
   // Warm-up: the first planner of the process pays for page faults and the map's first reads.
   run(map, 1, "sparse_lm", deployed_warm);
-  // Interleaved so that both solvers see the same machine load (this machine is shared).
-  const Stats one = run(map, 1, "sparse_lm", deployed_warm);
-  const Stats one_ceres = run(map, 1, "ceres", deployed_warm);
-  const Stats five = run(map, 5, "sparse_lm", deployed_warm);
-  const Stats five_ceres = run(map, 5, "ceres", deployed_warm);
-  // The other warm-start setting (the lib default is warm, band_source.yaml runs cold).
-  const Stats other = run(map, 1, "sparse_lm", !deployed_warm);
-  const Stats other_five = run(map, 5, "sparse_lm", !deployed_warm);
+  // Repeat by repeat, every case in turn: the host's speed drifts by up to 1.5x within minutes,
+  // and interleaving gives every case, and so every ratio, the same share of that drift.
+  struct Case {
+    int humans;
+    const char* solver;
+    bool warm;
+    Samples samples;
+  };
+  // The other warm-start setting beside the deployed one (the lib default is warm,
+  // band_source.yaml runs cold).
+  std::vector<Case> cases = {
+      {1, "sparse_lm", deployed_warm, {}},  {1, "ceres", deployed_warm, {}},
+      {5, "sparse_lm", deployed_warm, {}},  {5, "ceres", deployed_warm, {}},
+      {1, "sparse_lm", !deployed_warm, {}}, {5, "sparse_lm", !deployed_warm, {}}};
+  for (int rep = 0; rep < g_repeats; ++rep) {
+    for (Case& c : cases) runOnce(map, c.humans, c.solver, c.warm, &c.samples);
+  }
+  const Stats one = summarize(std::move(cases[0].samples));
+  const Stats one_ceres = summarize(std::move(cases[1].samples));
+  const Stats five = summarize(std::move(cases[2].samples));
+  const Stats five_ceres = summarize(std::move(cases[3].samples));
+  const Stats other = summarize(std::move(cases[4].samples));
+  const Stats other_five = summarize(std::move(cases[5].samples));
   std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, g_repeats,
               kBudget_s * 1e3);
   std::printf("planner settings: %s (planner.*, max_iterations %d), %s\n", config_path.c_str(),

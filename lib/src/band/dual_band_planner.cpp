@@ -27,6 +27,38 @@ constexpr double kOtherLengthMargin = 0.1;
 /// Constant-velocity prediction horizon when an other agent's goal is unknown [s].
 constexpr double kConstVelHorizon_s = 10.0;
 
+/// Where a cold-started band begins across its path. A band laid on the path from a robot
+/// beside it returns to the path within its first segment: its first segment, the command,
+/// then points back to the path, and the optimiser, to keep that segment within the limits,
+/// slows the band instead (band_source README, "Known problem").
+struct PathJoin {
+  bool valid{false};
+  Eigen::Vector2d origin{0.0, 0.0};  ///< the local path's first point
+  Eigen::Vector2d left{0.0, 1.0};    ///< unit normal of the local path at its first point
+  double offset_m{0.0};              ///< the robot's signed offset from the path along `left`
+  double speed_m_s{0.0};             ///< its velocity along `left`
+};
+
+/// Moves the inner poses of a band laid on the path across it, so that their offset starts at
+/// the robot's offset and lateral speed and returns to the path over blend_s: the cubic Hermite
+/// h(u) = (2u³ − 3u² + 1)·o₀ + (u³ − 2u² + u)·T·v₀, added to the offset the band already has
+/// (none, or a swerve whose up-ramp is a smoothstep over the same T: the sum is then the Hermite
+/// from the robot to the swerve).
+void applyJoin(const PathJoin& j, double blend_s, TimedElasticBand* band) {
+  if (!j.valid || band->size() < 3 || !(blend_s > 0.0)) return;
+  const auto t = band->times_s();
+  for (std::size_t i = 1; i + 1 < band->size(); ++i) {
+    const double u = t[i] / blend_s;
+    if (u >= 1.0) break;
+    Pose2 p = band->pose(i);
+    const double h = (2.0 * u * u * u - 3.0 * u * u + 1.0) * j.offset_m +
+                     (u * u * u - 2.0 * u * u + u) * blend_s * j.speed_m_s;
+    p.x_m += h * j.left.x();
+    p.y_m += h * j.left.y();
+    band->setPose(i, p);
+  }
+}
+
 PlanStatus fromPathStatus(PathStatus s) {
   switch (s) {
     case PathStatus::kOk:
@@ -142,6 +174,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
 
   // --- the planning agent's band ---
   TimedElasticBand my_band;
+  PathJoin join;
   bool my_end_is_goal = true;
   bool cold_start = true;
   if (at_goal) {
@@ -177,6 +210,29 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       prof.stop_at_end = my_end_is_goal;
       my_band = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
                                            end_th, prof);
+      if (local.size() >= 2) {
+        // Where the robot is across its path and how fast it moves across it: the band must
+        // start there (below), not on the path (notes in the band_source README).
+        // The path's direction over its first half metre (its tangent where the robot meets it).
+        std::size_t ahead = 1;
+        while (ahead + 1 < local.size() && (local[ahead] - local.front()).norm() < 0.5) ++ahead;
+        const Eigen::Vector2d d = local[ahead] - local.front();
+        if (d.norm() > 1e-6) {
+          join.left = Eigen::Vector2d(-d.y(), d.x()).normalized();
+          join.origin = local.front();
+          join.offset_m = join.left.dot(my_pos - local.front());
+          join.speed_m_s =
+              std::clamp(join.left.dot(Eigen::Vector2d(me.velocity.vx_m_s, me.velocity.vy_m_s)),
+                         -my_kin.max_vel_y_m_s - my_kin.max_vel_x_m_s,
+                         my_kin.max_vel_y_m_s + my_kin.max_vel_x_m_s);
+          join.valid = true;
+          // Laid on the path from the robot's foot on it, then the robot's own pose first.
+          const Pose2 foot{local.front().x(), local.front().y(), me.pose.theta_rad};
+          my_band = TimedElasticBand::fromPath(foot, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
+                                               end_th, prof);
+          my_band.setPose(0, me.pose);
+        }
+      }
     }
   }
   out.agent_path = my_path;
@@ -304,6 +360,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     return out;
   }
 
+  bool joined = false;
   // --- symmetry break on a cold start: an exactly head-on pair has no lateral gradient ---
   if (cold_start && my_band.size() > 2) {
     for (const auto& w : work) {
@@ -365,8 +422,18 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
         p.y_m += off * left.y();
         my_band.setPose(i, p);
       }
+      // The join over the same up-ramp: with it the offset runs from where the robot is, at
+      // the speed it has, to the swerve (a cubic Hermite: 1 - smoothstep and smoothstep).
+      applyJoin(join, up_s, &my_band);
+      joined = true;
       break;  // one offset suffices; the optimiser does the rest
     }
+  }
+
+  if (!joined) {
+    const double a_lat = my_kin.holonomic ? my_kin.acc_lim_y_m_s2 : my_kin.acc_lim_theta_rad_s2;
+    applyJoin(join, std::max(1.0, std::sqrt(6.0 * std::abs(join.offset_m) / std::max(a_lat, 1e-3))),
+              &my_band);
   }
 
   // --- joint optimisation ---

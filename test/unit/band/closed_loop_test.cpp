@@ -207,12 +207,12 @@ TEST(ClosedLoopTest, OpenCorridorHeadOnHumanAlongAnticipatedBand) {
   expectCohanLikePass(log);
 }
 
-// Disabled: reproduces an open bug (band_source README, "Known problem"). Cold-started every
-// cycle, as band_source runs, the robot re-solves the same "move aside later" optimum each cycle:
-// the band moves aside, but its first segment (the command) has no lateral speed, so the robot
-// never starts to, and it slows almost to a stop before the human (2026-12-02: 0.31 m/s on
-// average until the crossing, against 0.58 m/s warm-started above).
-TEST(ClosedLoopTest, DISABLED_ColdStartedAsBandSourceTheRobotKeepsMovingPastAStraightHuman) {
+// The bug this reproduced (band_source README, "Known problem", fixed 2026-12-03): cold-started
+// every cycle, as band_source runs, the band was laid on the path from a robot already beside it,
+// so its first segment (the command) pointed back at the path, the optimiser slowed the band to
+// keep that segment within the limits, and the robot crept towards the human (0.31 m/s on average
+// until the crossing, against 0.58 m/s warm-started).
+TEST(ClosedLoopTest, ColdStartedAsBandSourceTheRobotKeepsMovingPastAStraightHuman) {
   BandPlannerConfig cfg;
   cfg.warm_start = false;
   const RunLog log = runClosedLoop(openPgm(), openHeadOn(HumanMotion::kStraight), cfg);

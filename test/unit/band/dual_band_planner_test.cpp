@@ -161,6 +161,43 @@ TEST(DualBandPlannerTest, WarmStartKeepsPlanningAsAgentsMove) {
             kRobotRadius_m + kHumanRadius_m + 0.6 - 2 * kDistTol_m);
 }
 
+TEST(DualBandPlannerTest, ColdBandStartsWhereTheRobotIsAcrossItsPathAndKeepsItsLateralSpeed) {
+  // Given a cold-started robot that planned its path on the corridor's centre line, then drifted
+  // 0.4 m to its right (less than the re-plan distance: the path is kept) and still moves right,
+  auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
+  BandPlannerConfig cfg;
+  cfg.warm_start = false;
+  DualBandPlanner dut(cfg, map);
+  PlanRequest req;
+  req.stamp_s = 10.0;
+  req.agent = test::makeAgent(0, AgentKind::kRobot, 3.0, 3.0, 0.0, 0.0, kRobotRadius_m);
+  req.goal = {17.0, 3.0, 0.0};
+  ASSERT_EQ(dut.plan(req).status, PlanStatus::kOk);
+  const double vy_m_s = -0.2;
+  req.stamp_s = 11.0;
+  req.agent.pose = {4.0, 2.6, 0.0};
+  req.agent.velocity = {0.7, vy_m_s, 0.0};
+  // when it plans again,
+  const PlanResult r = dut.plan(req);
+  ASSERT_EQ(r.status, PlanStatus::kOk);
+  EXPECT_LT(std::abs(r.agent_path.front().y() - 3.0), 0.05) << "the path was re-planned";
+  // then the band's first segment (the command) carries on from the robot's lateral speed within
+  // the acceleration limit, at cruising speed, instead of jumping back to the path (a band laid
+  // on the path from a robot beside it did: its first segment pointed at the path and the
+  // optimiser slowed the band to keep that within the limits).
+  const auto& p = r.agent_band.poses;
+  ASSERT_GE(p.size(), 3u);
+  const double dt = p[1].t_s - p[0].t_s;
+  const double vx1 = (p[1].pose.x_m - p[0].pose.x_m) / dt;
+  const double vy1 = (p[1].pose.y_m - p[0].pose.y_m) / dt;
+  EXPECT_NEAR(vy1, vy_m_s, cfg.robot.acc_lim_y_m_s2 * dt + 0.05);
+  EXPECT_GT(vx1, 0.6);
+  // And it returns to the path within the lateral speed limit.
+  const auto k = test::measure(r.agent_band);
+  EXPECT_LE(k.max_abs_vy, cfg.robot.max_vel_y_m_s * 1.05);
+  EXPECT_LT(std::abs(test::positionAt(r.agent_band, 6.0).y() - 3.0), 0.1);
+}
+
 TEST(DualBandPlannerTest, IterationBudgetIsRespected) {
   auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
   DualBandPlanner dut(BandPlannerConfig{}, map);

@@ -59,6 +59,43 @@ void applyJoin(const PathJoin& j, double blend_s, TimedElasticBand* band) {
   }
 }
 
+/// The blend time of a join that returns to the path: 1 s, or what the lateral acceleration
+/// limit needs for the offset (a cubic's peak acceleration is 6·o₀/T²).
+double joinBlendTime(const PathJoin& j, const AgentKinematics& kin) {
+  const double a_lat = kin.holonomic ? kin.acc_lim_y_m_s2 : kin.acc_lim_theta_rad_s2;
+  return std::max(1.0, std::sqrt(6.0 * std::abs(j.offset_m) / std::max(a_lat, 1e-3)));
+}
+
+/// A cold band along `local` (its first point the agent's foot on it) for an agent that may stand
+/// beside it: laid on the path from that foot, with the agent's own pose first, and `join` set
+/// for applyJoin(). Without a usable path direction, the band is laid from the agent's pose.
+TimedElasticBand layOnPath(const AgentState& st, const Path2& local, const AgentKinematics& kin,
+                           double speed_m_s, double dt_ref_s, std::optional<double> end_th,
+                           const TimedElasticBand::SpeedProfile& prof, PathJoin* join) {
+  *join = PathJoin{};
+  if (local.size() >= 2) {
+    // The path's direction over its first half metre: its tangent where the agent meets it.
+    std::size_t ahead = 1;
+    while (ahead + 1 < local.size() && (local[ahead] - local.front()).norm() < 0.5) ++ahead;
+    const Eigen::Vector2d d = local[ahead] - local.front();
+    if (d.norm() > 1e-6) {
+      join->left = Eigen::Vector2d(-d.y(), d.x()).normalized();
+      join->origin = local.front();
+      join->offset_m = join->left.dot(st.pose.position() - local.front());
+      const double v_max = kin.max_vel_x_m_s + kin.max_vel_y_m_s;
+      join->speed_m_s = std::clamp(
+          join->left.dot(Eigen::Vector2d(st.velocity.vx_m_s, st.velocity.vy_m_s)), -v_max, v_max);
+      join->valid = true;
+      const Pose2 foot{local.front().x(), local.front().y(), st.pose.theta_rad};
+      TimedElasticBand band =
+          TimedElasticBand::fromPath(foot, local, speed_m_s, dt_ref_s, end_th, prof);
+      band.setPose(0, st.pose);
+      return band;
+    }
+  }
+  return TimedElasticBand::fromPath(st.pose, local, speed_m_s, dt_ref_s, end_th, prof);
+}
+
 PlanStatus fromPathStatus(PathStatus s) {
   switch (s) {
     case PathStatus::kOk:
@@ -208,31 +245,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       prof.start_speed_m_s = speedOf(me.velocity);
       prof.acc_m_s2 = my_kin.acc_lim_x_m_s2;
       prof.stop_at_end = my_end_is_goal;
-      my_band = TimedElasticBand::fromPath(me.pose, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
-                                           end_th, prof);
-      if (local.size() >= 2) {
-        // Where the robot is across its path and how fast it moves across it: the band must
-        // start there (below), not on the path (notes in the band_source README).
-        // The path's direction over its first half metre (its tangent where the robot meets it).
-        std::size_t ahead = 1;
-        while (ahead + 1 < local.size() && (local[ahead] - local.front()).norm() < 0.5) ++ahead;
-        const Eigen::Vector2d d = local[ahead] - local.front();
-        if (d.norm() > 1e-6) {
-          join.left = Eigen::Vector2d(-d.y(), d.x()).normalized();
-          join.origin = local.front();
-          join.offset_m = join.left.dot(my_pos - local.front());
-          join.speed_m_s =
-              std::clamp(join.left.dot(Eigen::Vector2d(me.velocity.vx_m_s, me.velocity.vy_m_s)),
-                         -my_kin.max_vel_y_m_s - my_kin.max_vel_x_m_s,
-                         my_kin.max_vel_y_m_s + my_kin.max_vel_x_m_s);
-          join.valid = true;
-          // Laid on the path from the robot's foot on it, then the robot's own pose first.
-          const Pose2 foot{local.front().x(), local.front().y(), me.pose.theta_rad};
-          my_band = TimedElasticBand::fromPath(foot, local, my_kin.max_vel_x_m_s, cfg.dt_ref_s,
-                                               end_th, prof);
-          my_band.setPose(0, me.pose);
-        }
-      }
+      my_band =
+          layOnPath(me, local, my_kin, my_kin.max_vel_x_m_s, cfg.dt_ref_s, end_th, prof, &join);
     }
   }
   out.agent_path = my_path;
@@ -344,6 +358,9 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       prof.start_speed_m_s = speedOf(st.velocity);
       prof.acc_m_s2 = k.acc_lim_x_m_s2;
       prof.stop_at_end = end_is_goal;
+      // Laid from the human's own pose, hop to its reference included: the join the robot's
+      // band gets made t_CROSS steadier here too, but brought back the dock for the narrow
+      // corridor's facilitating human and a 0.039 m pass in narrow_minimal (band_source README).
       band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad, prof);
     }
     res.reference_path = ref;
@@ -430,11 +447,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     }
   }
 
-  if (!joined) {
-    const double a_lat = my_kin.holonomic ? my_kin.acc_lim_y_m_s2 : my_kin.acc_lim_theta_rad_s2;
-    applyJoin(join, std::max(1.0, std::sqrt(6.0 * std::abs(join.offset_m) / std::max(a_lat, 1e-3))),
-              &my_band);
-  }
+  if (!joined) applyJoin(join, joinBlendTime(join, my_kin), &my_band);
 
   // --- joint optimisation ---
   std::vector<BandAgent> agents;

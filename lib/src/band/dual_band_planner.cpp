@@ -30,13 +30,12 @@ constexpr double kConstVelHorizon_s = 10.0;
 /// Where a cold-started band begins across its path. A band laid on the path from a robot
 /// beside it returns to the path within its first segment: its first segment, the command,
 /// then points back to the path, and the optimiser, to keep that segment within the limits,
-/// slows the band instead (band_source README, "Known problem").
+/// slows the band instead (band_source README, "Fixed 2026-12-03").
 struct PathJoin {
   bool valid{false};
-  Eigen::Vector2d origin{0.0, 0.0};  ///< the local path's first point
-  Eigen::Vector2d left{0.0, 1.0};    ///< unit normal of the local path at its first point
-  double offset_m{0.0};              ///< the robot's signed offset from the path along `left`
-  double speed_m_s{0.0};             ///< its velocity along `left`
+  Eigen::Vector2d left{0.0, 1.0};  ///< unit normal of the local path at its first point
+  double offset_m{0.0};            ///< the agent's signed offset from the path along `left`
+  double speed_m_s{0.0};           ///< its velocity along `left`
 };
 
 /// Moves the inner poses of a band laid on the path across it, so that their offset starts at
@@ -80,7 +79,6 @@ TimedElasticBand layOnPath(const AgentState& st, const Path2& local, const Agent
     const Eigen::Vector2d d = local[ahead] - local.front();
     if (d.norm() > 1e-6) {
       join->left = Eigen::Vector2d(-d.y(), d.x()).normalized();
-      join->origin = local.front();
       join->offset_m = join->left.dot(st.pose.position() - local.front());
       const double v_max = kin.max_vel_x_m_s + kin.max_vel_y_m_s;
       join->speed_m_s = std::clamp(

@@ -58,11 +58,16 @@ void applyJoin(const PathJoin& j, double blend_s, TimedElasticBand* band) {
   }
 }
 
-/// The blend time of a join that returns to the path: 1 s, or what the lateral acceleration
-/// limit needs for the offset (a cubic's peak acceleration is 6·o₀/T²).
-double joinBlendTime(const PathJoin& j, const AgentKinematics& kin) {
+/// Time a smoothstep or cubic ramp needs to move an agent sideways by offset_m within its
+/// lateral acceleration limit: the ramp's peak acceleration is 6·offset/T².
+double lateralRampTime_s(double offset_m, const AgentKinematics& kin) {
   const double a_lat = kin.holonomic ? kin.acc_lim_y_m_s2 : kin.acc_lim_theta_rad_s2;
-  return std::max(1.0, std::sqrt(6.0 * std::abs(j.offset_m) / std::max(a_lat, 1e-3)));
+  return std::sqrt(6.0 * std::abs(offset_m) / std::max(a_lat, 1e-3));
+}
+
+/// The blend time of a join that returns to the path: 1 s, or what the ramp needs.
+double joinBlendTime(const PathJoin& j, const AgentKinematics& kin) {
+  return std::max(1.0, lateralRampTime_s(j.offset_m, kin));
 }
 
 /// A cold band along `local` (its first point the agent's foot on it) for an agent that may stand
@@ -418,8 +423,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       // lateral acceleration limit, full offset from half-way to the meeting until 1 s after
       // it: the optimiser usually slows the planning agent (relative-velocity term), which
       // moves the meeting earlier along its path than this constant-speed guess predicts.
-      const double a_lat = my_kin.holonomic ? my_kin.acc_lim_y_m_s2 : my_kin.acc_lim_theta_rad_s2;
-      const double ramp_s = std::sqrt(6.0 * amp / std::max(a_lat, 1e-3));
+      const double ramp_s = lateralRampTime_s(amp, my_kin);
       const double t_end = t.back();
       const double up_s = std::clamp(ramp_s, 1.0, std::max(1.0, 0.8 * t[bi]));
       const double t_hi = std::max(t[bi] + 1.0, up_s);

@@ -95,6 +95,7 @@ struct Stats {
   std::size_t human_poses{0};
   double solver_share{0.0};     ///< Ceres' own time / plan() time, summed over cycles
   double mean_iterations{0.0};  ///< LM iterations per cycle
+  double mean_accepted{0.0};    ///< of them, steps taken (the rest rejected)
   double mean_robot_poses{0.0};
   double mean_human_poses{0.0};
   double mean_final_cost{0.0};  ///< ½ Σ r² after the cycle's last iteration: what the time bought
@@ -108,7 +109,8 @@ int g_max_iterations = 0;  ///< band_source's max_iterations (0: inner x outer)
 struct Samples {
   std::vector<double> times, cpu;
   std::size_t robot_poses = 0, human_poses = 0;  ///< first cycle of the first repeat
-  double solver_s = 0.0, iterations = 0.0, final_cost = 0.0, sum_robot = 0.0, sum_human = 0.0;
+  double solver_s = 0.0, iterations = 0.0, accepted = 0.0, final_cost = 0.0, sum_robot = 0.0,
+         sum_human = 0.0;
 };
 
 /// One repeat of a case: kCycles closed-loop cycles from the start of the head-on world.
@@ -153,6 +155,7 @@ void runOnce(const std::shared_ptr<const DistanceMap>& map, int n_humans, const 
     out->times.push_back(std::chrono::duration<double>(t1 - t0).count());
     out->solver_s += r.solver_time_s;
     out->iterations += r.iterations;
+    out->accepted += r.accepted_steps;
     out->final_cost += r.final_cost;
     out->sum_robot += static_cast<double>(r.agent_band.poses.size());
     out->sum_human += r.others.empty() ? 0.0 : static_cast<double>(r.others[0].band.poses.size());
@@ -183,6 +186,7 @@ Stats summarize(Samples in) {
   const double n = static_cast<double>(times.size());
   s.solver_share = in.solver_s / total_s;
   s.mean_iterations = in.iterations / n;
+  s.mean_accepted = in.accepted / n;
   s.mean_robot_poses = in.sum_robot / n;
   s.mean_human_poses = in.sum_human / n;
   s.mean_final_cost = in.final_cost / n;
@@ -219,10 +223,11 @@ int main(int argc, char** argv) {
     // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf.
     const Stats s = run(map, std::atoi(argv[2]), argv[1], deployed_warm);
     std::printf(
-        "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations, "
-        "%.1f robot + %.1f human poses, final cost %.17g\n",
+        "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations "
+        "(%.1f steps taken), %.1f robot + %.1f human poses, final cost %.17g\n",
         argv[1], argv[2], s.p50_s * 1e3, s.p99_s * 1e3, s.cpu_p50_s * 1e3, s.cpu_p99_s * 1e3,
-        s.mean_iterations, s.mean_robot_poses, s.mean_human_poses, s.mean_final_cost);
+        s.mean_iterations, s.mean_accepted, s.mean_robot_poses, s.mean_human_poses,
+        s.mean_final_cost);
     return 0;
   }
   // Warm-up: the first planner of the process pays for page faults and the map's first reads.
@@ -257,9 +262,10 @@ int main(int argc, char** argv) {
   auto line = [](const std::string& what, const Stats& s) {
     std::printf(
         "%-28s p50 %7.2f ms  p99 %7.2f ms  (CPU p50 %7.2f p99 %7.2f) | mean %.1f robot + %.1f "
-        "human poses, %.1f LM iterations, solver %.0f %% of plan()\n",
+        "human poses, %.1f LM iterations (%.1f steps taken), solver %.0f %% of plan()\n",
         what.c_str(), s.p50_s * 1e3, s.p99_s * 1e3, s.cpu_p50_s * 1e3, s.cpu_p99_s * 1e3,
-        s.mean_robot_poses, s.mean_human_poses, s.mean_iterations, 100.0 * s.solver_share);
+        s.mean_robot_poses, s.mean_human_poses, s.mean_iterations, s.mean_accepted,
+        100.0 * s.solver_share);
   };
   std::printf("first cycle (1 human): %zu robot + %zu human poses\n", one.robot_poses,
               one.human_poses);

@@ -76,6 +76,7 @@ struct BandPlannerConfigYaml {
     v("no_inner_iterations", c.no_inner_iterations);
     v("no_outer_iterations", c.no_outer_iterations);
     v("weight_adapt_factor", c.weight_adapt_factor);
+    v("initial_damping_scale", c.initial_damping_scale);
     v("penalty_epsilon", c.penalty_epsilon);
     v("warm_start", c.warm_start);
     v("solver", c.solver, OneOf{{"sparse_lm", "ceres"}});

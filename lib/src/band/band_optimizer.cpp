@@ -324,6 +324,7 @@ class ProblemBuilder {
 struct SolveOutcome {
   double initial_cost{0.0};
   int iterations{0};  ///< linear solves (accepted or rejected steps)
+  int accepted{0};    ///< of them, steps taken
   bool out_of_time{false};
 };
 
@@ -339,7 +340,8 @@ class Backend {
 
 class SparseLmBackend final : public Backend {
  public:
-  explicit SparseLmBackend(const ProblemBuilder& pb) {
+  SparseLmBackend(const ProblemBuilder& pb, double initial_damping_scale)
+      : initial_damping_scale_(initial_damping_scale) {
     for (const auto& p : pb.params()) lm_.addParameterBlock(p.values, p.size, p.constant);
     for (const auto& r : pb.residuals())
       lm_.addResidualBlock(r.cost.get(), r.params.data(), r.num_params);
@@ -348,12 +350,14 @@ class SparseLmBackend final : public Backend {
     SparseLm::Options o;
     o.max_iterations = max_iterations;
     o.should_stop = out_of_time;
+    o.initial_lambda_scale = initial_damping_scale_;
     const SparseLm::Summary s = lm_.solve(o);
-    return {s.initial_cost, s.iterations, s.stopped};
+    return {s.initial_cost, s.iterations, s.accepted, s.stopped};
   }
   double blockCost(std::size_t i) override { return lm_.blockCost(i); }
 
  private:
+  double initial_damping_scale_;
   SparseLm lm_;
 };
 
@@ -405,7 +409,8 @@ class CeresBackend final : public Backend {
     ceres::Solver::Summary sum;
     ceres::Solve(opt_, problem_.get(), &sum);
     // summary.iterations holds iteration 0 (the initial evaluation) plus every LM step.
-    return {sum.initial_cost, std::max(0, static_cast<int>(sum.iterations.size()) - 1), stop.hit};
+    return {sum.initial_cost, std::max(0, static_cast<int>(sum.iterations.size()) - 1),
+            sum.num_successful_steps, stop.hit};
   }
   double blockCost(std::size_t i) override {
     double c = 0.0;
@@ -421,7 +426,7 @@ class CeresBackend final : public Backend {
 
 std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg) {
   if (cfg.solver == "ceres") return std::make_unique<CeresBackend>(pb);
-  return std::make_unique<SparseLmBackend>(pb);
+  return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale);
 }
 
 double evaluateTerms(const ProblemBuilder& pb, Backend& backend, std::vector<TermCost>* terms) {
@@ -539,6 +544,7 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
     const SolveOutcome o = backend->solve(std::min(cfg.no_inner_iterations, left), out_of_time);
     if (outer == 0) stats.initial_cost = o.initial_cost;
     stats.iterations += o.iterations;
+    stats.accepted += o.accepted;
     stats.outer_iterations = outer + 1;
     for (auto& a : agents) a.band->normalize(cfg.dt_min_s);
     const bool last =

@@ -485,6 +485,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
   const OptimizeStats stats =
       optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
   out.iterations = stats.iterations;
+  out.accepted_steps = stats.accepted;
   out.final_cost = stats.final_cost;
   out.solver_time_s = stats.solver_time_s;
   out.budget_exhausted = stats.budget_exhausted;

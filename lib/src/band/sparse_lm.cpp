@@ -723,9 +723,18 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
   double cost = m.linearize();
   s.initial_cost = s.final_cost = cost;
   if (m.num_unknowns == 0 || !std::isfinite(cost)) return s;
-  double lambda = options.initial_lambda > 0.0
-                      ? std::clamp(options.initial_lambda, kMinLambda, kMaxLambda)
-                      : kInitialLambda;
+  double lambda = kInitialLambda;
+  if (options.initial_lambda > 0.0) {
+    lambda = options.initial_lambda;
+  } else if (options.initial_lambda_scale > 0.0) {
+    double max_diagonal = 0.0;
+    for (int i = 0; i < m.num_unknowns; ++i)
+      max_diagonal = std::max(max_diagonal, m.hessian[m.ldlt.slot(i, i)]);
+    if (max_diagonal > 0.0 && std::isfinite(max_diagonal))
+      lambda = options.initial_lambda_scale * max_diagonal;
+  }
+  lambda = std::clamp(lambda, kMinLambda, kMaxLambda);
+  s.initial_lambda = lambda;
   double nu = 2.0;
   Eigen::VectorXd x_old, delta, h_delta;
   while (s.iterations < options.max_iterations) {

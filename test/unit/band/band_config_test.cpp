@@ -49,5 +49,16 @@ TEST(BandPlannerConfigTest, SolverIsOneOfTwo) {
   EXPECT_EQ(errors[0].allowed, "sparse_lm | ceres");
 }
 
+TEST(BandPlannerConfigTest, DampingStartScaleIsOffByDefaultAndNotNegative) {
+  BandPlannerConfig c;
+  EXPECT_EQ(c.initial_damping_scale, 0.0);  // λ₀ = 1, Ceres' start
+  c.initial_damping_scale = 0.01;
+  EXPECT_TRUE(c.validate().empty());
+  c.initial_damping_scale = -0.01;
+  const auto errors = c.validate();
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].key, "initial_damping_scale");
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <set>
 #include <utility>
 #include <vector>
@@ -206,6 +208,31 @@ TEST(DualBandPlannerTest, IterationBudgetIsRespected) {
   const PlanResult r = dut.plan(req);
   ASSERT_EQ(r.status, PlanStatus::kOk);
   EXPECT_LE(r.iterations, 3);
+}
+
+TEST(DualBandPlannerTest, ScaleAwareDampingStartTakesMoreStepsOfTheSameBudget) {
+  // Given the head-on case planned with the damping started at 1 (the default) and at 1e-2 of
+  // the problem's largest JᵀJ diagonal entry, the same 32-solve budget each.
+  auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
+  auto req = test::headOn(3.0, 11.0, 3.0, 17.0);
+  req.agent.velocity.vx_m_s = 0.7;
+  BandPlannerConfig from_one, from_scale;
+  from_scale.initial_damping_scale = 1e-2;
+  const PlanResult a = DualBandPlanner(from_one, map).plan(req);
+  const PlanResult b = DualBandPlanner(from_scale, map).plan(req);
+  ASSERT_EQ(a.status, PlanStatus::kOk);
+  ASSERT_EQ(b.status, PlanStatus::kOk);
+  // Then both spend the budget, the scale-aware start wastes fewer solves on rejected steps and
+  // its bands still keep the safety distance.
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_GT(b.accepted_steps, a.accepted_steps);
+  EXPECT_GE(
+      test::minPairedDistance(b.agent_band, b.others[0].band) - kRobotRadius_m - kHumanRadius_m,
+      from_scale.min_agent_robot_dist_m - kDistTol_m);
+  if (std::getenv("COOPNAV_TEST_VERBOSE")) {
+    std::printf("steps taken %d -> %d of %d, final cost %.4f -> %.4f\n", a.accepted_steps,
+                b.accepted_steps, a.iterations, a.final_cost, b.final_cost);
+  }
 }
 
 TEST(DualBandPlannerTest, BothSolversReachComparableBandsOnTheSameProblem) {

@@ -89,6 +89,45 @@ TEST(SparseLmTest, StartsFromTheDampingItIsGivenAndReportsWhereItEnded) {
   EXPECT_GT(stiff_s.final_lambda, 100.0 * free_s.final_lambda);
 }
 
+/// Rosenbrock with both residuals × k: the same valley, JᵀJ × k².
+struct ScaledRosenbrock {
+  double k;
+  template <typename T>
+  bool operator()(const T* x, const T* y, T* r) const {
+    r[0] = T(k) * (T(1.0) - x[0]);
+    r[1] = T(k) * T(10.0) * (y[0] - x[0] * x[0]);
+    return true;
+  }
+};
+
+TEST(SparseLmTest, StartsFromTheProblemsScaleWhenAskedTo) {
+  // Given Rosenbrock's valley with residuals × 1000 from (-1.2, 1): JᵀJ's diagonal there is
+  // 1e6 · (1 + (20 · 1.2)²) = 5.77e8 for x and 1e6 · 100 for y.
+  auto solve = [](double scale, int solves) {
+    double x = -1.2, y = 1.0;
+    ceres::AutoDiffCostFunction<ScaledRosenbrock, 2, 1, 1> f(new ScaledRosenbrock{1000.0});
+    SparseLm lm;
+    lm.addParameterBlock(&x, 1, false);
+    lm.addParameterBlock(&y, 1, false);
+    lm.addResidualBlock(&f, {&x, &y});
+    SparseLm::Options o;
+    o.max_iterations = solves;
+    o.initial_lambda_scale = scale;
+    return lm.solve(o);
+  };
+  // When the start follows the scale (τ = 1e-2, eq. 3.14) it is τ · max diag, else 1.
+  const SparseLm::Summary scaled = solve(1e-2, 1);
+  EXPECT_NEAR(scaled.initial_lambda, 1e-2 * 5.77e8, 1e-6 * 5.77e6);
+  EXPECT_EQ(solve(0.0, 1).initial_lambda, 1.0);
+  // Then the scaled start's first step is taken, while from λ = 1, 3 orders below what the
+  // valley needs, the first steps are rejected and after as many solves fewer are taken.
+  EXPECT_EQ(scaled.accepted, 1);
+  EXPECT_EQ(solve(0.0, 1).accepted, 0);
+  const SparseLm::Summary from_scale = solve(1e-2, 8);
+  const SparseLm::Summary from_one = solve(0.0, 8);
+  EXPECT_GT(from_scale.accepted, from_one.accepted);
+}
+
 struct Chain {
   static constexpr int kN = 30;
   std::vector<std::array<double, 2>> pts;

@@ -103,6 +103,12 @@ struct BandPlannerConfig {
   int no_inner_iterations{8};
   int no_outer_iterations{4};
   double weight_adapt_factor{2.0};
+  /// sparse_lm's first damping of each outer iteration, λ₀ = this · max diag(JᵀJ) (Madsen,
+  /// Nielsen & Tingleff 2004, eq. 3.14); 0: λ₀ = 1 whatever the problem's scale (Ceres' start,
+  /// the default). The band problem's accepted damping is ~1e-2 of its largest diagonal entry
+  /// (bench_band), so from λ₀ = 1 the first 3 of every 8 solves are rejected while λ climbs; a
+  /// scale-aware start takes more steps per budget but changes the bands (band_source README).
+  double initial_damping_scale{0.0};
   double penalty_epsilon{0.01};
   bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
   /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp) or "ceres" (Ceres' sparse normal

@@ -45,6 +45,7 @@ struct TermCost {
 
 struct OptimizeStats {
   int iterations{0};  ///< LM iterations over all outer loops
+  int accepted{0};    ///< of them, steps taken
   int outer_iterations{0};
   int rebuilds{0};           ///< problems rebuilt after the first because autoResize changed a band
   double initial_cost{0.0};  ///< at the first outer iteration

@@ -81,6 +81,7 @@ struct PlanResult {
   std::vector<std::int32_t> unplanned_ids;
   Velocity2 command_body;  ///< BODY frame: vx forward, vy left, ω; zero unless kOk
   int iterations{0};
+  int accepted_steps{0};  ///< of the iterations, LM steps taken (the rest rejected)
   double final_cost{0.0};
   double solver_time_s{0.0};
   bool budget_exhausted{false};

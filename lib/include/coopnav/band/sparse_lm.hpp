@@ -41,13 +41,18 @@ class SparseLm {
     /// Checked before every linear solve; returning true stops the solve (time budgets: the
     /// caller owns the clock, lib/ has none).
     std::function<bool()> should_stop;
-    /// Damping λ to start from; <= 0: Ceres' start (1 / initial trust radius 1). A caller that
-    /// solves a sequence of similar problems passes the previous Summary::final_lambda.
+    /// Damping λ to start from; <= 0: initial_lambda_scale decides. A caller that solves a
+    /// sequence of similar problems may pass the previous Summary::final_lambda.
     double initial_lambda{0.0};
+    /// Without initial_lambda: λ₀ = this · max_i (JᵀJ)_ii at the start point (Madsen, Nielsen &
+    /// Tingleff 2004, eq. 3.14: τ · max a_ii), so that the start follows the problem's scale;
+    /// <= 0: λ₀ = 1 (Ceres' 1 / initial trust radius 1), whatever the scale.
+    double initial_lambda_scale{0.0};
   };
 
   struct Summary {
-    double initial_cost{0.0};  ///< ½ Σ r² before the first step
+    double initial_cost{0.0};    ///< ½ Σ r² before the first step
+    double initial_lambda{0.0};  ///< damping of the first step
     double final_cost{0.0};
     double final_lambda{0.0};  ///< damping at the end (for the next solve's initial_lambda)
     int iterations{0};         ///< linear solves

@@ -517,11 +517,11 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
   auto backend = makeBackend(*pb, cfg);
 
   double multiplier = 1.0;
-  // Each solve starts from Ceres' damping (SparseLm::Options::initial_lambda = 0). Carrying the
-  // last solve's damping into the next outer iteration takes 6-7 of 8 steps instead of ~4 and
-  // ends ~15 % lower in cost, but it changed the narrow-corridor bands enough that t_CROSS no
-  // longer fell through the paper's 4 s decision point (round 2 came at the crossing, no dock
-  // for the facilitating human): not taken until that is understood (issue 3 notes).
+  // Each solve starts from λ₀ = 1 (Ceres' start) or, with cfg.initial_damping_scale, from the
+  // problem's scale. Carrying the last solve's damping into the next outer iteration takes 6-7
+  // of 8 steps instead of ~4 and ends ~15 % lower in cost, but, like the scale-aware start, it
+  // changes the narrow-corridor bands enough to move the paper's round-2 decision there
+  // (band_source README "Speed"): not taken until that is understood.
   for (int outer = 0; outer < cfg.no_outer_iterations; ++outer) {
     const int left = total_iter - stats.iterations;
     if (left <= 0) break;

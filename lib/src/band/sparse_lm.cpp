@@ -476,44 +476,46 @@ struct SparseLm::Impl {
     assignOffsets();
     std::vector<int> first(num_unknowns);
     for (int i = 0; i < num_unknowns; ++i) first[i] = i;
-    std::size_t max_res = 1, max_jac = 1, max_params = 1;
-    for (const Block& blk : blocks) {
-      // Upper entry (row <= col) is lower entry (col, row).
-      forEachEntry(blk, [&](int, int, int, int, int row, int col) {
-        first[col] = std::min(first[col], row);
-      });
+    std::size_t max_res = 1, max_jac = 1, max_params = 1, max_cols = 1, num_slots = 0;
+    for (Block& blk : blocks) {
+      // forEachEntry()'s entries (row <= col) are lower entries (col, row); the topmost row of
+      // every column of q in the pair (p, q) is p's first row, so the envelope needs only that.
+      blk.jacobian_size = 0;
+      std::size_t jac = 0, cols = 0;
+      for (int i = 0; i < blk.num_params; ++i) {
+        const Param& p = params[block_params[blk.first_param + i]];
+        jac += blk.num_residuals * p.size;
+        cols += p.size;
+        if (p.offset < 0) continue;
+        blk.jacobian_size += blk.num_residuals * p.size;
+        for (int j = 0; j < blk.num_params; ++j) {
+          const Param& q = params[block_params[blk.first_param + j]];
+          if (q.offset < 0 || (i != j && p.offset > q.offset)) continue;
+          for (int b = 0; b < q.size; ++b) {
+            first[q.offset + b] = std::min(first[q.offset + b], p.offset);
+          }
+          num_slots += i == j ? p.size * (p.size + 1) / 2 : p.size * q.size;
+        }
+      }
       max_res = std::max<std::size_t>(max_res, blk.num_residuals);
-      std::size_t jac = 0;
-      for (int i = 0; i < blk.num_params; ++i)
-        jac += blk.num_residuals * params[block_params[blk.first_param + i]].size;
       max_jac = std::max(max_jac, jac);
+      max_cols = std::max(max_cols, cols);
       max_params = std::max<std::size_t>(max_params, blk.num_params);
     }
     ldlt.setPattern(std::move(first));
     hessian.assign(ldlt.storage(), 0.0);
-    slots.clear();
+    slots.resize(num_slots);
+    int* slot = slots.data();
     for (Block& blk : blocks) {
-      blk.jacobian_size = 0;
-      for (int i = 0; i < blk.num_params; ++i) {
-        const Param& p = params[block_params[blk.first_param + i]];
-        if (p.offset >= 0) blk.jacobian_size += blk.num_residuals * p.size;
-      }
-      blk.first_slot = slots.size();
-      forEachEntry(
-          blk, [&](int, int, int, int, int row, int col) { slots.push_back(ldlt.slot(col, row)); });
+      blk.first_slot = static_cast<std::size_t>(slot - slots.data());
+      forEachEntry(blk,
+                   [&](int, int, int, int, int row, int col) { *slot++ = ldlt.slot(col, row); });
     }
     gradient.resize(num_unknowns);
     residuals.resize(max_res);
     jacobian_storage.resize(max_jac);
     jacobians.resize(max_params);
     param_ptrs.resize(max_params);
-    std::size_t max_cols = 1;
-    for (const Block& blk : blocks) {
-      std::size_t cols = 0;
-      for (int i = 0; i < blk.num_params; ++i)
-        cols += params[block_params[blk.first_param + i]].size;
-      max_cols = std::max(max_cols, cols);
-    }
     columns.assign(kPad * max_cols, 0.0);
     structure_ready = true;
   }

@@ -407,15 +407,24 @@ struct SparseLm::Impl {
   /// no ordering is asked of it; ours is applied to the offsets, see buildStructure()).
   template <typename F>
   void forEachEntry(const Block& blk, F&& f) const {
+    forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+      for (int a = 0; a < p.size; ++a) {
+        for (int b = i == j ? a : 0; b < q.size; ++b) f(i, j, a, b, p.offset + a, q.offset + b);
+      }
+    });
+  }
+
+  /// The pairs of unknown parameters whose JᵀJ sub-block forEachEntry() visits, in its order:
+  /// f(i, j, p, q) with p.offset <= q.offset (i == j: the diagonal sub-block, upper half).
+  template <typename F>
+  void forEachPair(const Block& blk, F&& f) const {
     for (int i = 0; i < blk.num_params; ++i) {
       const Param& p = params[block_params[blk.first_param + i]];
       if (p.offset < 0) continue;
       for (int j = 0; j < blk.num_params; ++j) {
         const Param& q = params[block_params[blk.first_param + j]];
         if (q.offset < 0 || (i != j && p.offset > q.offset)) continue;
-        for (int a = 0; a < p.size; ++a) {
-          for (int b = i == j ? a : 0; b < q.size; ++b) f(i, j, a, b, p.offset + a, q.offset + b);
-        }
+        f(i, j, p, q);
       }
     }
   }
@@ -486,17 +495,14 @@ struct SparseLm::Impl {
         const Param& p = params[block_params[blk.first_param + i]];
         jac += blk.num_residuals * p.size;
         cols += p.size;
-        if (p.offset < 0) continue;
-        blk.jacobian_size += blk.num_residuals * p.size;
-        for (int j = 0; j < blk.num_params; ++j) {
-          const Param& q = params[block_params[blk.first_param + j]];
-          if (q.offset < 0 || (i != j && p.offset > q.offset)) continue;
-          for (int b = 0; b < q.size; ++b) {
-            first[q.offset + b] = std::min(first[q.offset + b], p.offset);
-          }
-          num_slots += i == j ? p.size * (p.size + 1) / 2 : p.size * q.size;
-        }
+        if (p.offset >= 0) blk.jacobian_size += blk.num_residuals * p.size;
       }
+      forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+        for (int b = 0; b < q.size; ++b) {
+          first[q.offset + b] = std::min(first[q.offset + b], p.offset);
+        }
+        num_slots += i == j ? p.size * (p.size + 1) / 2 : p.size * q.size;
+      });
       max_res = std::max<std::size_t>(max_res, blk.num_residuals);
       max_jac = std::max(max_jac, jac);
       max_cols = std::max(max_cols, cols);

@@ -60,9 +60,9 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     // Unknown cells are walls for the simulator as for the distance server (open.pgm's pillar).
     field_ = std::make_shared<GridDistanceField>(std::move(map.grid), UnknownPolicy::kObstacle);
     world_sim::checkScenarioAgainstMap(scenario_, *field_);
-    sim_ =
-        std::make_unique<sim::Simulation>(world_sim::toWorldSpec(scenario_), field_.get(),
-                                          sim::dualBandAdapterFactory(BandPlannerConfig{}, field_));
+    sim_ = std::make_unique<sim::Simulation>(
+        world_sim::toWorldSpec(scenario_), field_.get(),
+        sim::dualBandAdapterFactory(config_.human_planner.config, field_));
   } catch (const world_sim::ScenarioError& e) {
     throw StartupError(e.what());
   } catch (const MapLoadError& e) {

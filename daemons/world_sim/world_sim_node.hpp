@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/band_config_yaml.hpp"
 #include "common/config.hpp"
 #include "common/conversions.hpp"
 #include "common/runtime.hpp"
@@ -48,6 +49,9 @@ struct WorldSimConfig {
   /// repeats go on until the scenario's lockstep.step_timeout_s ends the run. Liveness only: a
   /// repeat never changes what is simulated. 0 = never.
   double retransmit_period_s{0.25};
+  /// The dual-band planner of planner-backed (facilitating) humans, who plan with the robot as
+  /// their anticipated other (defaults: lib/include/coopnav/band/band_config.hpp).
+  BandPlannerConfigYaml human_planner;
 
   template <class V>
   void visit(V& v) {
@@ -57,6 +61,7 @@ struct WorldSimConfig {
     v("exit_at_end", exit_at_end);
     v("wait_ready_timeout_s", wait_ready_timeout_s, Range{0.01, 3600.0});
     v("retransmit_period_s", retransmit_period_s, Range{0.0, 3600.0});
+    v("human_planner", human_planner);
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
   }
   void resolvePaths(const std::string& base_dir);

@@ -460,5 +460,33 @@ TEST(WorldSimNode, PlannerBackedFacilitatingHumanWalksWithoutParticipants) {
   EXPECT_DOUBLE_EQ(last.robot.y_m, 1.0);
 }
 
+TEST(WorldSimNode, HumanPlannerKeysReachThePlannerBackedHumans) {
+  // Given the planner-backed human of the test above, its planner's walking speed capped at
+  // 0.2 m/s from the config (human_planner.* are band_source's planner.* keys).
+  Harness h;
+  ChildProcess sim(
+      daemonPath("world_sim"),
+      daemonArgs("tiny_band_human.yaml", {"--set", "human_planner.human.max_vel_x_m_s=0.2"}));
+  ASSERT_TRUE(h.spinUntil([&] { return h.final() != nullptr; }, 60s));
+  EXPECT_EQ(sim.waitExit(5s), 0);
+  ASSERT_FALSE(h.states().empty());
+  // Then in its 3 s it walks at most 0.2 m/s (it walked over 1 m with the defaults).
+  const agent_states_t& last = h.states().back();
+  EXPECT_LT(last.humans[0].x_m, 10.0 - 0.1);
+  EXPECT_GT(last.humans[0].x_m, 10.0 - 0.2 * 3.0 - 0.05);
+  // And a value out of range stops the daemon at start naming the dotted key.
+  const std::string cmd = daemonPath("world_sim") + " --set scenario='" +
+                          scenarioPath("tiny_band_human.yaml") +
+                          "' --set human_planner.dt_ref_s=0 2>&1";
+  FILE* f = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(f, nullptr);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, f)) out += buf;
+  const int st = ::pclose(f);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 2) << out;
+  EXPECT_NE(out.find("human_planner.dt_ref_s"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace coopnav

@@ -45,9 +45,17 @@ constexpr const char* kTermNames[kNumTerms] = {
     "velocity",   "acceleration",       "time_optimal",      "via_point",         "obstacle",
     "kinematics", "agent_robot_safety", "relative_velocity", "agent_agent_safety"};
 
-/// Pairs whose time-paired distance stays above this margin beyond the safety distance get no
-/// agent–agent terms (they could not become active within one cycle).
-constexpr double kPairPrefilterMargin_m = 2.0;
+/// Pose pairs whose time-paired clearance is above the safety distance by more than this margin
+/// when the problem is built get no safety term (its hinge residual is zero there), and agent
+/// pairs with no pose pair within it get no terms at all: a term over the whole horizon couples
+/// every time slice of two bands and fills the factorisation (bench_band's five humans walk
+/// 1.7-2.1 m apart: a 2 m margin took 27 % more instructions a cycle than 0.5 m, for the same
+/// bands to 14 digits). The guard below makes the margin a matter of speed only.
+constexpr double kPairPrefilterMargin_m = 0.5;
+/// The guard: a pose pair left out that comes within this much of its safety distance during
+/// the cycle makes the outer loop rebuild the problem with it before the next solve, so that a
+/// left-out pair is never more than one solve's movement inside the safety distance.
+constexpr double kPairGuard_m = 0.5 * kPairPrefilterMargin_m;
 
 /// A residual block differentiated automatically; penalty terms skip the dual numbers while
 /// inactive (hinge_autodiff.hpp). One allocation per block.
@@ -58,17 +66,20 @@ ceres::CostFunction* autodiff(Functor f) {
 
 double sq(double w) { return std::sqrt(std::max(w, 0.0)); }
 
+/// Clearance (centre distance − radii) between pose i of a and b at the same time.
+double pairedClearance(const TimedElasticBand& a, std::size_t i, const TimedElasticBand& b,
+                       const TimedElasticBand::Locator& at, double radii_m) {
+  const double s = at.fraction;
+  const Eigen::Vector2d pb =
+      (1.0 - s) * b.pose(at.segment).position() + s * b.pose(at.segment + 1).position();
+  return (a.pose(i).position() - pb).norm() - radii_m;
+}
+
 double minPairedDistance(const TimedElasticBand& a, const TimedElasticBand& b) {
   const auto pairs = pairByTime(a, b);
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    if (!pairs[i]) continue;
-    const Pose2 pa = a.pose(i);
-    const Pose2 pb0 = b.pose(pairs[i]->segment);
-    const Pose2 pb1 = b.pose(pairs[i]->segment + 1);
-    const double s = pairs[i]->fraction;
-    const Eigen::Vector2d pb = (1.0 - s) * pb0.position() + s * pb1.position();
-    best = std::min(best, (pa.position() - pb).norm());
+    if (pairs[i]) best = std::min(best, pairedClearance(a, i, b, *pairs[i], 0.0));
   }
   return best;
 }
@@ -116,6 +127,22 @@ class ProblemBuilder {
   /// Weight multiplier of the obstacle and safety terms (TEB weight adaptation).
   void setMultiplier(double m) { sqrt_mult_ = std::sqrt(std::max(m, 0.0)); }
 
+  /// Whether a pose pair left without a safety term by the prefilter has come within
+  /// kPairGuard_m of its safety distance (then the problem must be rebuilt to include it).
+  bool leftOutPairCameClose() const {
+    for (const Coupling& c : couplings_) {
+      const TimedElasticBand& a = *agents_[c.ia].band;
+      const TimedElasticBand& b = *agents_[c.ib].band;
+      const auto pairs = pairByTime(a, b);
+      for (std::size_t i = 1; i + 1 < pairs.size() && i < c.has_safety.size(); ++i) {
+        if (!pairs[i] || c.has_safety[i]) continue;
+        if (pairedClearance(a, i, b, *pairs[i], c.radii_m) < c.min_dist_m + kPairGuard_m)
+          return true;
+      }
+    }
+    return false;
+  }
+
   /// Re-projects the via-point poses and re-times the pairings after the bands moved.
   void refresh() {
     for (std::size_t k = 0; k < vias_.size(); ++k) project(vias_[k], &anchors_[k]);
@@ -137,6 +164,12 @@ class ProblemBuilder {
     const TimedElasticBand* band;
     std::size_t i;
     std::size_t segment{0};  ///< last projection's: the next one's search hint
+  };
+  /// An agent pair whose safety terms the prefilter thinned: which poses of a got one.
+  struct Coupling {
+    std::size_t ia, ib;
+    double min_dist_m, radii_m;
+    std::vector<char> has_safety;  ///< per pose of a's band
   };
   struct Pairing {
     const TimedElasticBand* a;
@@ -256,32 +289,32 @@ class ProblemBuilder {
     const bool robot_pair = A.is_robot != B.is_robot;
     const double min_dist = robot_pair ? cfg_.min_agent_robot_dist_m : cfg_.min_agent_agent_dist_m;
     const double radii = A.radius_m + B.radius_m;
-    if (ia != 0 && minPairedDistance(a, b) > radii + min_dist + kPairPrefilterMargin_m) return;
-    // The safety distance is an obstacle that moves: like TEB's dynamic obstacles it gets the
-    // outer-loop weight multiplier, so that the penalty's residual violation shrinks.
-    const double sw_safety =
-        sq(robot_pair ? cfg_.weight_agent_robot_safety : cfg_.weight_agent_agent_safety);
     bool safety_on = true;
     if (cfg_.safety_activation_dist_m > 0.0) {
       safety_on = (a.pose(0).position() - b.pose(0).position()).norm() - radii <
                   cfg_.safety_activation_dist_m;
     }
+    Coupling* guard = nullptr;
+    if (safety_on) {
+      guard = &couplings_.emplace_back(Coupling{ia, ib, min_dist, radii, {}});
+      guard->has_safety.assign(a.size(), 0);
+    }
+    if (ia != 0 && minPairedDistance(a, b) > radii + min_dist + kPairPrefilterMargin_m) return;
+    // The safety distance is an obstacle that moves: like TEB's dynamic obstacles it gets the
+    // outer-loop weight multiplier, so that the penalty's residual violation shrinks.
+    const double sw_safety =
+        sq(robot_pair ? cfg_.weight_agent_robot_safety : cfg_.weight_agent_agent_safety);
     const double sw_rel = sq(cfg_.weight_agent_robot_rel_vel);
     const auto pairs = pairByTime(a, b);
     const double eps = cfg_.penalty_epsilon;
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       if (!pairs[i]) continue;
       const std::size_t j = pairs[i]->segment;
-      const double s = pairs[i]->fraction;
-      const Eigen::Vector2d pb = (1.0 - s) * b.pose(j).position() + s * b.pose(j + 1).position();
-      const double clearance_m = (a.pose(i).position() - pb).norm() - radii;
+      const double clearance_m = pairedClearance(a, i, b, *pairs[i], radii);
       // Pose 0 is fixed: no safety term; its segment's relative velocity (the command) counts.
-      // A pose pair farther apart than the safety distance plus the prefilter margin gets no
-      // safety term: its hinge residual is zero and could not become active within one cycle,
-      // while a term over the whole horizon would couple every time slice of the two bands and
-      // fill the factorisation (5 humans: 3x the nonzeros of L, measured in bench_band).
       const bool safety =
           safety_on && i > 0 && i + 1 < a.size() && clearance_m < min_dist + kPairPrefilterMargin_m;
+      if (safety) guard->has_safety[i] = 1;
       bool rel_on = robot_pair && sw_rel > 0.0 && i + 1 < a.size();
       if (rel_on && cfg_.rel_vel_activation_dist_m > 0.0) {
         rel_on = clearance_m < cfg_.rel_vel_activation_dist_m;
@@ -318,6 +351,7 @@ class ProblemBuilder {
   std::deque<ViaAnchor> anchors_;
   std::deque<Pairing> pairings_;
   std::deque<double> fractions_;
+  std::vector<Coupling> couplings_;
 };
 
 /// What one solve of the built problem reports back to the outer loop.
@@ -530,7 +564,11 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
       break;
     }
     if (outer > 0) {
-      if (resize()) {
+      // Resized or not, a left-out pose pair that came close needs its safety term now.
+      const bool resized = resize();
+      const bool guarded = !resized && pb->leftOutPairCameClose();
+      if (guarded) ++stats.guard_rebuilds;
+      if (resized || guarded) {
         backend.reset();
         pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
         pb->build();

@@ -47,7 +47,9 @@ struct OptimizeStats {
   int iterations{0};  ///< LM iterations over all outer loops
   int accepted{0};    ///< of them, steps taken
   int outer_iterations{0};
-  int rebuilds{0};           ///< problems rebuilt after the first because autoResize changed a band
+  int rebuilds{0};  ///< problems rebuilt after the first (a band resized, or the pair guard)
+  /// Of the rebuilds, those only because a pose pair left out of the safety terms came close.
+  int guard_rebuilds{0};
   double initial_cost{0.0};  ///< at the first outer iteration
   double final_cost{0.0};
   double solver_time_s{0.0};  ///< by the caller's clock (0 without one)

@@ -10,7 +10,7 @@
 /// product structure every iteration and goes through CHOLMOD's supernodal BLAS/OpenMP path,
 /// whose hand-offs cost more than this ~750-unknown factorisation); here every residual block
 /// writes its JᵀJ and Jᵀr contributions straight into precomputed slots, the unknowns are numbered
-/// in a reverse Cuthill–McKee order of the parameter-block graph (bands are chains coupled where
+/// in Sloan's profile-reducing order of the parameter-block graph (bands are chains coupled where
 /// they meet in time, so the envelope stays a few time slices wide), and the factorisation is a
 /// dense-row envelope LDLᵀ without fill outside that envelope. Measured against Eigen's
 /// simplicial LDLᵀ with AMD on the same problems: equal for 1 human, 1.5x faster for 5.

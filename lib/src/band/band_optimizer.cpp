@@ -50,7 +50,7 @@ constexpr const char* kTermNames[kNumTerms] = {
 /// pairs with no pose pair within it get no terms at all: a term over the whole horizon couples
 /// every time slice of two bands and fills the factorisation (bench_band's five humans walk
 /// 1.7-2.1 m apart: a 2 m margin took 27 % more instructions a cycle than 0.5 m, for the same
-/// bands to 14 digits). The guard below makes the margin a matter of speed only.
+/// bands to 13 digits). The guard below re-admits a left-out pair that comes close.
 constexpr double kPairPrefilterMargin_m = 0.5;
 /// The guard: a pose pair left out that comes within this much of its safety distance during
 /// the cycle makes the outer loop rebuild the problem with it before the next solve, so that a

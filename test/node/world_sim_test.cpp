@@ -356,10 +356,12 @@ TEST(WorldSimNode, ParticipantThatNeverReportsFailsTheStartNamingIt) {
   EXPECT_EQ(sim.waitExit(5s), 0);
 }
 
-/// Runs the daemon on a file and returns (exit code, stdout + stderr).
-std::pair<int, std::string> runCapture(const std::string& scenario) {
+/// Runs the daemon on a file, with more arguments if given (already quoted for the shell), and
+/// returns (exit code, stdout + stderr).
+std::pair<int, std::string> runCapture(const std::string& scenario,
+                                       const std::string& more_args = "") {
   std::string cmd = daemonPath("world_sim") + " --lcm-url '" + testLcmUrl() + "' --set scenario='" +
-                    scenarioPath(scenario) + "' 2>&1";
+                    scenarioPath(scenario) + "' " + more_args + " 2>&1";
   FILE* f = ::popen(cmd.c_str(), "r");
   std::string out;
   if (f == nullptr) return {-1, out};
@@ -475,16 +477,8 @@ TEST(WorldSimNode, HumanPlannerKeysReachThePlannerBackedHumans) {
   EXPECT_LT(last.humans[0].x_m, 10.0 - 0.1);
   EXPECT_GT(last.humans[0].x_m, 10.0 - 0.2 * 3.0 - 0.05);
   // And a value out of range stops the daemon at start naming the dotted key.
-  const std::string cmd = daemonPath("world_sim") + " --set scenario='" +
-                          scenarioPath("tiny_band_human.yaml") +
-                          "' --set human_planner.dt_ref_s=0 2>&1";
-  FILE* f = ::popen(cmd.c_str(), "r");
-  ASSERT_NE(f, nullptr);
-  std::string out;
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, f)) out += buf;
-  const int st = ::pclose(f);
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 2) << out;
+  const auto [code, out] = runCapture("tiny_band_human.yaml", "--set human_planner.dt_ref_s=0");
+  EXPECT_EQ(code, 2) << out;
   EXPECT_NE(out.find("human_planner.dt_ref_s"), std::string::npos) << out;
 }
 

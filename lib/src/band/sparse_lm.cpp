@@ -7,9 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+#include "coopnav/band/envelope_ldlt.hpp"
 
 namespace coopnav {
 namespace {
@@ -21,223 +19,6 @@ constexpr double kInitialLambda = 1.0;
 constexpr double kMinRelativeDecrease = 1e-3;
 constexpr double kMinLambda = 1e-16;
 constexpr double kMaxLambda = 1e32;
-
-/// The factorisation's inner products, over [k0, k1). Their ranges are the envelope rows'
-/// overlaps: a few to a few dozen entries (bench_band: ~7 for one human, ~20 for five), so a
-/// short range runs as two scalar partial sums and a long one as four SSE2 ones; both orders are
-/// fixed, so the results are the same on every run and every x86-64 machine (and on other
-/// machines, where the SSE2 path is the same partial sums in scalar code).
-constexpr int kVectorFrom = 8;
-
-#if defined(__SSE2__)
-double horizontalSum(__m128d a, __m128d b) {
-  const __m128d s = _mm_add_pd(a, b);
-  return _mm_cvtsd_f64(s) + _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
-}
-#endif
-
-/// Σ x[k] y[k].
-double dot(const double* x, const double* y, int k0, int k1) {
-  if (k1 - k0 < kVectorFrom) {
-    double a0 = 0.0, a1 = 0.0;
-    int k = k0;
-    for (; k + 2 <= k1; k += 2) {
-      a0 += x[k] * y[k];
-      a1 += x[k + 1] * y[k + 1];
-    }
-    if (k < k1) a0 += x[k] * y[k];
-    return a0 + a1;
-  }
-#if defined(__SSE2__)
-  __m128d a0 = _mm_setzero_pd(), a1 = _mm_setzero_pd();
-  int k = k0;
-  for (; k + 4 <= k1; k += 4) {
-    a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_loadu_pd(x + k), _mm_loadu_pd(y + k)));
-    a1 = _mm_add_pd(a1, _mm_mul_pd(_mm_loadu_pd(x + k + 2), _mm_loadu_pd(y + k + 2)));
-  }
-  if (k + 2 <= k1) {
-    a0 = _mm_add_pd(a0, _mm_mul_pd(_mm_loadu_pd(x + k), _mm_loadu_pd(y + k)));
-    k += 2;
-  }
-  double r = horizontalSum(a0, a1);
-#else
-  double a00 = 0.0, a01 = 0.0, a10 = 0.0, a11 = 0.0;
-  int k = k0;
-  for (; k + 4 <= k1; k += 4) {
-    a00 += x[k] * y[k];
-    a01 += x[k + 1] * y[k + 1];
-    a10 += x[k + 2] * y[k + 2];
-    a11 += x[k + 3] * y[k + 3];
-  }
-  if (k + 2 <= k1) {
-    a00 += x[k] * y[k];
-    a01 += x[k + 1] * y[k + 1];
-    k += 2;
-  }
-  double r = (a00 + a10) + (a01 + a11);
-#endif
-  if (k < k1) r += x[k] * y[k];
-  return r;
-}
-
-/// Σ x[k] y[k] and Σ x[k] z[k] in one pass: two envelope columns against the same row, which
-/// loads the row once for both (the factorisation is bound by its loads).
-void dot2(const double* x, const double* y, const double* z, int k0, int k1, double* sy,
-          double* sz) {
-  if (k1 - k0 < kVectorFrom) {
-    double a0 = 0.0, a1 = 0.0, b0 = 0.0, b1 = 0.0;
-    int k = k0;
-    for (; k + 2 <= k1; k += 2) {
-      const double x0 = x[k], x1 = x[k + 1];
-      a0 += x0 * y[k];
-      a1 += x1 * y[k + 1];
-      b0 += x0 * z[k];
-      b1 += x1 * z[k + 1];
-    }
-    if (k < k1) {
-      a0 += x[k] * y[k];
-      b0 += x[k] * z[k];
-    }
-    *sy = a0 + a1;
-    *sz = b0 + b1;
-    return;
-  }
-#if defined(__SSE2__)
-  __m128d a0 = _mm_setzero_pd(), a1 = _mm_setzero_pd(), b0 = _mm_setzero_pd(),
-          b1 = _mm_setzero_pd();
-  int k = k0;
-  for (; k + 4 <= k1; k += 4) {
-    const __m128d x0 = _mm_loadu_pd(x + k), x1 = _mm_loadu_pd(x + k + 2);
-    a0 = _mm_add_pd(a0, _mm_mul_pd(x0, _mm_loadu_pd(y + k)));
-    a1 = _mm_add_pd(a1, _mm_mul_pd(x1, _mm_loadu_pd(y + k + 2)));
-    b0 = _mm_add_pd(b0, _mm_mul_pd(x0, _mm_loadu_pd(z + k)));
-    b1 = _mm_add_pd(b1, _mm_mul_pd(x1, _mm_loadu_pd(z + k + 2)));
-  }
-  if (k + 2 <= k1) {
-    const __m128d x0 = _mm_loadu_pd(x + k);
-    a0 = _mm_add_pd(a0, _mm_mul_pd(x0, _mm_loadu_pd(y + k)));
-    b0 = _mm_add_pd(b0, _mm_mul_pd(x0, _mm_loadu_pd(z + k)));
-    k += 2;
-  }
-  double ry = horizontalSum(a0, a1), rz = horizontalSum(b0, b1);
-  if (k < k1) {
-    ry += x[k] * y[k];
-    rz += x[k] * z[k];
-  }
-  *sy = ry;
-  *sz = rz;
-#else
-  *sy = dot(x, y, k0, k1);
-  *sz = dot(x, z, k0, k1);
-#endif
-}
-
-/// LDLᵀ of a symmetric positive definite matrix in row-envelope ("profile", skyline) storage:
-/// row i holds columns first(i)..i contiguously. Cholesky creates no fill outside the envelope,
-/// so the pattern is fixed by the ordering alone, and the work is dense dot products of row
-/// segments (George & Liu, "Computer solution of large sparse positive definite systems", 1981,
-/// ch. 4). With a profile-reducing order of the band problem (Sloan's, below) the envelope is
-/// the time slices' width, and this is 2-4x faster than Eigen's scalar simplicial LDLᵀ
-/// (bench_band).
-class EnvelopeLdlt {
- public:
-  /// first[i] <= i: leftmost column of row i.
-  void setPattern(std::vector<int> first) {
-    first_ = std::move(first);
-    const int n = static_cast<int>(first_.size());
-    row_start_.assign(n + 1, 0);
-    for (int i = 0; i < n; ++i) row_start_[i + 1] = row_start_[i] + (i - first_[i] + 1);
-    work_.assign(row_start_[n], 0.0);
-    d_.assign(n, 0.0);
-    inv_d_.assign(n, 0.0);
-  }
-  std::size_t size() const { return first_.size(); }
-  std::size_t storage() const { return work_.size(); }
-  /// Storage index of entry (i, j), first(i) <= j <= i.
-  int slot(int i, int j) const { return row_start_[i] + (j - first_[i]); }
-
-  /// Factorises A + λI (A in this storage); false when not numerically positive definite.
-  /// Row by row ("up-looking"): row i's entries come from inner products with the rows above
-  /// it, taken two columns at a time so that both share the loads of row i.
-  bool factorize(const double* a, double lambda) {
-    const int n = static_cast<int>(first_.size());
-    for (int i = 0; i < n; ++i) {
-      const int fi = first_[i];
-      double* li = work_.data() + row_start_[i] - fi;  // li[j] = entry (i, j)
-      // A is read where each entry is first written rather than copied beforehand: one pass
-      // over the envelope less (the copy was 4 % of five humans' instructions; the time
-      // difference is within bench_band's noise).
-      const double* ai = a + row_start_[i] - fi;
-      // li[k] becomes w_k = L(i,k) D(k) for k < i: w_j = A(i,j) − Σ_{k<j} w_k L(j,k).
-      int j = fi;
-      for (; j + 1 < i; j += 2) {
-        const int fj0 = first_[j], fj1 = first_[j + 1];
-        const double* l0 = work_.data() + row_start_[j] - fj0;
-        const int k0 = std::max(fi, fj0);
-        if (fj1 > j) {
-          // Row j + 1 starts after column j: it shares no column below j + 1 with row i.
-          li[j] = ai[j] - dot(li, l0, k0, j);
-          li[j + 1] = ai[j + 1];
-          continue;
-        }
-        const double* l1 = work_.data() + row_start_[j + 1] - fj1;
-        const int k1 = std::max(fi, fj1);
-        // Both over [kc, j); the one that starts earlier adds its head alone.
-        const int kc = std::max(k0, k1);
-        double head0 = 0.0, head1 = 0.0;
-        for (int k = k0; k < kc; ++k) head0 += li[k] * l0[k];
-        for (int k = k1; k < kc; ++k) head1 += li[k] * l1[k];
-        double s0 = 0.0, s1 = 0.0;
-        dot2(li, l0, l1, kc, j, &s0, &s1);
-        li[j] = ai[j] - (head0 + s0);
-        li[j + 1] = ai[j + 1] - ((head1 + s1) + li[j] * l1[j]);
-      }
-      for (; j < i; ++j) {
-        const int fj = first_[j];
-        const double* lj = work_.data() + row_start_[j] - fj;
-        li[j] = ai[j] - dot(li, lj, std::max(fi, fj), j);
-      }
-      double d = ai[i] + lambda;
-      for (int k = fi; k < i; ++k) {
-        const double l = li[k] * inv_d_[k];
-        d -= li[k] * l;
-        li[k] = l;
-      }
-      if (!(d > kMinPivot) || !std::isfinite(d)) return false;
-      d_[i] = d;
-      inv_d_[i] = 1.0 / d;
-      li[i] = 1.0;
-    }
-    return true;
-  }
-
-  /// x = (L D Lᵀ)⁻¹ b after a successful factorize().
-  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
-    const int n = static_cast<int>(first_.size());
-    *x = b;
-    double* v = x->data();
-    for (int i = 0; i < n; ++i) {
-      const double* li = work_.data() + row_start_[i] - first_[i];
-      double s = v[i];
-      for (int j = first_[i]; j < i; ++j) s -= li[j] * v[j];
-      v[i] = s;
-    }
-    for (int i = 0; i < n; ++i) v[i] /= d_[i];
-    for (int i = n - 1; i >= 0; --i) {
-      const double* li = work_.data() + row_start_[i] - first_[i];
-      const double vi = v[i];
-      for (int j = first_[i]; j < i; ++j) v[j] -= li[j] * vi;
-    }
-  }
-
- private:
-  static constexpr double kMinPivot = 1e-300;
-  std::vector<int> first_;
-  std::vector<int> row_start_;
-  std::vector<double> work_;  ///< L below the diagonal (unit diagonal implied)
-  std::vector<double> d_;
-  std::vector<double> inv_d_;  ///< 1 / d_: one division per row instead of one per entry
-};
 
 /// An undirected graph as compressed adjacency lists (one array each, not a vector per node:
 /// ~700 nodes, ~2.5 graphs a cycle).
@@ -673,7 +454,7 @@ struct SparseLm::Impl {
     });
   }
 
-  /// Cost, Jᵀr and JᵀJ at the current parameters.
+  /// Cost, Jᵀr and JᵀJ at the current parameters (JᵀJ's rows narrowed to its non-zeros).
   double linearize() {
     std::fill(hessian.begin(), hessian.end(), 0.0);
     gradient.setZero();
@@ -689,6 +470,7 @@ struct SparseLm::Impl {
       }
       if (!accumulatePadded(blk)) accumulateGeneral(blk);
     }
+    ldlt.narrowTo(hessian.data());
     return c;
   }
 

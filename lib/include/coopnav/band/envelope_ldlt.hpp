@@ -24,7 +24,7 @@ class EnvelopeLdlt {
   /// Entries of the storage that A and the factor use.
   std::size_t storage() const { return work_.size(); }
   /// Storage index of entry (i, j), first(i) <= j <= i.
-  int slot(int i, int j) const { return row_start_[i] + (j - first_[i]); }
+  int slot(int i, int j) const { return base_[i] + j; }
 
   /// Narrows every row to A's first entry that is not zero, for the factorize() calls on this
   /// A: L has no non-zero left of A's first in any row (w_j in factorize() stays exactly 0
@@ -47,6 +47,7 @@ class EnvelopeLdlt {
   std::vector<int> first_;
   std::vector<int> lead_;  ///< per row, A's first non-zero at the last narrowTo() (>= first_)
   std::vector<int> row_start_;
+  std::vector<int> base_;     ///< row_start_[i] − first_[i]: row i's entry (i, j) at base_[i] + j
   std::vector<double> work_;  ///< L below the diagonal (unit diagonal implied)
   std::vector<double> d_;
   std::vector<double> inv_d_;  ///< 1 / d_: one division per row instead of one per entry

@@ -161,6 +161,11 @@ void EnvelopeLdlt::narrowTo(const double* a) {
   }
 }
 
+void EnvelopeLdlt::clear(double* a) const {
+  const int n = static_cast<int>(first_.size());
+  for (int i = 0; i < n; ++i) std::fill(a + base_[i] + lead_[i], a + base_[i] + i + 1, 0.0);
+}
+
 /// Row by row ("up-looking"): row i's entries come from inner products with the rows above it,
 /// taken two columns at a time so that both share the loads of row i.
 bool EnvelopeLdlt::factorize(const double* a, double lambda) {

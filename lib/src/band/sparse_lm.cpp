@@ -456,7 +456,7 @@ struct SparseLm::Impl {
 
   /// Cost, Jᵀr and JᵀJ at the current parameters (JᵀJ's rows narrowed to its non-zeros).
   double linearize() {
-    std::fill(hessian.begin(), hessian.end(), 0.0);
+    ldlt.clear(hessian.data());
     gradient.setZero();
     double c = 0.0;
     for (const Block& blk : blocks) {

@@ -35,6 +35,11 @@ class EnvelopeLdlt {
   /// (the partial sums group the products differently).
   void narrowTo(const double* a);
 
+  /// Sets A to zero for its next assembly: only from each row's first non-zero at the last
+  /// narrowTo(A) on, since left of it A is zero already (half the envelope's stores for five
+  /// humans).
+  void clear(double* a) const;
+
   /// Factorises A + λI (A in this storage, its rows as the last narrowTo(A) left them); false
   /// when not numerically positive definite.
   bool factorize(const double* a, double lambda);

@@ -185,8 +185,7 @@ struct SparseLm::Impl {
     std::size_t first_param;  ///< into block_params
     int num_params;
     int num_residuals;
-    std::size_t first_slot;  ///< into slots (JᵀJ destinations in accumulation order)
-    int jacobian_size;       ///< entries of its Jacobians w.r.t. the unknowns
+    int jacobian_size;  ///< entries of its Jacobians w.r.t. the unknowns
   };
 
   std::vector<Param> params;
@@ -198,7 +197,6 @@ struct SparseLm::Impl {
 
   EnvelopeLdlt ldlt;
   std::vector<double> hessian;  ///< JᵀJ in ldlt's envelope storage (lower triangle)
-  std::vector<int> slots;       ///< index in `hessian` per JᵀJ entry, accumulation order
   Eigen::VectorXd gradient;     ///< Jᵀr
 
   // Scratch reused by every evaluation (no allocation in the loop).
@@ -294,7 +292,7 @@ struct SparseLm::Impl {
     assignOffsets();
     std::vector<int> first(num_unknowns);
     for (int i = 0; i < num_unknowns; ++i) first[i] = i;
-    std::size_t max_res = 1, max_jac = 1, max_params = 1, max_cols = 1, num_slots = 0;
+    std::size_t max_res = 1, max_jac = 1, max_params = 1, max_cols = 1;
     for (Block& blk : blocks) {
       // forEachEntry()'s entries (row <= col) are lower entries (col, row); the topmost row of
       // every column of q in the pair (p, q) is p's first row, so the envelope needs only that.
@@ -306,11 +304,10 @@ struct SparseLm::Impl {
         cols += p.size;
         if (p.offset >= 0) blk.jacobian_size += blk.num_residuals * p.size;
       }
-      forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+      forEachPair(blk, [&](int, int, const Param& p, const Param& q) {
         for (int b = 0; b < q.size; ++b) {
           first[q.offset + b] = std::min(first[q.offset + b], p.offset);
         }
-        num_slots += i == j ? p.size * (p.size + 1) / 2 : p.size * q.size;
       });
       max_res = std::max<std::size_t>(max_res, blk.num_residuals);
       max_jac = std::max(max_jac, jac);
@@ -319,13 +316,6 @@ struct SparseLm::Impl {
     }
     ldlt.setPattern(std::move(first));
     hessian.assign(ldlt.storage(), 0.0);
-    slots.resize(num_slots);
-    int* slot = slots.data();
-    for (Block& blk : blocks) {
-      blk.first_slot = static_cast<std::size_t>(slot - slots.data());
-      forEachEntry(blk,
-                   [&](int, int, int, int, int row, int col) { *slot++ = ldlt.slot(col, row); });
-    }
     gradient.resize(num_unknowns);
     residuals.resize(max_res);
     jacobian_storage.resize(max_jac);
@@ -402,10 +392,12 @@ struct SparseLm::Impl {
         gradient[p.offset + a] += dotFixed<kM>(c, r);
       }
     }
+    // Each entry's place comes from the envelope's row bases (a few KB) rather than from a list
+    // of places per entry (for five humans ~300 KB, read every assembly).
     double* h = hessian.data();
-    const int* slot = slots.data() + blk.first_slot;  // laid out in forEachEntry()'s order
-    forEachEntry(blk, [&](int i, int j, int a, int b, int, int) {
-      h[*slot++] += dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
+    forEachEntry(blk, [&](int i, int j, int a, int b, int row, int col) {
+      h[ldlt.slot(col, row)] +=
+          dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
     });
   }
 
@@ -444,13 +436,12 @@ struct SparseLm::Impl {
       }
     }
     double* h = hessian.data();
-    const int* slot = slots.data() + blk.first_slot;
-    forEachEntry(blk, [&](int i, int j, int a, int b, int, int) {
+    forEachEntry(blk, [&](int i, int j, int a, int b, int row, int col) {
       const int pi = params[block_params[blk.first_param + i]].size;
       const int pj = params[block_params[blk.first_param + j]].size;
       double sum = 0.0;
       for (int k = 0; k < m; ++k) sum += jacobians[i][k * pi + a] * jacobians[j][k * pj + b];
-      h[*slot++] += sum;
+      h[ldlt.slot(col, row)] += sum;
     });
   }
 
@@ -510,7 +501,7 @@ std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost, double* 
   const auto& sizes = cost->parameter_block_sizes();
   if (num_params < 0 || sizes.size() != static_cast<std::size_t>(num_params))
     throw std::logic_error("residual block: parameter count");
-  Impl::Block blk{cost, impl_->block_params.size(), num_params, cost->num_residuals(), 0, 0};
+  Impl::Block blk{cost, impl_->block_params.size(), num_params, cost->num_residuals(), 0};
   for (int i = 0; i < num_params; ++i) {
     const int k = impl_->param_index.find(params[i]);
     if (k < 0 || impl_->params[k].size != sizes[i]) {

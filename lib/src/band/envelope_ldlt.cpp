@@ -193,7 +193,11 @@ bool EnvelopeLdlt::factorize(const double* a, double lambda) {
       const int k1 = std::max(fi, fj1);
       // Both over [kc, j); the one that starts earlier adds its head alone.
       const int kc = std::max(k0, k1);
-      const double head0 = dot(li, l0, k0, kc), head1 = dot(li, l1, k1, kc);
+      // At most one head is not empty, and it is short: a plain loop costs less than dot()'s
+      // dispatch.
+      double head0 = 0.0, head1 = 0.0;
+      for (int k = k0; k < kc; ++k) head0 += li[k] * l0[k];
+      for (int k = k1; k < kc; ++k) head1 += li[k] * l1[k];
       double s0 = 0.0, s1 = 0.0;
       dot2(li, l0, l1, kc, j, &s0, &s1);
       li[j] = ai[j] - (head0 + s0);

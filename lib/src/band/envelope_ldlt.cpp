@@ -10,11 +10,12 @@
 namespace coopnav {
 namespace {
 
-/// The factorisation's inner products, over [k0, k1). Their ranges are the envelope rows'
-/// overlaps: a few to a few dozen entries (bench_band: ~7 for one human, ~20 for five), so a
-/// short range runs as two scalar partial sums and a long one as four SSE2 ones; both orders are
-/// fixed, so the results are the same on every run and every x86-64 machine (and on other
-/// machines, where the SSE2 path is the same partial sums in scalar code).
+/// The factorisation's inner products, over [k0, k1). Their ranges are the rows' overlaps: a
+/// few to a few dozen entries (bench_band, before the rows were narrowed to their first
+/// non-zero: ~7 for one human, ~20 for five; fewer since), so a short range runs as two scalar
+/// partial sums and a long one as four SSE2 ones; both orders are fixed, so the results are the
+/// same on every run and every x86-64 machine (and on other machines, where the SSE2 path is the
+/// same partial sums in scalar code).
 constexpr int kVectorFrom = 8;
 
 #if defined(__SSE2__)
@@ -139,13 +140,13 @@ void subtractScaled(double a, const double* x, double* y, int k0, int k1) {
 void EnvelopeLdlt::setPattern(std::vector<int> first) {
   first_ = std::move(first);
   const int n = static_cast<int>(first_.size());
-  row_start_.assign(n + 1, 0);
   base_.assign(n, 0);
+  int row_start = 0;  // row i's entries follow row i − 1's
   for (int i = 0; i < n; ++i) {
-    row_start_[i + 1] = row_start_[i] + (i - first_[i] + 1);
-    base_[i] = row_start_[i] - first_[i];
+    base_[i] = row_start - first_[i];
+    row_start += i - first_[i] + 1;
   }
-  work_.assign(row_start_[n], 0.0);
+  work_.assign(row_start, 0.0);
   lead_ = first_;
   d_.assign(n, 0.0);
   inv_d_.assign(n, 0.0);

@@ -50,9 +50,8 @@ class EnvelopeLdlt {
  private:
   static constexpr double kMinPivot = 1e-300;
   std::vector<int> first_;
-  std::vector<int> lead_;  ///< per row, A's first non-zero at the last narrowTo() (>= first_)
-  std::vector<int> row_start_;
-  std::vector<int> base_;     ///< row_start_[i] − first_[i]: row i's entry (i, j) at base_[i] + j
+  std::vector<int> lead_;     ///< per row, A's first non-zero at the last narrowTo() (>= first_)
+  std::vector<int> base_;     ///< row i's entry (i, j) is at base_[i] + j (rows stored in order)
   std::vector<double> work_;  ///< L below the diagonal (unit diagonal implied)
   std::vector<double> d_;
   std::vector<double> inv_d_;  ///< 1 / d_: one division per row instead of one per entry

@@ -25,8 +25,8 @@ double horizontalSum(__m128d a, __m128d b) {
 }
 #endif
 
-/// Σ x[k] y[k]. Always inlined: the factorisation calls it for row heads as well as whole ranges,
-/// and the call costs more than the few products of a short range.
+/// Σ x[k] y[k]. Always inlined: the factorisation calls it once per entry of L, and a call costs
+/// more than the few products of a short range.
 inline __attribute__((always_inline)) double dot(const double* x, const double* y, int k0, int k1) {
   if (k1 - k0 < kVectorFrom) {
     double a0 = 0.0, a1 = 0.0;

@@ -210,8 +210,7 @@ struct SparseLm::Impl {
 
   /// Visits every upper-triangle JᵀJ entry a block contributes, in one fixed order:
   /// f(i, j, a, b, row, col): block parameter i's column a times parameter j's column b,
-  /// row <= col (Eigen's simplicial LDLᵀ reads the upper triangle in place without a copy when
-  /// no ordering is asked of it; ours is applied to the offsets, see buildStructure()).
+  /// row <= col, i.e. the envelope's lower entry (col, row).
   template <typename F>
   void forEachEntry(const Block& blk, F&& f) const {
     forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {

@@ -20,7 +20,6 @@ class EnvelopeLdlt {
  public:
   /// first[i] <= i: leftmost column of row i.
   void setPattern(std::vector<int> first);
-  std::size_t size() const { return first_.size(); }
   /// Entries of the storage that A and the factor use.
   std::size_t storage() const { return work_.size(); }
   /// Storage index of entry (i, j), first(i) <= j <= i.

@@ -246,8 +246,9 @@ struct SparseLm::Impl {
         param_of.push_back(static_cast<int>(k));
       }
     }
-    // Edges of every block's pairs of unknowns, counted, placed, then sorted and deduplicated
-    // per node: the same sorted neighbour lists as a set per node.
+    // Edges of every block's pairs of unknowns, counted, placed, then deduplicated and sorted
+    // per node: the same sorted neighbour lists as a set per node. Each pair comes from several
+    // blocks (consecutive poses share 3-4), so dropping repeats first leaves a third to sort.
     const int nv = static_cast<int>(param_of.size());
     Graph adj;
     adj.start.assign(nv + 1, 0);
@@ -268,13 +269,16 @@ struct SparseLm::Impl {
     std::vector<int> fill(adj.start.begin(), adj.start.end() - 1);
     forEachPair([&](int vi, int vj) { adj.nbr[fill[vi]++] = vj; });
     int out = 0;
+    std::vector<int> seen_by(nv, -1);  // the last node whose list held it
     for (int v = 0; v < nv; ++v) {
-      int* b = adj.nbr.data() + adj.start[v];
-      int* e = adj.nbr.data() + adj.start[v + 1];
-      std::sort(b, e);
-      e = std::unique(b, e);
       const int first = out;
-      for (int* it = b; it != e; ++it) adj.nbr[out++] = *it;
+      for (int k = adj.start[v]; k < adj.start[v + 1]; ++k) {
+        const int u = adj.nbr[k];
+        if (seen_by[u] == v) continue;
+        seen_by[u] = v;
+        adj.nbr[out++] = u;
+      }
+      std::sort(adj.nbr.data() + first, adj.nbr.data() + out);
       adj.start[v] = first;
     }
     adj.start[nv] = out;

@@ -247,8 +247,8 @@ struct SparseLm::Impl {
       }
     }
     // Edges of every block's pairs of unknowns, counted, placed, then deduplicated and sorted
-    // per node: the same sorted neighbour lists as a set per node. Each pair comes from several
-    // blocks (consecutive poses share 3-4), so dropping repeats first leaves a third to sort.
+    // per node: the same sorted neighbour lists as a set per node. A pair comes from every block
+    // that holds both (consecutive poses share several), so repeats are dropped before sorting.
     const int nv = static_cast<int>(param_of.size());
     Graph adj;
     adj.start.assign(nv + 1, 0);

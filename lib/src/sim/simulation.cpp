@@ -12,8 +12,11 @@ namespace coopnav::sim {
 
 namespace {
 
-/// Below this speed a human keeps its heading (atan2 of a near-zero vector is noise).
-constexpr double kHeadingMinSpeed_m_s = 0.05;
+/// Below this speed a human keeps its heading: slower than a slow walk a person shuffles, steps
+/// aside or back without turning round, and the direction of such a velocity is noise. At
+/// 0.05 m/s a planner-backed human stopping in the narrow corridor crept back at 0.06 m/s for one
+/// step, turned to face away from the robot, and round 3 took that for the agents having crossed.
+constexpr double kHeadingMinSpeed_m_s = 0.3;
 
 double clampAbs(double x, double limit) { return std::clamp(x, -limit, limit); }
 

@@ -276,6 +276,7 @@ TEST(Determinism, NoNoiseMeansSeedDoesNotMatter) {
 }  // namespace
 }  // namespace coopnav::sim
 
+#include "coopnav/geometry/geometry.hpp"
 #include "coopnav/sim/band_human_adapter.hpp"
 
 namespace coopnav::sim {
@@ -302,6 +303,50 @@ TEST(FacilitatingHuman, DualBandAdapterPlansForTheHuman) {
   EXPECT_LE(std::hypot(human.velocity.vx_m_s, human.velocity.vy_m_s), 2.0);
   std::printf("band adapter: mode %s, v = (%.3f, %.3f)\n", sim.behaviourStatus()[0].mode.c_str(),
               human.velocity.vx_m_s, human.velocity.vy_m_s);
+}
+
+// A person stepping back slowly keeps facing the way they walked; one who walks back turns. At
+// 0.05 m/s a stopping human's one-step creep backwards turned it round, and the dialogue's
+// crossing test (robot behind the human along its heading) read that as the agents having
+// crossed, 3.6 m apart.
+TEST(HumanHeading, FollowsWalkingNotAShuffleBackwards) {
+  struct Scripted : HumanPlannerAdapter {
+    std::optional<Velocity2> plan(const BehaviourContext& ctx) override {
+      if (ctx.t_s < 2.0) return Velocity2{-1.0, 0.0, 0.0};  // walking towards −x
+      if (ctx.t_s < 4.0) return Velocity2{0.2, 0.05, 0.0};  // shuffling back
+      return Velocity2{1.0, 0.0, 0.0};                      // walking back to +x
+    }
+  };
+  test::CorridorMap map(0.0, 6.0);
+  WorldSpec w;
+  w.settings.time_limit_s = 10.0;
+  w.robot.start = {0.5, 1.0, 0.0};
+  w.robot.goal = {20.0, 1.0, 0.0};
+  HumanSpec h;
+  h.id = 1;
+  h.start = {12.0, 3.0, M_PI};
+  h.goal = {0.5, 3.0, M_PI};
+  h.behaviour.type = BehaviourType::kFacilitating;
+  h.behaviour.facilitating.planner = "band";
+  w.humans.push_back(h);
+  Simulation sim(w, &map, [](const FacilitatingParams&) { return std::make_unique<Scripted>(); });
+  double heading_at_3_9_s = 0.0, heading_at_6_s = 0.0, speed_at_3_9_s = 0.0;
+  while (sim.status() == SimStatus::kRunning) {
+    const StepResult r = sim.step({0.0, 0.0, 0.0});
+    const AgentState& human = r.agents[1];
+    if (std::abs(r.t_s - 3.9) < 1e-6) {
+      heading_at_3_9_s = human.pose.theta_rad;
+      speed_at_3_9_s = std::hypot(human.velocity.vx_m_s, human.velocity.vy_m_s);
+    }
+    if (std::abs(r.t_s - 6.0) < 1e-6) {
+      heading_at_6_s = human.pose.theta_rad;
+      break;
+    }
+  }
+  EXPECT_GT(speed_at_3_9_s, 0.15);  // it did move backwards, slowly
+  // Still facing −x (within the few degrees the slowing walk turned it), not the shuffle's way.
+  EXPECT_GT(std::abs(wrapAngle(heading_at_3_9_s)), 0.95 * M_PI);
+  EXPECT_NEAR(wrapAngle(heading_at_6_s), 0.0, 1e-9);
 }
 
 }  // namespace

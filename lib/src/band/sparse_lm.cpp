@@ -1,13 +1,15 @@
 #include "coopnav/band/sparse_lm.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 
-#include "coopnav/band/envelope_ldlt.hpp"
+#include "coopnav/band/block_ldlt.hpp"
 
 namespace coopnav {
 namespace {
@@ -21,109 +23,13 @@ constexpr double kMinLambda = 1e-16;
 constexpr double kMaxLambda = 1e32;
 
 /// An undirected graph as compressed adjacency lists (one array each, not a vector per node:
-/// ~700 nodes, ~2.5 graphs a cycle).
+/// ~400 nodes, ~2.5 graphs a cycle).
 struct Graph {
   std::vector<int> start;  ///< node v's neighbours: nbr[start[v] .. start[v + 1])
   std::vector<int> nbr;
-  int size() const { return static_cast<int>(start.size()) - 1; }
-  int degree(int v) const { return start[v + 1] - start[v]; }
   const int* begin(int v) const { return nbr.data() + start[v]; }
   const int* end(int v) const { return nbr.data() + start[v + 1]; }
 };
-
-/// Sloan's profile-reducing order ("An algorithm for profile and wavefront reduction of sparse
-/// matrices", 1986; "A Fortran program for profile and wavefront reduction", 1989): numbered
-/// from one end of a pseudo-diameter, each next node the one of highest priority
-/// W1 · (levels from the far end) − W2 · (current degree + 1), with his W1 = 1, W2 = 2, the
-/// current degree being the neighbours a node would still bring into the front. Where several
-/// bands couple in time it follows the front better than reverse Cuthill–McKee's level order,
-/// used until 2026-12-03 (bench_band, mean multiply-adds per factorisation: five humans 0.59
-/// against 0.99 M, one human 0.070 against 0.101 M). Nodes are parameter blocks; weighting
-/// them by their unknowns measured worse (0.68 M for five humans). The queue is the front, a
-/// few dozen nodes: a linear scan for the maximum is cheaper than a heap whose keys change
-/// every step. Deterministic (ties by index).
-std::vector<int> sloanOrder(const Graph& adj) {
-  constexpr long kW1 = 1, kW2 = 2;
-  const int n = adj.size();
-  std::vector<int> order, dist(n, -1), level;
-  order.reserve(n);
-  level.reserve(n);
-  enum Status : char { kInactive, kPreactive, kActive, kNumbered };
-  std::vector<Status> status(n, kInactive);
-  // Breadth-first over the unnumbered nodes from s: dist, the visited nodes, and the last
-  // level's node of least degree (the next pseudo-peripheral candidate).
-  auto bfs = [&](int s) {
-    for (int v : level) dist[v] = -1;
-    level.assign(1, s);
-    dist[s] = 0;
-    for (std::size_t h = 0; h < level.size(); ++h) {
-      for (const int* it = adj.begin(level[h]); it != adj.end(level[h]); ++it) {
-        if (dist[*it] < 0 && status[*it] == kInactive) {
-          dist[*it] = dist[level[h]] + 1;
-          level.push_back(*it);
-        }
-      }
-    }
-    int far = level.back();
-    for (int v : level) {
-      if (dist[v] == dist[far] && adj.degree(v) < adj.degree(far)) far = v;
-    }
-    return far;
-  };
-  std::vector<long> priority(n, 0);
-  std::vector<int> queue;
-  for (int s0 = 0; s0 < n; ++s0) {
-    if (status[s0] != kInactive) continue;
-    bfs(s0);
-    int start = s0;
-    for (int v : level) {
-      if (adj.degree(v) < adj.degree(start)) start = v;
-    }
-    const int end = bfs(bfs(start));
-    start = level.front();
-    bfs(end);  // dist: levels from the far end, over this component
-    for (int v : level) priority[v] = kW1 * dist[v] - kW2 * (adj.degree(v) + 1);
-    queue.assign(1, start);
-    status[start] = kPreactive;
-    auto enqueue = [&](int v) {
-      if (status[v] == kInactive) {
-        status[v] = kPreactive;
-        queue.push_back(v);
-      }
-    };
-    while (!queue.empty()) {
-      std::size_t best = 0;
-      for (std::size_t q = 1; q < queue.size(); ++q) {
-        const int v = queue[q], b = queue[best];
-        if (priority[v] > priority[b] || (priority[v] == priority[b] && v < b)) best = q;
-      }
-      const int i = queue[best];
-      queue[best] = queue.back();
-      queue.pop_back();
-      if (status[i] == kPreactive) {
-        for (const int* it = adj.begin(i); it != adj.end(i); ++it) {
-          if (status[*it] == kNumbered) continue;
-          priority[*it] += kW2;
-          enqueue(*it);
-        }
-      }
-      status[i] = kNumbered;
-      order.push_back(i);
-      for (const int* it = adj.begin(i); it != adj.end(i); ++it) {
-        const int j = *it;
-        if (status[j] != kPreactive) continue;
-        status[j] = kActive;
-        priority[j] += kW2;
-        for (const int* kt = adj.begin(j); kt != adj.end(j); ++kt) {
-          if (status[*kt] == kNumbered) continue;
-          priority[*kt] += kW2;
-          enqueue(*kt);
-        }
-      }
-    }
-  }
-  return order;
-}
 
 /// Index of each parameter block by its address: open addressing with linear probing, so that
 /// declaring the ~700 blocks of a band problem (rebuilt ~2.5 times a cycle) allocates a few
@@ -178,14 +84,19 @@ struct SparseLm::Impl {
   struct Param {
     double* values;
     int size;
-    int offset;  ///< first unknown; -1 for a constant block
+    int offset;   ///< first unknown; -1 for a constant block
+    int node;     ///< node of the factorisation (elimination order); -1 for a constant block
+    int in_node;  ///< its first unknown's place in the node
   };
+  /// Unknowns per node at most (BlockLdlt's kernels are fixed for 4, 3 and 1).
+  static constexpr int kNodeSize = 4;
   struct Block {
     const ceres::CostFunction* cost;
     std::size_t first_param;  ///< into block_params
     int num_params;
     int num_residuals;
     int jacobian_size;  ///< entries of its Jacobians w.r.t. the unknowns
+    int first_tile;     ///< into pair_tiles: its JᵀJ tiles in forEachPair() order
   };
 
   std::vector<Param> params;
@@ -195,9 +106,12 @@ struct SparseLm::Impl {
   int num_unknowns{0};
   bool structure_ready{false};
 
-  EnvelopeLdlt ldlt;
-  std::vector<double> hessian;  ///< JᵀJ in ldlt's envelope storage (lower triangle)
-  Eigen::VectorXd gradient;     ///< Jᵀr
+  BlockLdlt ldlt;
+  std::vector<double> hessian;  ///< JᵀJ in ldlt's tiles (lower triangle)
+  /// Per block, for each JᵀJ tile it adds to: the storage offset of its first entry and the
+  /// tile's row stride.
+  std::vector<int> pair_tiles;
+  Eigen::VectorXd gradient;  ///< Jᵀr
 
   // Scratch reused by every evaluation (no allocation in the loop).
   std::vector<double> residuals;
@@ -208,20 +122,25 @@ struct SparseLm::Impl {
   /// Parameter blocks per residual block that accumulatePadded() handles on the stack.
   static constexpr int kMaxBlockParams = 16;
 
-  /// Visits every upper-triangle JᵀJ entry a block contributes, in one fixed order:
-  /// f(i, j, a, b, row, col): block parameter i's column a times parameter j's column b,
-  /// row <= col, i.e. the envelope's lower entry (col, row).
+  /// Visits every JᵀJ entry a block contributes, in one fixed order: f(i, j, a, b, entry):
+  /// block parameter i's column a times parameter j's column b, at `entry` of the lower tile
+  /// (q's row b, p's column a) of forEachPair()'s pair (p, q).
   template <typename F>
-  void forEachEntry(const Block& blk, F&& f) const {
+  void forEachEntry(const Block& blk, F&& f) {
+    const int* tiles = pair_tiles.data() + blk.first_tile;
+    double* h = hessian.data();
     forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+      double* t = h + tiles[0];
+      const int stride = tiles[1];
+      tiles += 2;
       for (int a = 0; a < p.size; ++a) {
-        for (int b = i == j ? a : 0; b < q.size; ++b) f(i, j, a, b, p.offset + a, q.offset + b);
+        for (int b = i == j ? a : 0; b < q.size; ++b) f(i, j, a, b, t + b * stride + a);
       }
     });
   }
 
-  /// The pairs of unknown parameters whose JᵀJ sub-block forEachEntry() visits, in its order:
-  /// f(i, j, p, q) with p.offset <= q.offset (i == j: the diagonal sub-block, upper half).
+  /// The pairs of unknown parameters whose JᵀJ tile forEachEntry() visits, in its order:
+  /// f(i, j, p, q) with p.offset <= q.offset (i == j: the diagonal tile, lower half).
   template <typename F>
   void forEachPair(const Block& blk, F&& f) const {
     for (int i = 0; i < blk.num_params; ++i) {
@@ -235,9 +154,9 @@ struct SparseLm::Impl {
     }
   }
 
-  /// Order of the unknown parameter blocks: Sloan's on the block graph, computed
-  /// once per structure and applied to the offsets, so the normal equations are assembled in
-  /// their factorisation order (no permutation per solve) with a small envelope.
+  /// Nodes of the unknowns and their elimination order, computed once per structure and
+  /// applied to the offsets, so the normal equations are assembled in their factorisation order
+  /// (no permutation per solve).
   void assignOffsets() {
     std::vector<int> var_of(params.size(), -1), param_of;
     for (std::size_t k = 0; k < params.size(); ++k) {
@@ -246,19 +165,47 @@ struct SparseLm::Impl {
         param_of.push_back(static_cast<int>(k));
       }
     }
-    // Edges of every block's pairs of unknowns, counted, placed, then deduplicated and sorted
+    // Nodes: unknowns declared one after the other that share a residual block, up to
+    // kNodeSize unknowns (a band declares pose i, then ΔT_i: nodes {ΔT_i−1, pose i}). The
+    // factorisation's work per tile costs about the same for 1 or 16 products, and a band's
+    // ΔT is tied to the poses around it anyway.
+    const int nvar = static_cast<int>(param_of.size());
+    std::vector<char> linked(nvar, 0);  // var v and v + 1 share a block
+    for (const Block& blk : blocks) {
+      for (int i = 0; i < blk.num_params; ++i) {
+        const int vi = var_of[block_params[blk.first_param + i]];
+        for (int j = 0; j < blk.num_params && vi >= 0; ++j) {
+          if (var_of[block_params[blk.first_param + j]] == vi + 1) linked[vi] = 1;
+        }
+      }
+    }
+    std::vector<int> group_of(nvar), group_first, group_size;
+    for (int v = 0; v < nvar; ++v) {
+      const int size = params[param_of[v]].size;
+      if (v > 0 && linked[v - 1] && group_size.back() + size <= kNodeSize) {
+        group_size.back() += size;
+      } else {
+        group_first.push_back(v);
+        group_size.push_back(size);
+      }
+      group_of[v] = static_cast<int>(group_first.size()) - 1;
+    }
+    group_first.push_back(nvar);
+    // Edges of every block's pairs of nodes, counted, placed, then deduplicated and sorted
     // per node: the same sorted neighbour lists as a set per node. A pair comes from every block
     // that holds both (consecutive poses share several), so repeats are dropped before sorting.
-    const int nv = static_cast<int>(param_of.size());
+    const int nv = static_cast<int>(group_size.size());
     Graph adj;
     adj.start.assign(nv + 1, 0);
     auto forEachPair = [&](auto&& f) {
       for (const Block& blk : blocks) {
         for (int i = 0; i < blk.num_params; ++i) {
-          const int vi = var_of[block_params[blk.first_param + i]];
-          for (int j = 0; j < blk.num_params && vi >= 0; ++j) {
-            const int vj = var_of[block_params[blk.first_param + j]];
-            if (vj >= 0 && vi != vj) f(vi, vj);
+          const int pi = var_of[block_params[blk.first_param + i]];
+          if (pi < 0) continue;
+          const int vi = group_of[pi];
+          for (int j = 0; j < blk.num_params; ++j) {
+            const int pj = var_of[block_params[blk.first_param + j]];
+            if (pj >= 0 && vi != group_of[pj]) f(vi, group_of[pj]);
           }
         }
       }
@@ -283,22 +230,62 @@ struct SparseLm::Impl {
     }
     adj.start[nv] = out;
     adj.nbr.resize(out);
-    num_unknowns = 0;
-    for (int v : sloanOrder(adj)) {
-      Param& p = params[param_of[v]];
-      p.offset = num_unknowns;
-      num_unknowns += p.size;
+    // Minimum degree (Eigen's AMD: Amestoy, Davis & Duff 1996) on the block graph. Its input
+    // must hold the diagonal: Eigen's AMD takes a node without one for a dense node and
+    // leaves it, in order, to the end (all of them: the identity).
+    Eigen::SparseMatrix<double, Eigen::ColMajor, int> pattern(nv, nv);
+    pattern.resizeNonZeros(static_cast<Eigen::Index>(adj.nbr.size()) + nv);
+    {
+      int* outer = pattern.outerIndexPtr();
+      int* inner = pattern.innerIndexPtr();
+      int q = 0;
+      for (int v = 0; v < nv; ++v) {
+        outer[v] = q;
+        const int* it = adj.begin(v);
+        for (; it != adj.end(v) && *it < v; ++it) inner[q++] = *it;
+        inner[q++] = v;
+        for (; it != adj.end(v); ++it) inner[q++] = *it;
+      }
+      outer[nv] = q;
+      std::fill(pattern.valuePtr(), pattern.valuePtr() + q, 1.0);
     }
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+    Eigen::internal::minimum_degree_ordering(pattern, perm);
+    std::vector<int> node_of(nv), sizes(nv);
+    num_unknowns = 0;
+    for (int k = 0; k < nv; ++k) {
+      const int v = perm.indices()[k];
+      node_of[v] = k;
+      sizes[k] = group_size[v];
+      for (int g = group_first[v], in = 0; g < group_first[v + 1]; ++g) {
+        Param& p = params[param_of[g]];
+        p.offset = num_unknowns;
+        p.node = k;
+        p.in_node = in;
+        in += p.size;
+        num_unknowns += p.size;
+      }
+    }
+    // Each node's neighbours eliminated before it, ascending.
+    std::vector<int> start(nv + 1, 0), lower;
+    lower.reserve(adj.nbr.size() / 2);
+    for (int k = 0; k < nv; ++k) {
+      const int v = perm.indices()[k];
+      const std::size_t first = lower.size();
+      for (const int* it = adj.begin(v); it != adj.end(v); ++it) {
+        if (node_of[*it] < k) lower.push_back(node_of[*it]);
+      }
+      std::sort(lower.begin() + first, lower.end());
+      start[k + 1] = static_cast<int>(lower.size());
+    }
+    ldlt.setStructure(std::move(sizes), std::move(start), std::move(lower));
   }
 
   void buildStructure() {
     assignOffsets();
-    std::vector<int> first(num_unknowns);
-    for (int i = 0; i < num_unknowns; ++i) first[i] = i;
+    pair_tiles.clear();
     std::size_t max_res = 1, max_jac = 1, max_params = 1, max_cols = 1;
     for (Block& blk : blocks) {
-      // forEachEntry()'s entries (row <= col) are lower entries (col, row); the topmost row of
-      // every column of q in the pair (p, q) is p's first row, so the envelope needs only that.
       blk.jacobian_size = 0;
       std::size_t jac = 0, cols = 0;
       for (int i = 0; i < blk.num_params; ++i) {
@@ -307,17 +294,19 @@ struct SparseLm::Impl {
         cols += p.size;
         if (p.offset >= 0) blk.jacobian_size += blk.num_residuals * p.size;
       }
+      blk.first_tile = static_cast<int>(pair_tiles.size());
+      // Entry (q's b, p's a) of the pair's tile: at base + b · stride + a.
       forEachPair(blk, [&](int, int, const Param& p, const Param& q) {
-        for (int b = 0; b < q.size; ++b) {
-          first[q.offset + b] = std::min(first[q.offset + b], p.offset);
-        }
+        const int tile = p.node == q.node ? ldlt.diagonalTile(p.node) : ldlt.tile(q.node, p.node);
+        const int stride = ldlt.nodeSize(p.node);
+        pair_tiles.push_back(tile + q.in_node * stride + p.in_node);
+        pair_tiles.push_back(stride);
       });
       max_res = std::max<std::size_t>(max_res, blk.num_residuals);
       max_jac = std::max(max_jac, jac);
       max_cols = std::max(max_cols, cols);
       max_params = std::max<std::size_t>(max_params, blk.num_params);
     }
-    ldlt.setPattern(std::move(first));
     hessian.assign(ldlt.storage(), 0.0);
     gradient.resize(num_unknowns);
     residuals.resize(max_res);
@@ -395,12 +384,8 @@ struct SparseLm::Impl {
         gradient[p.offset + a] += dotFixed<kM>(c, r);
       }
     }
-    // Each entry's place comes from the envelope's row bases (a few KB) rather than from a list
-    // of places per entry (for five humans ~300 KB, read every assembly).
-    double* h = hessian.data();
-    forEachEntry(blk, [&](int i, int j, int a, int b, int row, int col) {
-      h[ldlt.slot(col, row)] +=
-          dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
+    forEachEntry(blk, [&](int i, int j, int a, int b, double* entry) {
+      *entry += dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
     });
   }
 
@@ -438,17 +423,16 @@ struct SparseLm::Impl {
         gradient[p.offset + a] += s;
       }
     }
-    double* h = hessian.data();
-    forEachEntry(blk, [&](int i, int j, int a, int b, int row, int col) {
+    forEachEntry(blk, [&](int i, int j, int a, int b, double* entry) {
       const int pi = params[block_params[blk.first_param + i]].size;
       const int pj = params[block_params[blk.first_param + j]].size;
       double sum = 0.0;
       for (int k = 0; k < m; ++k) sum += jacobians[i][k * pi + a] * jacobians[j][k * pj + b];
-      h[ldlt.slot(col, row)] += sum;
+      *entry += sum;
     });
   }
 
-  /// Cost, Jᵀr and JᵀJ at the current parameters (JᵀJ's rows narrowed to its non-zeros).
+  /// Cost, Jᵀr and JᵀJ at the current parameters (and the pattern of JᵀJ's non-zero tiles).
   double linearize() {
     ldlt.clear(hessian.data());
     gradient.setZero();
@@ -464,7 +448,7 @@ struct SparseLm::Impl {
       }
       if (!accumulatePadded(blk)) accumulateGeneral(blk);
     }
-    ldlt.narrowTo(hessian.data());
+    ldlt.analyze(hessian.data());
     return c;
   }
 
@@ -490,7 +474,7 @@ void SparseLm::addParameterBlock(double* values, int size, bool constant) {
   if (values == nullptr) throw std::logic_error("parameter block without storage");
   if (impl_->param_index.find(values) >= 0) throw std::logic_error("parameter block added twice");
   impl_->param_index.insert(values, static_cast<int>(impl_->params.size()));
-  impl_->params.push_back({values, size, constant ? -1 : 0});
+  impl_->params.push_back({values, size, constant ? -1 : 0, -1, 0});
   impl_->structure_ready = false;
 }
 
@@ -504,12 +488,15 @@ std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost, double* 
   const auto& sizes = cost->parameter_block_sizes();
   if (num_params < 0 || sizes.size() != static_cast<std::size_t>(num_params))
     throw std::logic_error("residual block: parameter count");
-  Impl::Block blk{cost, impl_->block_params.size(), num_params, cost->num_residuals(), 0};
+  Impl::Block blk{cost, impl_->block_params.size(), num_params, cost->num_residuals(), 0, 0};
   for (int i = 0; i < num_params; ++i) {
     const int k = impl_->param_index.find(params[i]);
     if (k < 0 || impl_->params[k].size != sizes[i]) {
       throw std::logic_error("residual block: undeclared or mis-sized parameter block");
     }
+    // One JᵀJ tile per pair of distinct blocks (Ceres refuses repeats too).
+    if (std::find(params, params + i, params[i]) != params + i)
+      throw std::logic_error("residual block: a parameter block named twice");
     impl_->block_params.push_back(k);
   }
   impl_->blocks.push_back(blk);
@@ -540,8 +527,13 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
     lambda = options.initial_lambda;
   } else if (options.initial_lambda_scale > 0.0) {
     double max_diagonal = 0.0;
-    for (int i = 0; i < m.num_unknowns; ++i)
-      max_diagonal = std::max(max_diagonal, m.hessian[m.ldlt.slot(i, i)]);
+    for (const Impl::Param& p : m.params) {
+      for (int a = 0; p.offset >= 0 && a < p.size; ++a) {
+        max_diagonal =
+            std::max(max_diagonal, m.hessian[m.ldlt.diagonalTile(p.node) +
+                                             (p.in_node + a) * (m.ldlt.nodeSize(p.node) + 1)]);
+      }
+    }
     if (max_diagonal > 0.0 && std::isfinite(max_diagonal))
       lambda = options.initial_lambda_scale * max_diagonal;
   }
@@ -568,7 +560,7 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
       break;
     // Predicted decrease of the linear model, −(gᵀδ + ½ δᵀHδ), which for the damped step
     // (H + λI)δ = −g equals ½ (λ δᵀδ − gᵀδ) (Madsen, Nielsen & Tingleff 2004, §3.2): two
-    // dot products instead of a product with the envelope.
+    // dot products instead of a product with JᵀJ.
     const double model = 0.5 * (lambda * delta.squaredNorm() - m.gradient.dot(delta));
     m.setUnknowns(x_old + delta);
     // A step the model does not expect to lower the cost is rejected unevaluated, and one that

@@ -10,12 +10,12 @@
 /// product structure every iteration and goes through CHOLMOD's supernodal BLAS/OpenMP path,
 /// whose hand-offs cost more than this ~750-unknown factorisation); here every residual block
 /// writes its JᵀJ and Jᵀr contributions straight into their places in the factorisation's own
-/// storage, the unknowns are numbered in Sloan's profile-reducing order of the parameter-block
-/// graph (bands are chains coupled where they meet in time, so the envelope stays a few time
-/// slices wide), and the factorisation is a dense-row envelope LDLᵀ (envelope_ldlt.hpp) without
-/// fill outside that envelope, each row started at its first non-zero (terms inside their limits
-/// add exact zeros). Measured against Eigen's simplicial LDLᵀ with AMD on the same problems,
-/// before that narrowing: equal for 1 human, 1.5x faster for 5.
+/// storage (tiles of nodes: a band's ΔT and the pose after it), the nodes are numbered in a
+/// minimum-degree order of their graph, and the factorisation is a block LDLᵀ on the pattern
+/// of the tiles that are not zero at that linearisation (block_ldlt.hpp): terms inside their
+/// limits add exact zeros and so no fill. It replaced (2026-12-03) a dense-row envelope LDLᵀ on
+/// Sloan's profile-reducing order: equal for one human, five humans 11 % faster at p50 and 27 %
+/// at p99 (bench_band, band_source README).
 ///
 /// Damping is plain λI, as g2o does for TEB and CoHAN (Jacobi scaling barely damps the flat θ / y
 /// directions, notes §9), with Nielsen's λ update (Madsen, Nielsen & Tingleff, "Methods for

@@ -1,0 +1,342 @@
+#include "coopnav/band/block_ldlt.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace coopnav {
+
+void BlockLdlt::setStructure(std::vector<int> sizes, std::vector<int> start,
+                             std::vector<int> lower) {
+  n_ = static_cast<int>(sizes.size());
+  if (static_cast<int>(start.size()) != n_ + 1 || start.back() != static_cast<int>(lower.size()))
+    throw std::logic_error("BlockLdlt: structure lists disagree");
+  size_ = std::move(sizes);
+  start_ = std::move(start);
+  lower_ = std::move(lower);
+  offset_.assign(n_ + 1, 0);
+  diag_.assign(n_, 0);
+  tile_.assign(lower_.size(), 0);
+  int t = 0;
+  for (int v = 0; v < n_; ++v) {
+    const int s = size_[v];
+    if (s < 1 || s > kMaxNodeSize) throw std::logic_error("BlockLdlt: node size out of range");
+    offset_[v + 1] = offset_[v] + s;
+    diag_[v] = t;
+    t += s * s;
+    for (int k = start_[v]; k < start_[v + 1]; ++k) {
+      const int u = lower_[k];
+      if (u < 0 || u >= v || (k > start_[v] && lower_[k - 1] >= u))
+        throw std::logic_error("BlockLdlt: lower neighbours must ascend below the node");
+      tile_[k] = t;
+      t += s * size_[u];
+    }
+  }
+  storage_ = static_cast<std::size_t>(t);
+  nz_start_.assign(n_ + 1, 0);
+  nz_.clear();
+  parent_.assign(n_, -1);
+  row_start_.assign(n_ + 1, 0);
+  col_start_.assign(n_ + 1, 0);
+  col_count_.assign(n_, 0);
+  pattern_.clear();
+  entry_pos_.clear();
+  entry_row_.clear();
+  entry_val_.clear();
+  dinv_.assign(n_, 0);
+  int d = 0;
+  for (int v = 0; v < n_; ++v) {
+    dinv_[v] = d;
+    d += size_[v] * size_[v];
+  }
+  dvals_.assign(d, 0.0);
+  work_.assign(static_cast<std::size_t>(kMaxNodeSize) * unknowns(), 0.0);
+  mark_.assign(n_, -1);
+}
+
+int BlockLdlt::tile(int v, int u) const {
+  const auto first = lower_.begin() + start_[v], last = lower_.begin() + start_[v + 1];
+  const auto it = std::lower_bound(first, last, u);
+  return it != last && *it == u ? tile_[it - lower_.begin()] : -1;
+}
+
+void BlockLdlt::clear(double* a) const { std::fill(a, a + storage_, 0.0); }
+
+void BlockLdlt::analyze(const double* a) {
+  nz_.clear();
+  std::vector<int>& ancestor = mark_;
+  ancestor.assign(n_, -1);
+  for (int v = 0; v < n_; ++v) {
+    nz_start_[v] = static_cast<int>(nz_.size());
+    parent_[v] = -1;
+    for (int k = start_[v]; k < start_[v + 1]; ++k) {
+      const double* t = a + tile_[k];
+      const int m = size_[v] * size_[lower_[k]];
+      if (std::all_of(t, t + m, [](double x) { return x == 0.0; })) continue;
+      nz_.push_back(k);
+      // The elimination tree, with path compression (Liu 1986; Davis 2006, §4.1).
+      for (int x = lower_[k]; x != -1 && x < v;) {
+        const int next = ancestor[x];
+        ancestor[x] = v;
+        if (next == -1) parent_[x] = v;
+        x = next;
+      }
+    }
+  }
+  nz_start_[n_] = static_cast<int>(nz_.size());
+  // L's pattern, row by row: every node on the tree path from a non-zero tile's column up to
+  // the row's node (Davis 2006, §4.3), ascending (a topological order of the tree: every update
+  // of a tile comes from a column left of it).
+  std::fill(mark_.begin(), mark_.end(), -1);
+  std::fill(col_count_.begin(), col_count_.end(), 0);
+  pattern_.clear();
+  for (int v = 0; v < n_; ++v) {
+    row_start_[v] = static_cast<int>(pattern_.size());
+    mark_[v] = v;
+    for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
+      for (int x = lower_[nz_[q]]; mark_[x] != v; x = parent_[x]) {
+        mark_[x] = v;
+        pattern_.push_back(x);
+        ++col_count_[x];
+      }
+    }
+    std::sort(pattern_.begin() + row_start_[v], pattern_.end());
+  }
+  row_start_[n_] = static_cast<int>(pattern_.size());
+  // Tiles stored by column, rows ascending: a column's tiles above row v are contiguous when
+  // row v needs them. entry_pos_[k]: where row pattern entry k's tile sits.
+  const std::size_t m = pattern_.size();
+  col_start_[0] = 0;
+  for (int u = 0; u < n_; ++u) col_start_[u + 1] = col_start_[u] + col_count_[u];
+  std::copy(col_start_.begin(), col_start_.end() - 1, col_count_.begin());  // fill pointers
+  entry_pos_.resize(m);
+  entry_row_.resize(m);
+  entry_val_.resize(m);
+  for (int v = 0; v < n_; ++v) {
+    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+      const int pos = col_count_[pattern_[k]]++;
+      entry_pos_[k] = pos;
+      entry_row_[pos] = v;
+    }
+  }
+  int vals = 0;
+  for (int u = 0; u < n_; ++u) {
+    for (int pos = col_start_[u]; pos < col_start_[u + 1]; ++pos) {
+      entry_val_[pos] = vals;
+      vals += size_[entry_row_[pos]] * size_[u];
+    }
+  }
+  lvals_.resize(vals);
+}
+
+namespace {
+
+/// Sizes known at compile time (a band problem's nodes have 1 or 3 unknowns), or 0: taken from
+/// the run-time argument. The kernels are the same loops either way; fixed sizes unroll them.
+template <int kFixed>
+inline int sizeOf(int runtime) {
+  return kFixed > 0 ? kFixed : runtime;
+}
+
+/// Tile (v, x) −= Y L(x, u)ᵀ: Y is sv × su, L(x, u) sx × su, the tile transposed in w.
+template <int SV, int SU, int SX>
+inline void scatterUpdate(const double* y, const double* lx, double* w, int sv_rt, int su_rt,
+                          int sx_rt) {
+  const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt), sx = sizeOf<SX>(sx_rt);
+  for (int r = 0; r < sv; ++r) {
+    for (int c = 0; c < sx; ++c) {
+      double x = 0.0;
+      for (int k = 0; k < su; ++k) x += y[r * su + k] * lx[c * su + k];
+      w[c * sv + r] -= x;
+    }
+  }
+}
+
+}  // namespace
+
+namespace {
+
+/// D⁻¹ (row-major, full) from D's lower half, s × s: D = L P Lᵀ with L unit lower triangular
+/// and P diagonal, so D⁻¹ = Mᵀ P⁻¹ M with M = L⁻¹. No square roots, one division per pivot.
+/// False when a pivot is not positive (D not positive definite).
+template <int S>
+bool invertSpd(const double* d, double* out, int s_rt, double min_pivot) {
+  constexpr int kMax = BlockLdlt::kMaxNodeSize;
+  const int s = sizeOf<S>(s_rt);
+  double l[kMax * kMax], p[kMax], inv_p[kMax];
+  for (int i = 0; i < s; ++i) {
+    for (int j = 0; j < i; ++j) {
+      double x = d[i * s + j];
+      for (int k = 0; k < j; ++k) x -= l[i * s + k] * l[j * s + k] * p[k];
+      l[i * s + j] = x * inv_p[j];
+    }
+    double pi = d[i * s + i];
+    for (int k = 0; k < i; ++k) pi -= l[i * s + k] * l[i * s + k] * p[k];
+    if (!(pi > min_pivot) || !std::isfinite(pi)) return false;
+    p[i] = pi;
+    inv_p[i] = 1.0 / pi;
+  }
+  double m[kMax * kMax];  // M = L⁻¹, unit lower
+  for (int j = 0; j < s; ++j) {
+    m[j * s + j] = 1.0;
+    for (int i = j + 1; i < s; ++i) {
+      double x = 0.0;
+      for (int k = j; k < i; ++k) x -= l[i * s + k] * m[k * s + j];
+      m[i * s + j] = x;
+    }
+  }
+  for (int i = 0; i < s; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double x = 0.0;
+      for (int k = i; k < s; ++k) x += m[k * s + i] * m[k * s + j] * inv_p[k];
+      out[i * s + j] = out[j * s + i] = x;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+bool BlockLdlt::invertDiagonal(int v, double* d) {
+  const int s = size_[v];
+  double* out = dvals_.data() + dinv_[v];
+  switch (s) {
+    case 1:
+      return invertSpd<1>(d, out, s, kMinPivot);
+    case 3:
+      return invertSpd<3>(d, out, s, kMinPivot);
+    case 4:
+      return invertSpd<4>(d, out, s, kMinPivot);
+    default:
+      return invertSpd<0>(d, out, s, kMinPivot);
+  }
+}
+
+template <int SV, int SU>
+void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
+  const int sv = sizeOf<SV>(size_[v]), su = sizeOf<SU>(size_[u]);
+  // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · sv.
+  double* w = work_.data();
+  // Y = Y(v, u) = L(v, u) D(u), taken out of the workspace (which is left zero).
+  double y[kMaxNodeSize * kMaxNodeSize];
+  double* wu = w + offset_[u] * sv;
+  for (int r = 0; r < sv; ++r) {
+    for (int c = 0; c < su; ++c) y[r * su + c] = wu[c * sv + r];
+  }
+  std::fill(wu, wu + su * sv, 0.0);
+  // L(v, u) = Y D(u)⁻¹.
+  double* l = lvals_.data() + entry_val_[pos];
+  const double* di = dvals_.data() + dinv_[u];
+  for (int r = 0; r < sv; ++r) {
+    for (int c = 0; c < su; ++c) {
+      double x = 0.0;
+      for (int k = 0; k < su; ++k) x += y[r * su + k] * di[k * su + c];
+      l[r * su + c] = x;
+    }
+  }
+  // Y(v, x) −= Y L(x, u)ᵀ for the rows x of column u above v: all in v's pattern, right of u.
+  for (int e = col_start_[u]; e < pos; ++e) {
+    const int rx = entry_row_[e], sx = size_[rx];
+    const double* lx = lvals_.data() + entry_val_[e];
+    double* wx = w + offset_[rx] * sv;
+    if (sx == SV) {
+      scatterUpdate<SV, SU, SV>(y, lx, wx, sv, su, sx);
+    } else if (sx == 1) {
+      scatterUpdate<SV, SU, 1>(y, lx, wx, sv, su, sx);
+    } else {
+      scatterUpdate<SV, SU, 0>(y, lx, wx, sv, su, sx);
+    }
+  }
+  // D(v) −= Y L(v, u)ᵀ (lower half; invertDiagonal() reads only that).
+  for (int i = 0; i < sv; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      double x = 0.0;
+      for (int k = 0; k < su; ++k) x += y[i * su + k] * l[j * su + k];
+      d[i * sv + j] -= x;
+    }
+  }
+}
+
+bool BlockLdlt::factorize(const double* a, double lambda) {
+  double* w = work_.data();
+  for (int v = 0; v < n_; ++v) {
+    const int sv = size_[v];
+    for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
+      const int k = nz_[q];
+      const int u = lower_[k], su = size_[u];
+      const double* t = a + tile_[k];
+      double* wu = w + offset_[u] * sv;
+      for (int r = 0; r < sv; ++r) {
+        for (int c = 0; c < su; ++c) wu[c * sv + r] = t[r * su + c];
+      }
+    }
+    double d[kMaxNodeSize * kMaxNodeSize];
+    const double* av = a + diag_[v];
+    for (int i = 0; i < sv; ++i) {
+      for (int j = 0; j <= i; ++j) d[i * sv + j] = av[i * sv + j];
+      d[i * sv + i] += lambda;
+    }
+    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+      const int u = pattern_[k], su = size_[u], pos = entry_pos_[k];
+      if (sv == 4 && su == 4) {
+        eliminate<4, 4>(v, u, pos, d);
+      } else if (sv == 3 && su == 3) {
+        eliminate<3, 3>(v, u, pos, d);
+      } else if (sv == 1 && su == 1) {
+        eliminate<1, 1>(v, u, pos, d);
+      } else {
+        eliminate<0, 0>(v, u, pos, d);
+      }
+    }
+    // Every pattern node took its workspace entries out: the workspace is zero again.
+    if (!invertDiagonal(v, d)) return false;
+  }
+  return true;
+}
+
+void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+  *x = b;
+  double* z = x->data();
+  for (int v = 0; v < n_; ++v) {
+    const int sv = size_[v];
+    double* zv = z + offset_[v];
+    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+      const int u = pattern_[k], su = size_[u];
+      const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
+      const double* zu = z + offset_[u];
+      for (int r = 0; r < sv; ++r) {
+        double s = 0.0;
+        for (int c = 0; c < su; ++c) s += l[r * su + c] * zu[c];
+        zv[r] -= s;
+      }
+    }
+  }
+  for (int v = 0; v < n_; ++v) {
+    const int sv = size_[v];
+    double* zv = z + offset_[v];
+    const double* di = dvals_.data() + dinv_[v];
+    double t[kMaxNodeSize];
+    for (int r = 0; r < sv; ++r) {
+      double s = 0.0;
+      for (int c = 0; c < sv; ++c) s += di[r * sv + c] * zv[c];
+      t[r] = s;
+    }
+    std::copy(t, t + sv, zv);
+  }
+  for (int v = n_ - 1; v >= 0; --v) {
+    const int sv = size_[v];
+    const double* zv = z + offset_[v];
+    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+      const int u = pattern_[k], su = size_[u];
+      const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
+      double* zu = z + offset_[u];
+      for (int c = 0; c < su; ++c) {
+        double s = 0.0;
+        for (int r = 0; r < sv; ++r) s += l[r * su + c] * zv[r];
+        zu[c] -= s;
+      }
+    }
+  }
+}
+
+}  // namespace coopnav

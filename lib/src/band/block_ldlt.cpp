@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+
+/// The kernels' loops run over a node's few unknowns, fixed at compile time where the sizes are
+/// template arguments: unrolled, their indices are constants (-O2 does not unroll them itself).
+#define COOPNAV_UNROLL _Pragma("GCC unroll 6")
 
 namespace coopnav {
 
@@ -60,7 +65,15 @@ int BlockLdlt::tile(int v, int u) const {
   return it != last && *it == u ? tile_[it - lower_.begin()] : -1;
 }
 
-void BlockLdlt::clear(double* a) const { std::fill(a, a + storage_, 0.0); }
+void BlockLdlt::clear(double* a) const {
+  for (int v = 0; v < n_; ++v) std::fill(a + diag_[v], a + diag_[v] + size_[v] * size_[v], 0.0);
+  for (int v = 0; v < n_; ++v) {
+    for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
+      const int k = nz_[q];
+      std::fill(a + tile_[k], a + tile_[k] + size_[v] * size_[lower_[k]], 0.0);
+    }
+  }
+}
 
 void BlockLdlt::analyze(const double* a) {
   nz_.clear();
@@ -131,11 +144,13 @@ void BlockLdlt::analyze(const double* a) {
 
 namespace {
 
-/// Sizes known at compile time (a band problem's nodes have 1 or 3 unknowns), or 0: taken from
-/// the run-time argument. The kernels are the same loops either way; fixed sizes unroll them.
+/// Sizes known at compile time (a band problem's nodes have 4 or 1 unknowns), or 0: taken from
+/// the run-time argument (never above kMaxNodeSize: setStructure() checks, and the bound lets
+/// the compiler see the scratch arrays are large enough). The kernels are the same loops either
+/// way; fixed sizes unroll them.
 template <int kFixed>
 inline int sizeOf(int runtime) {
-  return kFixed > 0 ? kFixed : runtime;
+  return kFixed > 0 ? kFixed : std::min(runtime, BlockLdlt::kMaxNodeSize);
 }
 
 /// Tile (v, x) −= Y L(x, u)ᵀ: Y is sv × su, L(x, u) sx × su, the tile transposed in w.
@@ -143,9 +158,12 @@ template <int SV, int SU, int SX>
 inline void scatterUpdate(const double* y, const double* lx, double* w, int sv_rt, int su_rt,
                           int sx_rt) {
   const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt), sx = sizeOf<SX>(sx_rt);
+  COOPNAV_UNROLL
   for (int r = 0; r < sv; ++r) {
+    COOPNAV_UNROLL
     for (int c = 0; c < sx; ++c) {
       double x = 0.0;
+      COOPNAV_UNROLL
       for (int k = 0; k < su; ++k) x += y[r * su + k] * lx[c * su + k];
       w[c * sv + r] -= x;
     }
@@ -163,36 +181,93 @@ template <int S>
 bool invertSpd(const double* d, double* out, int s_rt, double min_pivot) {
   constexpr int kMax = BlockLdlt::kMaxNodeSize;
   const int s = sizeOf<S>(s_rt);
-  double l[kMax * kMax], p[kMax], inv_p[kMax];
+  double l[kMax * kMax], p[kMax] = {}, inv_p[kMax] = {};
+  COOPNAV_UNROLL
   for (int i = 0; i < s; ++i) {
+    COOPNAV_UNROLL
     for (int j = 0; j < i; ++j) {
       double x = d[i * s + j];
+      COOPNAV_UNROLL
       for (int k = 0; k < j; ++k) x -= l[i * s + k] * l[j * s + k] * p[k];
       l[i * s + j] = x * inv_p[j];
     }
     double pi = d[i * s + i];
+    COOPNAV_UNROLL
     for (int k = 0; k < i; ++k) pi -= l[i * s + k] * l[i * s + k] * p[k];
     if (!(pi > min_pivot) || !std::isfinite(pi)) return false;
     p[i] = pi;
     inv_p[i] = 1.0 / pi;
   }
   double m[kMax * kMax];  // M = L⁻¹, unit lower
+  COOPNAV_UNROLL
   for (int j = 0; j < s; ++j) {
     m[j * s + j] = 1.0;
+    COOPNAV_UNROLL
     for (int i = j + 1; i < s; ++i) {
       double x = 0.0;
+      COOPNAV_UNROLL
       for (int k = j; k < i; ++k) x -= l[i * s + k] * m[k * s + j];
       m[i * s + j] = x;
     }
   }
+  COOPNAV_UNROLL
   for (int i = 0; i < s; ++i) {
+    COOPNAV_UNROLL
     for (int j = 0; j <= i; ++j) {
       double x = 0.0;
+      COOPNAV_UNROLL
       for (int k = i; k < s; ++k) x += m[k * s + i] * m[k * s + j] * inv_p[k];
       out[i * s + j] = out[j * s + i] = x;
     }
   }
   return true;
+}
+
+/// Calls f(SV, SU) with the sizes as std::integral_constant: fixed for the band problem's nodes
+/// (4 = ΔT and pose, 1 = a lone ΔT), 0 (run time) for any other.
+template <typename F>
+inline void withSizes(int sv, int su, F&& f) {
+  using K4 = std::integral_constant<int, 4>;
+  using K1 = std::integral_constant<int, 1>;
+  using K0 = std::integral_constant<int, 0>;
+  if (sv == 4 && su == 4) {
+    f(K4{}, K4{});
+  } else if (sv == 4 && su == 1) {
+    f(K4{}, K1{});
+  } else if (sv == 1 && su == 4) {
+    f(K1{}, K4{});
+  } else if (sv == 1 && su == 1) {
+    f(K1{}, K1{});
+  } else {
+    f(K0{}, K0{});
+  }
+}
+
+/// zv −= L zu (L: sv × su).
+template <int SV, int SU>
+inline void subtractProduct(const double* l, const double* zu, double* zv, int sv_rt, int su_rt) {
+  const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt);
+  COOPNAV_UNROLL
+  for (int r = 0; r < sv; ++r) {
+    double x = 0.0;
+    COOPNAV_UNROLL
+    for (int c = 0; c < su; ++c) x += l[r * su + c] * zu[c];
+    zv[r] -= x;
+  }
+}
+
+/// zu −= Lᵀ zv (L: sv × su).
+template <int SV, int SU>
+inline void subtractTransposedProduct(const double* l, const double* zv, double* zu, int sv_rt,
+                                      int su_rt) {
+  const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt);
+  COOPNAV_UNROLL
+  for (int c = 0; c < su; ++c) {
+    double x = 0.0;
+    COOPNAV_UNROLL
+    for (int r = 0; r < sv; ++r) x += l[r * su + c] * zv[r];
+    zu[c] -= x;
+  }
 }
 
 }  // namespace
@@ -220,16 +295,21 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   // Y = Y(v, u) = L(v, u) D(u), taken out of the workspace (which is left zero).
   double y[kMaxNodeSize * kMaxNodeSize];
   double* wu = w + offset_[u] * sv;
+  COOPNAV_UNROLL
   for (int r = 0; r < sv; ++r) {
+    COOPNAV_UNROLL
     for (int c = 0; c < su; ++c) y[r * su + c] = wu[c * sv + r];
   }
   std::fill(wu, wu + su * sv, 0.0);
   // L(v, u) = Y D(u)⁻¹.
   double* l = lvals_.data() + entry_val_[pos];
   const double* di = dvals_.data() + dinv_[u];
+  COOPNAV_UNROLL
   for (int r = 0; r < sv; ++r) {
+    COOPNAV_UNROLL
     for (int c = 0; c < su; ++c) {
       double x = 0.0;
+      COOPNAV_UNROLL
       for (int k = 0; k < su; ++k) x += y[r * su + k] * di[k * su + c];
       l[r * su + c] = x;
     }
@@ -248,9 +328,12 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
     }
   }
   // D(v) −= Y L(v, u)ᵀ (lower half; invertDiagonal() reads only that).
+  COOPNAV_UNROLL
   for (int i = 0; i < sv; ++i) {
+    COOPNAV_UNROLL
     for (int j = 0; j <= i; ++j) {
       double x = 0.0;
+      COOPNAV_UNROLL
       for (int k = 0; k < su; ++k) x += y[i * su + k] * l[j * su + k];
       d[i * sv + j] -= x;
     }
@@ -278,15 +361,9 @@ bool BlockLdlt::factorize(const double* a, double lambda) {
     }
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
       const int u = pattern_[k], su = size_[u], pos = entry_pos_[k];
-      if (sv == 4 && su == 4) {
-        eliminate<4, 4>(v, u, pos, d);
-      } else if (sv == 3 && su == 3) {
-        eliminate<3, 3>(v, u, pos, d);
-      } else if (sv == 1 && su == 1) {
-        eliminate<1, 1>(v, u, pos, d);
-      } else {
-        eliminate<0, 0>(v, u, pos, d);
-      }
+      withSizes(sv, su, [&](auto kv, auto ku) {
+        eliminate<decltype(kv)::value, decltype(ku)::value>(v, u, pos, d);
+      });
     }
     // Every pattern node took its workspace entries out: the workspace is zero again.
     if (!invertDiagonal(v, d)) return false;
@@ -303,12 +380,9 @@ void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
       const int u = pattern_[k], su = size_[u];
       const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
-      const double* zu = z + offset_[u];
-      for (int r = 0; r < sv; ++r) {
-        double s = 0.0;
-        for (int c = 0; c < su; ++c) s += l[r * su + c] * zu[c];
-        zv[r] -= s;
-      }
+      withSizes(sv, su, [&](auto kv, auto ku) {
+        subtractProduct<decltype(kv)::value, decltype(ku)::value>(l, z + offset_[u], zv, sv, su);
+      });
     }
   }
   for (int v = 0; v < n_; ++v) {
@@ -329,12 +403,10 @@ void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
       const int u = pattern_[k], su = size_[u];
       const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
-      double* zu = z + offset_[u];
-      for (int c = 0; c < su; ++c) {
-        double s = 0.0;
-        for (int r = 0; r < sv; ++r) s += l[r * su + c] * zv[r];
-        zu[c] -= s;
-      }
+      withSizes(sv, su, [&](auto kv, auto ku) {
+        subtractTransposedProduct<decltype(kv)::value, decltype(ku)::value>(l, zv, z + offset_[u],
+                                                                            sv, su);
+      });
     }
   }
 }

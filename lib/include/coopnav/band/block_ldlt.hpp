@@ -36,7 +36,8 @@ class BlockLdlt {
   int offset(int v) const { return offset_[v]; }
   int unknowns() const { return offset_.empty() ? 0 : offset_.back(); }
 
-  /// A = 0 (all tiles).
+  /// A = 0 for its next assembly, given that the last analyze() saw A as it is: only the tiles
+  /// it found not zero and the diagonal are cleared (the rest are zero already).
   void clear(double* a) const;
 
   /// The pattern of A's values for the factorize() calls on this A: the tiles not all zero,

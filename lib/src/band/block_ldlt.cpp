@@ -153,19 +153,19 @@ inline int sizeOf(int runtime) {
   return kFixed > 0 ? kFixed : std::min(runtime, BlockLdlt::kMaxNodeSize);
 }
 
-/// Tile (v, x) −= Y L(x, u)ᵀ: Y is sv × su, L(x, u) sx × su, the tile transposed in w.
+/// Tile (v, x) −= Y L(x, u)ᵀ, with Yᵀ (su × sv), L(x, u) (sx × su) and the tile transposed in
+/// w: every inner loop runs over contiguous entries of v's rows.
 template <int SV, int SU, int SX>
-inline void scatterUpdate(const double* y, const double* lx, double* w, int sv_rt, int su_rt,
-                          int sx_rt) {
+inline void scatterUpdate(const double* __restrict yt, const double* __restrict lx,
+                          double* __restrict w, int sv_rt, int su_rt, int sx_rt) {
   const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt), sx = sizeOf<SX>(sx_rt);
   COOPNAV_UNROLL
-  for (int r = 0; r < sv; ++r) {
+  for (int c = 0; c < sx; ++c) {
     COOPNAV_UNROLL
-    for (int c = 0; c < sx; ++c) {
-      double x = 0.0;
+    for (int k = 0; k < su; ++k) {
+      const double f = lx[c * su + k];
       COOPNAV_UNROLL
-      for (int k = 0; k < su; ++k) x += y[r * su + k] * lx[c * su + k];
-      w[c * sv + r] -= x;
+      for (int r = 0; r < sv; ++r) w[c * sv + r] -= yt[k * sv + r] * f;
     }
   }
 }
@@ -290,29 +290,26 @@ bool BlockLdlt::invertDiagonal(int v, double* d) {
 template <int SV, int SU>
 void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   const int sv = sizeOf<SV>(size_[v]), su = sizeOf<SU>(size_[u]);
-  // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · sv.
+  // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · sv; so Yᵀ.
   double* w = work_.data();
-  // Y = Y(v, u) = L(v, u) D(u), taken out of the workspace (which is left zero).
-  double y[kMaxNodeSize * kMaxNodeSize];
+  // Yᵀ = (L(v, u) D(u))ᵀ, taken out of the workspace (which is left zero).
+  double yt[kMaxNodeSize * kMaxNodeSize];
   double* wu = w + offset_[u] * sv;
-  COOPNAV_UNROLL
-  for (int r = 0; r < sv; ++r) {
-    COOPNAV_UNROLL
-    for (int c = 0; c < su; ++c) y[r * su + c] = wu[c * sv + r];
-  }
+  std::copy(wu, wu + su * sv, yt);
   std::fill(wu, wu + su * sv, 0.0);
-  // L(v, u) = Y D(u)⁻¹.
-  double* l = lvals_.data() + entry_val_[pos];
-  const double* di = dvals_.data() + dinv_[u];
+  // L(v, u) = Y D(u)⁻¹, row r = Σ_k Y(r, k) D⁻¹(k, ·).
+  double* __restrict l = lvals_.data() + entry_val_[pos];
+  const double* __restrict di = dvals_.data() + dinv_[u];
   COOPNAV_UNROLL
   for (int r = 0; r < sv; ++r) {
+    double row[kMaxNodeSize] = {};
     COOPNAV_UNROLL
-    for (int c = 0; c < su; ++c) {
-      double x = 0.0;
+    for (int k = 0; k < su; ++k) {
+      const double f = yt[k * sv + r];
       COOPNAV_UNROLL
-      for (int k = 0; k < su; ++k) x += y[r * su + k] * di[k * su + c];
-      l[r * su + c] = x;
+      for (int c = 0; c < su; ++c) row[c] += f * di[k * su + c];
     }
+    std::copy(row, row + su, l + r * su);
   }
   // Y(v, x) −= Y L(x, u)ᵀ for the rows x of column u above v: all in v's pattern, right of u.
   for (int e = col_start_[u]; e < pos; ++e) {
@@ -320,22 +317,21 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
     const double* lx = lvals_.data() + entry_val_[e];
     double* wx = w + offset_[rx] * sv;
     if (sx == SV) {
-      scatterUpdate<SV, SU, SV>(y, lx, wx, sv, su, sx);
+      scatterUpdate<SV, SU, SV>(yt, lx, wx, sv, su, sx);
     } else if (sx == 1) {
-      scatterUpdate<SV, SU, 1>(y, lx, wx, sv, su, sx);
+      scatterUpdate<SV, SU, 1>(yt, lx, wx, sv, su, sx);
     } else {
-      scatterUpdate<SV, SU, 0>(y, lx, wx, sv, su, sx);
+      scatterUpdate<SV, SU, 0>(yt, lx, wx, sv, su, sx);
     }
   }
-  // D(v) −= Y L(v, u)ᵀ (lower half; invertDiagonal() reads only that).
+  // D(v) −= L(v, u) Y(v, u)ᵀ, whole (symmetric; invertDiagonal() reads the lower half).
   COOPNAV_UNROLL
   for (int i = 0; i < sv; ++i) {
     COOPNAV_UNROLL
-    for (int j = 0; j <= i; ++j) {
-      double x = 0.0;
+    for (int k = 0; k < su; ++k) {
+      const double f = l[i * su + k];
       COOPNAV_UNROLL
-      for (int k = 0; k < su; ++k) x += y[i * su + k] * l[j * su + k];
-      d[i * sv + j] -= x;
+      for (int j = 0; j < sv; ++j) d[i * sv + j] -= f * yt[k * sv + j];
     }
   }
 }
@@ -356,7 +352,7 @@ bool BlockLdlt::factorize(const double* a, double lambda) {
     double d[kMaxNodeSize * kMaxNodeSize];
     const double* av = a + diag_[v];
     for (int i = 0; i < sv; ++i) {
-      for (int j = 0; j <= i; ++j) d[i * sv + j] = av[i * sv + j];
+      for (int j = 0; j <= i; ++j) d[i * sv + j] = d[j * sv + i] = av[i * sv + j];
       d[i * sv + i] += lambda;
     }
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "coopnav/band/block_ldlt.hpp"
 
@@ -472,6 +473,9 @@ SparseLm::~SparseLm() = default;
 
 void SparseLm::addParameterBlock(double* values, int size, bool constant) {
   if (values == nullptr) throw std::logic_error("parameter block without storage");
+  if (size < 1 || size > BlockLdlt::kMaxNodeSize)
+    throw std::logic_error("parameter block size out of 1.." +
+                           std::to_string(BlockLdlt::kMaxNodeSize));
   if (impl_->param_index.find(values) >= 0) throw std::logic_error("parameter block added twice");
   impl_->param_index.insert(values, static_cast<int>(impl_->params.size()));
   impl_->params.push_back({values, size, constant ? -1 : 0, -1, 0});

@@ -217,6 +217,9 @@ TEST(SparseLmTest, RejectsMisuse) {
   EXPECT_THROW(lm.addParameterBlock(&x, 1, false), std::logic_error);
   EXPECT_THROW(lm.addResidualBlock(&f, {&x, &z}), std::logic_error);  // z undeclared
   EXPECT_THROW(lm.addResidualBlock(&f, {&x}), std::logic_error);      // wrong count
+  EXPECT_THROW(lm.addResidualBlock(&f, {&x, &x}), std::logic_error);  // x twice
+  std::array<double, 7> big{};
+  EXPECT_THROW(lm.addParameterBlock(big.data(), 7, false), std::logic_error);  // over 6
   lm.addParameterBlock(&y, 1, true);
   lm.addResidualBlock(&f, {&x, &y});
   SparseLm::Options o;

@@ -67,8 +67,9 @@ class SparseLm {
   SparseLm(const SparseLm&) = delete;
   SparseLm& operator=(const SparseLm&) = delete;
 
-  /// Declares a parameter block (its storage is optimised in place). Constant blocks enter the
-  /// residuals but are not unknowns. Must precede the residual blocks that use it.
+  /// Declares a parameter block of 1..6 values (its storage is optimised in place; the
+  /// factorisation's nodes are at most 6 unknowns). Constant blocks enter the residuals but are
+  /// not unknowns. Must precede the residual blocks that use it.
   void addParameterBlock(double* values, int size, bool constant);
 
   /// Adds a residual block over declared parameter blocks; `cost` is not owned and must outlive

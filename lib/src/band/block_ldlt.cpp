@@ -170,10 +170,6 @@ inline void scatterUpdate(const double* __restrict yt, const double* __restrict 
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// D⁻¹ (row-major, full) from D's lower half, s × s: D = L P Lᵀ with L unit lower triangular
 /// and P diagonal, so D⁻¹ = Mᵀ P⁻¹ M with M = L⁻¹. No square roots, one division per pivot.
 /// False when a pivot is not positive (D not positive definite).
@@ -278,8 +274,6 @@ bool BlockLdlt::invertDiagonal(int v, double* d) {
   switch (s) {
     case 1:
       return invertSpd<1>(d, out, s, kMinPivot);
-    case 3:
-      return invertSpd<3>(d, out, s, kMinPivot);
     case 4:
       return invertSpd<4>(d, out, s, kMinPivot);
     default:
@@ -316,8 +310,8 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
     const int rx = entry_row_[e], sx = size_[rx];
     const double* lx = lvals_.data() + entry_val_[e];
     double* wx = w + offset_[rx] * sv;
-    if (sx == SV) {
-      scatterUpdate<SV, SU, SV>(yt, lx, wx, sv, su, sx);
+    if (sx == 4) {
+      scatterUpdate<SV, SU, 4>(yt, lx, wx, sv, su, sx);
     } else if (sx == 1) {
       scatterUpdate<SV, SU, 1>(yt, lx, wx, sv, su, sx);
     } else {

@@ -89,15 +89,16 @@ struct SparseLm::Impl {
     int node;     ///< node of the factorisation (elimination order); -1 for a constant block
     int in_node;  ///< its first unknown's place in the node
   };
-  /// Unknowns per node at most (BlockLdlt's kernels are fixed for 4, 3 and 1).
+  /// Unknowns per node at most (BlockLdlt's kernels are fixed for 4 and 1).
   static constexpr int kNodeSize = 4;
+  static_assert(kNodeSize <= BlockLdlt::kMaxNodeSize);
   struct Block {
     const ceres::CostFunction* cost;
     std::size_t first_param;  ///< into block_params
     int num_params;
     int num_residuals;
     int jacobian_size;  ///< entries of its Jacobians w.r.t. the unknowns
-    int first_tile;     ///< into pair_tiles: its JᵀJ tiles in forEachPair() order
+    int first_tile;     ///< into pair_tiles: its JᵀJ tiles (2 ints each) in forEachPair() order
   };
 
   std::vector<Param> params;

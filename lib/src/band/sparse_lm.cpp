@@ -5,6 +5,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
@@ -193,21 +194,32 @@ struct SparseLm::Impl {
       group_of[v] = static_cast<int>(group_first.size()) - 1;
     }
     group_first.push_back(nvar);
-    // Edges of every block's pairs of nodes, counted, placed, then deduplicated and sorted
-    // per node: the same sorted neighbour lists as a set per node. A pair comes from every block
-    // that holds both (consecutive poses share several), so repeats are dropped before sorting.
+    // Each block's distinct nodes (a band term's 1-6 parameter blocks fall in 1-4 nodes), then
+    // the edges between them, counted, placed, deduplicated and sorted per node: the same sorted
+    // neighbour lists as a set per node. A pair comes from every block that holds both
+    // (consecutive poses share several), so repeats are dropped before sorting.
     const int nv = static_cast<int>(group_size.size());
+    std::vector<int> block_nodes, block_start(blocks.size() + 1, 0);
+    block_nodes.reserve(block_params.size());
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      const Block& blk = blocks[b];
+      const auto first = static_cast<std::ptrdiff_t>(block_nodes.size());
+      for (int i = 0; i < blk.num_params; ++i) {
+        const int pv = var_of[block_params[blk.first_param + i]];
+        if (pv < 0) continue;
+        const int g = group_of[pv];
+        if (std::find(block_nodes.begin() + first, block_nodes.end(), g) == block_nodes.end())
+          block_nodes.push_back(g);
+      }
+      block_start[b + 1] = static_cast<int>(block_nodes.size());
+    }
     Graph adj;
     adj.start.assign(nv + 1, 0);
     auto forEachPair = [&](auto&& f) {
-      for (const Block& blk : blocks) {
-        for (int i = 0; i < blk.num_params; ++i) {
-          const int pi = var_of[block_params[blk.first_param + i]];
-          if (pi < 0) continue;
-          const int vi = group_of[pi];
-          for (int j = 0; j < blk.num_params; ++j) {
-            const int pj = var_of[block_params[blk.first_param + j]];
-            if (pj >= 0 && vi != group_of[pj]) f(vi, group_of[pj]);
+      for (std::size_t b = 0; b < blocks.size(); ++b) {
+        for (int i = block_start[b]; i < block_start[b + 1]; ++i) {
+          for (int j = block_start[b]; j < block_start[b + 1]; ++j) {
+            if (i != j) f(block_nodes[i], block_nodes[j]);
           }
         }
       }

@@ -398,9 +398,42 @@ struct SparseLm::Impl {
         gradient[p.offset + a] += dotFixed<kM>(c, r);
       }
     }
-    forEachEntry(blk, [&](int i, int j, int a, int b, double* entry) {
-      *entry += dotFixed<kM>(cols + kM * (col_base[i] + a), cols + kM * (col_base[j] + b));
+    // forEachEntry()'s entries and sums, with the tile's loops fixed at the band's parameter
+    // sizes (3 and 1) so that they unroll.
+    const int* tiles = pair_tiles.data() + blk.first_tile;
+    double* h = hessian.data();
+    forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+      double* t = h + tiles[0];
+      const int stride = tiles[1];
+      tiles += 2;
+      const double* ci = cols + kM * col_base[i];
+      const double* cj = cols + kM * col_base[j];
+      if (i == j) {
+        if (p.size == 3) return addTile<kM, 3, 3, true>(ci, cj, t, stride, 3, 3);
+        if (p.size == 1) return addTile<kM, 1, 1, true>(ci, cj, t, stride, 1, 1);
+        return addTile<kM, 0, 0, true>(ci, cj, t, stride, p.size, q.size);
+      }
+      if (p.size == 3 && q.size == 3) return addTile<kM, 3, 3, false>(ci, cj, t, stride, 3, 3);
+      if (p.size == 3 && q.size == 1) return addTile<kM, 3, 1, false>(ci, cj, t, stride, 3, 1);
+      if (p.size == 1 && q.size == 3) return addTile<kM, 1, 3, false>(ci, cj, t, stride, 1, 3);
+      if (p.size == 1 && q.size == 1) return addTile<kM, 1, 1, false>(ci, cj, t, stride, 1, 1);
+      return addTile<kM, 0, 0, false>(ci, cj, t, stride, p.size, q.size);
     });
+  }
+
+  /// t[b · stride + a] += column a of p · column b of q (kM entries each), over b >= a on the
+  /// diagonal tile: forEachEntry()'s entries in its order. kP, kQ: the sizes if fixed, else 0.
+  template <int kM, int kP, int kQ, bool kDiagonal>
+  static void addTile(const double* cp, const double* cq, double* t, int stride, int p_size,
+                      int q_size) {
+    const int np = kP > 0 ? kP : p_size, nq = kQ > 0 ? kQ : q_size;
+#pragma GCC unroll 3
+    for (int a = 0; a < np; ++a) {
+#pragma GCC unroll 3
+      for (int b = kDiagonal ? a : 0; b < nq; ++b) {
+        t[b * stride + a] += dotFixed<kM>(cp + kM * a, cq + kM * b);
+      }
+    }
   }
 
   /// accumulateFixed<m>() for the block's residual count m in 1..kPad; false otherwise.

@@ -239,6 +239,17 @@ inline void withSizes(int sv, int su, F&& f) {
   }
 }
 
+/// w(c, r) = t(r, c), t: sv × su.
+template <int SV, int SU>
+inline void placeTransposed(const double* t, double* w, int sv_rt, int su_rt) {
+  const int sv = sizeOf<SV>(sv_rt), su = sizeOf<SU>(su_rt);
+  COOPNAV_UNROLL
+  for (int r = 0; r < sv; ++r) {
+    COOPNAV_UNROLL
+    for (int c = 0; c < su; ++c) w[c * sv + r] = t[r * su + c];
+  }
+}
+
 /// zv −= L zu (L: sv × su).
 template <int SV, int SU>
 inline void subtractProduct(const double* l, const double* zu, double* zv, int sv_rt, int su_rt) {
@@ -339,9 +350,9 @@ bool BlockLdlt::factorize(const double* a, double lambda) {
       const int u = lower_[k], su = size_[u];
       const double* t = a + tile_[k];
       double* wu = w + offset_[u] * sv;
-      for (int r = 0; r < sv; ++r) {
-        for (int c = 0; c < su; ++c) wu[c * sv + r] = t[r * su + c];
-      }
+      withSizes(sv, su, [&](auto kv, auto ku) {
+        placeTransposed<decltype(kv)::value, decltype(ku)::value>(t, wu, sv, su);
+      });
     }
     double d[kMaxNodeSize * kMaxNodeSize];
     const double* av = a + diag_[v];

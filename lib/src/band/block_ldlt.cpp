@@ -46,6 +46,7 @@ void BlockLdlt::setStructure(std::vector<int> sizes, std::vector<int> start,
   col_count_.assign(n_, 0);
   pattern_.clear();
   entry_pos_.clear();
+  row_val_.clear();
   entry_row_.clear();
   entry_val_.clear();
   dinv_.assign(n_, 0);
@@ -139,6 +140,8 @@ void BlockLdlt::analyze(const double* a) {
       vals += size_[entry_row_[pos]] * size_[u];
     }
   }
+  row_val_.resize(m);
+  for (std::size_t k = 0; k < m; ++k) row_val_[k] = entry_val_[entry_pos_[k]];
   lvals_.resize(vals);
 }
 
@@ -248,6 +251,21 @@ inline void placeTransposed(const double* t, double* w, int sv_rt, int su_rt) {
     COOPNAV_UNROLL
     for (int c = 0; c < su; ++c) w[c * sv + r] = t[r * su + c];
   }
+}
+
+/// z = M z (M: s × s).
+template <int S>
+inline void multiplyInPlace(const double* m, double* z, int s_rt) {
+  const int s = sizeOf<S>(s_rt);
+  double t[BlockLdlt::kMaxNodeSize];
+  COOPNAV_UNROLL
+  for (int r = 0; r < s; ++r) {
+    double x = 0.0;
+    COOPNAV_UNROLL
+    for (int c = 0; c < s; ++c) x += m[r * s + c] * z[c];
+    t[r] = x;
+  }
+  std::copy(t, t + s, z);
 }
 
 /// zv −= L zu (L: sv × su).
@@ -380,7 +398,7 @@ void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
     double* zv = z + offset_[v];
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
       const int u = pattern_[k], su = size_[u];
-      const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
+      const double* l = lvals_.data() + row_val_[k];
       withSizes(sv, su, [&](auto kv, auto ku) {
         subtractProduct<decltype(kv)::value, decltype(ku)::value>(l, z + offset_[u], zv, sv, su);
       });
@@ -390,20 +408,14 @@ void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
     const int sv = size_[v];
     double* zv = z + offset_[v];
     const double* di = dvals_.data() + dinv_[v];
-    double t[kMaxNodeSize];
-    for (int r = 0; r < sv; ++r) {
-      double s = 0.0;
-      for (int c = 0; c < sv; ++c) s += di[r * sv + c] * zv[c];
-      t[r] = s;
-    }
-    std::copy(t, t + sv, zv);
+    withSizes(sv, sv, [&](auto kv, auto) { multiplyInPlace<decltype(kv)::value>(di, zv, sv); });
   }
   for (int v = n_ - 1; v >= 0; --v) {
     const int sv = size_[v];
     const double* zv = z + offset_[v];
     for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
       const int u = pattern_[k], su = size_[u];
-      const double* l = lvals_.data() + entry_val_[entry_pos_[k]];
+      const double* l = lvals_.data() + row_val_[k];
       withSizes(sv, su, [&](auto kv, auto ku) {
         subtractTransposedProduct<decltype(kv)::value, decltype(ku)::value>(l, zv, z + offset_[u],
                                                                             sv, su);

@@ -78,6 +78,7 @@ class BlockLdlt {
   // by column (column u at [col_start_[u], col_start_[u + 1]), rows ascending).
   std::vector<int> row_start_, pattern_;
   std::vector<int> entry_pos_;  ///< per row pattern entry: its place in the column storage
+  std::vector<int> row_val_;    ///< per row pattern entry: offset of its tile's values
   std::vector<int> col_start_, col_count_;
   std::vector<int> entry_row_;  ///< per place: row node
   std::vector<int> entry_val_;  ///< per place: offset of the tile's values in lvals_

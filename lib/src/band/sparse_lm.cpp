@@ -105,7 +105,8 @@ struct SparseLm::Impl {
   std::vector<Param> params;
   PointerIndex param_index;
   std::vector<Block> blocks;
-  std::vector<int> block_params;  ///< param indices of every block, flattened
+  std::vector<int> block_params;      ///< param indices of every block, flattened
+  std::vector<double*> block_values;  ///< their values, flattened alike (Evaluate()'s argument)
   int num_unknowns{0};
   bool structure_ready{false};
 
@@ -120,7 +121,6 @@ struct SparseLm::Impl {
   std::vector<double> residuals;
   std::vector<double> jacobian_storage;
   std::vector<double*> jacobians;
-  std::vector<const double*> param_ptrs;
   std::vector<double> columns;  ///< accumulateFixed(): up to kPad entries per Jacobian column
   /// Parameter blocks per residual block that accumulatePadded() handles on the stack.
   static constexpr int kMaxBlockParams = 16;
@@ -326,24 +326,24 @@ struct SparseLm::Impl {
     residuals.resize(max_res);
     jacobian_storage.resize(max_jac);
     jacobians.resize(max_params);
-    param_ptrs.resize(max_params);
     columns.assign(kPad * max_cols, 0.0);
     structure_ready = true;
   }
 
   double evaluateBlock(const Block& blk, bool with_jacobians) {
-    double* jac = jacobian_storage.data();
-    for (int i = 0; i < blk.num_params; ++i) {
-      const Param& p = params[block_params[blk.first_param + i]];
-      param_ptrs[i] = p.values;
-      if (with_jacobians && p.offset >= 0) {
-        jacobians[i] = jac;
-        jac += blk.num_residuals * p.size;
-      } else {
-        jacobians[i] = nullptr;
+    if (with_jacobians) {
+      double* jac = jacobian_storage.data();
+      for (int i = 0; i < blk.num_params; ++i) {
+        const Param& p = params[block_params[blk.first_param + i]];
+        if (p.offset >= 0) {
+          jacobians[i] = jac;
+          jac += blk.num_residuals * p.size;
+        } else {
+          jacobians[i] = nullptr;
+        }
       }
     }
-    if (!blk.cost->Evaluate(param_ptrs.data(), residuals.data(),
+    if (!blk.cost->Evaluate(block_values.data() + blk.first_param, residuals.data(),
                             with_jacobians ? jacobians.data() : nullptr)) {
       return std::numeric_limits<double>::infinity();
     }
@@ -548,6 +548,7 @@ std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost, double* 
     if (std::find(params, params + i, params[i]) != params + i)
       throw std::logic_error("residual block: a parameter block named twice");
     impl_->block_params.push_back(k);
+    impl_->block_values.push_back(impl_->params[k].values);
   }
   impl_->blocks.push_back(blk);
   impl_->structure_ready = false;

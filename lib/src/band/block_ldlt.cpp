@@ -88,7 +88,7 @@ void BlockLdlt::analyze(const double* a) {
       const int m = size_[v] * size_[lower_[k]];
       if (std::all_of(t, t + m, [](double x) { return x == 0.0; })) continue;
       nz_.push_back(k);
-      // The elimination tree, with path compression (Liu 1986; Davis 2006, §4.1).
+      // The elimination tree, with path compression (Liu 1986; Davis 2006, ch. 4).
       for (int x = lower_[k]; x != -1 && x < v;) {
         const int next = ancestor[x];
         ancestor[x] = v;
@@ -99,7 +99,7 @@ void BlockLdlt::analyze(const double* a) {
   }
   nz_start_[n_] = static_cast<int>(nz_.size());
   // L's pattern, row by row: every node on the tree path from a non-zero tile's column up to
-  // the row's node (Davis 2006, §4.3), ascending (a topological order of the tree: every update
+  // the row's node (Davis 2006, ch. 4), ascending (a topological order of the tree: every update
   // of a tile comes from a column left of it).
   std::fill(mark_.begin(), mark_.end(), -1);
   std::fill(col_count_.begin(), col_count_.end(), 0);

@@ -12,8 +12,8 @@
 namespace coopnav {
 
 /// A = L D Lᵀ with L unit block lower triangular and D block diagonal, node by node ("up-looking":
-/// row v of L from the rows above it, George & Liu 1981, ch. 5; Davis, "Direct methods for sparse
-/// linear systems", 2006, §4.8), on the elimination tree of the tiles of A that are not zero.
+/// row v of L from the rows above it; Davis, "Direct methods for sparse linear systems", 2006,
+/// ch. 4), on the elimination tree of the tiles of A that are not zero.
 /// Most of a band problem's terms are hinges inside their limits at any one step, with exactly
 /// zero Jacobians; their tiles stay zero and create no fill. Nodes are eliminated in the order
 /// given (a fill-reducing one: SparseLm orders by minimum degree).

@@ -6,7 +6,7 @@
 /// solvers see exactly the same residuals and Jacobians.
 ///
 /// Why it is faster than Ceres' SPARSE_NORMAL_CHOLESKY here (bench_band measures it): the
-/// structure of the normal equations is analysed ONCE per problem (Ceres re-derives the JᵀJ
+/// unknowns are grouped and ordered ONCE per problem (Ceres re-derives the JᵀJ
 /// product structure every iteration and goes through CHOLMOD's supernodal BLAS/OpenMP path,
 /// whose hand-offs cost more than this ~750-unknown factorisation); here every residual block
 /// writes its JᵀJ and Jᵀr contributions straight into their places in the factorisation's own
@@ -14,8 +14,8 @@
 /// minimum-degree order of their graph, and the factorisation is a block LDLᵀ on the pattern
 /// of the tiles that are not zero at that linearisation (block_ldlt.hpp): terms inside their
 /// limits add exact zeros and so no fill. It replaced (2026-12-03) a dense-row envelope LDLᵀ on
-/// Sloan's profile-reducing order: equal for one human, five humans 11 % faster at p50 and 27 %
-/// at p99 (bench_band, band_source README).
+/// Sloan's profile-reducing order: one human 12 % faster at p50 (13 % at p99), five humans 23 %
+/// (31 %), in the same bench_band run (band_source README).
 ///
 /// Damping is plain λI, as g2o does for TEB and CoHAN (Jacobi scaling barely damps the flat θ / y
 /// directions, notes §9), with Nielsen's λ update (Madsen, Nielsen & Tingleff, "Methods for

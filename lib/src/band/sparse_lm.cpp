@@ -130,15 +130,22 @@ struct SparseLm::Impl {
   /// (q's row b, p's column a) of forEachPair()'s pair (p, q).
   template <typename F>
   void forEachEntry(const Block& blk, F&& f) {
-    const int* tiles = pair_tiles.data() + blk.first_tile;
-    double* h = hessian.data();
-    forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
-      double* t = h + tiles[0];
-      const int stride = tiles[1];
-      tiles += 2;
+    forEachTile(blk, [&](int i, int j, const Param& p, const Param& q, double* t, int stride) {
       for (int a = 0; a < p.size; ++a) {
         for (int b = i == j ? a : 0; b < q.size; ++b) f(i, j, a, b, t + b * stride + a);
       }
+    });
+  }
+
+  /// forEachPair() with each pair's JᵀJ tile: f(i, j, p, q, t, stride), entry (q's b, p's a) at
+  /// t[b · stride + a] (pair_tiles, laid out by buildStructure()).
+  template <typename F>
+  void forEachTile(const Block& blk, F&& f) {
+    const int* tiles = pair_tiles.data() + blk.first_tile;
+    double* h = hessian.data();
+    forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
+      f(i, j, p, q, h + tiles[0], tiles[1]);
+      tiles += 2;
     });
   }
 
@@ -400,12 +407,7 @@ struct SparseLm::Impl {
     }
     // forEachEntry()'s entries and sums, with the tile's loops fixed at the band's parameter
     // sizes (3 and 1) so that they unroll.
-    const int* tiles = pair_tiles.data() + blk.first_tile;
-    double* h = hessian.data();
-    forEachPair(blk, [&](int i, int j, const Param& p, const Param& q) {
-      double* t = h + tiles[0];
-      const int stride = tiles[1];
-      tiles += 2;
+    forEachTile(blk, [&](int i, int j, const Param& p, const Param& q, double* t, int stride) {
       const double* ci = cols + kM * col_base[i];
       const double* cj = cols + kM * col_base[j];
       if (i == j) {

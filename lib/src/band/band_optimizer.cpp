@@ -374,8 +374,8 @@ class Backend {
 
 class SparseLmBackend final : public Backend {
  public:
-  SparseLmBackend(const ProblemBuilder& pb, double initial_damping_scale)
-      : initial_damping_scale_(initial_damping_scale) {
+  SparseLmBackend(const ProblemBuilder& pb, double initial_damping_scale, TwoLanes* lanes)
+      : initial_damping_scale_(initial_damping_scale), lanes_(lanes) {
     for (const auto& p : pb.params()) lm_.addParameterBlock(p.values, p.size, p.constant);
     for (const auto& r : pb.residuals())
       lm_.addResidualBlock(r.cost.get(), r.params.data(), r.num_params);
@@ -385,6 +385,7 @@ class SparseLmBackend final : public Backend {
     o.max_iterations = max_iterations;
     o.should_stop = out_of_time;
     o.initial_lambda_scale = initial_damping_scale_;
+    o.lanes = lanes_;
     const SparseLm::Summary s = lm_.solve(o);
     return {s.initial_cost, s.iterations, s.accepted, s.stopped};
   }
@@ -392,6 +393,7 @@ class SparseLmBackend final : public Backend {
 
  private:
   double initial_damping_scale_;
+  TwoLanes* lanes_;
   SparseLm lm_;
 };
 
@@ -458,9 +460,10 @@ class CeresBackend final : public Backend {
   ceres::Solver::Options opt_;
 };
 
-std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg) {
+std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg,
+                                     TwoLanes* lanes) {
   if (cfg.solver == "ceres") return std::make_unique<CeresBackend>(pb);
-  return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale);
+  return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale, lanes);
 }
 
 double evaluateTerms(const ProblemBuilder& pb, Backend& backend, std::vector<TermCost>* terms) {
@@ -519,7 +522,7 @@ std::vector<std::optional<TimedElasticBand::Locator>> pairByTime(const TimedElas
 
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
                             const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
-                            const std::function<double()>& clock_s) {
+                            const std::function<double()>& clock_s, TwoLanes* lanes) {
   OptimizeStats stats;
   if (agents.empty()) return stats;
   const int total_iter =
@@ -548,7 +551,7 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
   auto pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
   pb->build();
   if (pb->residuals().empty()) return stats;
-  auto backend = makeBackend(*pb, cfg);
+  auto backend = makeBackend(*pb, cfg, lanes);
 
   double multiplier = 1.0;
   // Each solve starts from λ₀ = 1 (Ceres' start) or, with cfg.initial_damping_scale, from the
@@ -572,7 +575,7 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
         backend.reset();
         pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
         pb->build();
-        backend = makeBackend(*pb, cfg);
+        backend = makeBackend(*pb, cfg, lanes);
         ++stats.rebuilds;
       } else {
         pb->refresh();

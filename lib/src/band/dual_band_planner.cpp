@@ -160,6 +160,8 @@ DualBandPlanner::DualBandPlanner(BandPlannerConfig config, std::shared_ptr<const
     o.clearance_weight = config_.global_clearance_weight;
     o.sample_spacing_m = 0.1;
     global_ = std::make_unique<GridPathPlanner>(map_, o);
+    if (config_.solver == "sparse_lm" && config_.solver_threads == 2)
+      lanes_ = std::make_unique<TwoLanes>();
   }
 }
 
@@ -482,8 +484,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     a.reference = &out.others[i].reference_path;
     agents.push_back(a);
   }
-  const OptimizeStats stats =
-      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
+  const OptimizeStats stats = optimizeBands(agents, *map_, cfg, req.max_iterations,
+                                            req.time_budget_s, req.clock_s, lanes_.get());
   out.iterations = stats.iterations;
   out.accepted_steps = stats.accepted;
   out.final_cost = stats.final_cost;

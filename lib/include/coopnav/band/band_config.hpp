@@ -114,6 +114,9 @@ struct BandPlannerConfig {
   /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp) or "ceres" (Ceres' sparse normal
   /// Cholesky LM, tuned as notes §9). Same residual blocks; bench_band compares the two.
   std::string solver{"sparse_lm"};
+  /// sparse_lm's threads (1..2): with 2, the residual blocks are evaluated and assembled in two
+  /// lanes side by side (two_lanes.hpp), with the same result to the last bit as 1.
+  int solver_threads{1};
   /// Re-initialise a warm band whose start is farther than this from the agent [m].
   double warm_start_reset_dist_m{1.0};
 

@@ -20,6 +20,8 @@
 
 namespace coopnav {
 
+class TwoLanes;
+
 /// One band in the joint problem. The optimiser changes *band in place.
 struct BandAgent {
   std::int32_t id{0};
@@ -61,10 +63,10 @@ struct OptimizeStats {
 /// others are coupled pairwise when their bands come close. Respects max_iterations (total LM
 /// iterations, <= 0: config inner × outer) and time_budget_s (<= 0: none), measured with the
 /// caller's monotonic clock_s (lib/ reads no clock; empty: no budget and no solver_time_s).
-/// Bands with < 2 poses are left untouched.
+/// Bands with < 2 poses are left untouched. lanes: sparse_lm's second thread (nullptr: none).
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
                             const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
-                            const std::function<double()>& clock_s = {});
+                            const std::function<double()>& clock_s = {}, TwoLanes* lanes = nullptr);
 
 /// Time pairing helper: for each pose time of band a, the segment and fraction of band b at the
 /// same time (nullopt past b's end). Exposed for tests and the crossing read-out.

@@ -21,6 +21,7 @@
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/band/band_optimizer.hpp"
 #include "coopnav/band/timed_elastic_band.hpp"
+#include "coopnav/band/two_lanes.hpp"
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/planning/global_planner.hpp"
@@ -118,6 +119,7 @@ class DualBandPlanner {
   std::vector<BandPlannerConfig::Error> config_errors_;
   std::shared_ptr<const DistanceMap> map_;
   std::unique_ptr<GridPathPlanner> global_;
+  std::unique_ptr<TwoLanes> lanes_;           ///< sparse_lm's second thread (solver_threads 2)
   std::map<std::int32_t, Memory> bands_;      ///< warm start per agent id
   std::map<std::int32_t, CachedPath> paths_;  ///< global / reference path per agent id
 };

@@ -30,6 +30,8 @@
 
 namespace coopnav {
 
+class TwoLanes;
+
 class SparseLm {
  public:
   struct Options {
@@ -50,6 +52,11 @@ class SparseLm {
     /// Tingleff 2004, eq. 3.14: τ · max a_ii), so that the start follows the problem's scale;
     /// <= 0: λ₀ = 1 (Ceres' 1 / initial trust radius 1), whatever the scale.
     double initial_lambda_scale{0.0};
+    /// Two threads for the evaluations (two_lanes.hpp), or nullptr: one. The result is the
+    /// same to the last bit either way. With two, cost functions of blocks that share no
+    /// unknown run concurrently: state a cost function writes while it evaluates must belong to
+    /// the parameter blocks it is on (band_costs::BandTrig: an entry per pose).
+    TwoLanes* lanes{nullptr};
   };
 
   struct Summary {

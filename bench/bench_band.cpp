@@ -8,8 +8,8 @@
 /// minimally contributing walkers, and the planner runs again. Both solvers
 /// (our SparseLm and Ceres) on the same problems; every case's repeats interleaved with the
 /// others' so that all share the machine's load.
-/// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS]` runs one case only (for a
-/// profiler).
+/// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS [THREADS]]` runs one case only
+/// (for a profiler).
 
 #include <algorithm>
 #include <chrono>
@@ -120,11 +120,13 @@ struct Samples {
 };
 
 /// One repeat of a case: kCycles closed-loop cycles from the start of the head-on world.
+/// threads: sparse_lm's solver_threads; 0: band_source.yaml's.
 void runOnce(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
-             bool warm_start, Samples* out) {
+             bool warm_start, Samples* out, int threads = 0) {
   BandPlannerConfig cfg = g_deployed;
   cfg.solver = solver;
   cfg.warm_start = warm_start;
+  if (threads > 0) cfg.solver_threads = threads;
   DualBandPlanner planner(cfg, map);
   const sim::WorldSpec spec = headOnWorld(cfg, n_humans);
   sim::Simulation world(spec, map.get());
@@ -210,9 +212,10 @@ Stats summarize(Samples in) {
 }
 
 Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
-          bool warm_start) {
+          bool warm_start, int threads = 0) {
   Samples samples;
-  for (int rep = 0; rep < g_repeats; ++rep) runOnce(map, n_humans, solver, warm_start, &samples);
+  for (int rep = 0; rep < g_repeats; ++rep)
+    runOnce(map, n_humans, solver, warm_start, &samples, threads);
   return summarize(std::move(samples));
 }
 
@@ -232,10 +235,12 @@ int main(int argc, char** argv) {
   LoadedMap loaded = loadMap(yaml);
   auto map = std::make_shared<GridDistanceField>(std::move(loaded.grid));
   const bool deployed_warm = g_deployed.warm_start;
-  if (argc == 3 || argc == 4) {
-    if (argc == 4) g_repeats = std::max(1, std::atoi(argv[3]));
-    // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf.
-    const Stats s = run(map, std::atoi(argv[2]), argv[1], deployed_warm);
+  if (argc >= 3 && argc <= 5) {
+    if (argc >= 4) g_repeats = std::max(1, std::atoi(argv[3]));
+    // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf; a fifth argument
+    // sets sparse_lm's threads.
+    const Stats s =
+        run(map, std::atoi(argv[2]), argv[1], deployed_warm, argc == 5 ? std::atoi(argv[4]) : 0);
     std::printf(
         "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations "
         "(%.1f steps taken), %.1f robot + %.1f human poses, final cost %.17g; per-cycle best of "
@@ -253,16 +258,20 @@ int main(int argc, char** argv) {
     int humans;
     const char* solver;
     bool warm;
+    int threads;  ///< 0: band_source.yaml's solver_threads
     Samples samples;
   };
   // The other warm-start setting beside the deployed one (the lib default is warm,
-  // band_source.yaml runs cold).
+  // band_source.yaml runs cold), and sparse_lm on one thread beside the deployed threads. Ceres
+  // runs on one thread: its parallel evaluation would run terms of one band concurrently, and
+  // they share the band's heading cache (BandTrig).
   std::vector<Case> cases = {
-      {1, "sparse_lm", deployed_warm, {}},  {1, "ceres", deployed_warm, {}},
-      {5, "sparse_lm", deployed_warm, {}},  {5, "ceres", deployed_warm, {}},
-      {1, "sparse_lm", !deployed_warm, {}}, {5, "sparse_lm", !deployed_warm, {}}};
+      {1, "sparse_lm", deployed_warm, 0, {}},  {1, "ceres", deployed_warm, 0, {}},
+      {5, "sparse_lm", deployed_warm, 0, {}},  {5, "ceres", deployed_warm, 0, {}},
+      {1, "sparse_lm", !deployed_warm, 0, {}}, {5, "sparse_lm", !deployed_warm, 0, {}},
+      {1, "sparse_lm", deployed_warm, 1, {}},  {5, "sparse_lm", deployed_warm, 1, {}}};
   for (int rep = 0; rep < g_repeats; ++rep) {
-    for (Case& c : cases) runOnce(map, c.humans, c.solver, c.warm, &c.samples);
+    for (Case& c : cases) runOnce(map, c.humans, c.solver, c.warm, &c.samples, c.threads);
   }
   const Stats one = summarize(std::move(cases[0].samples));
   const Stats one_ceres = summarize(std::move(cases[1].samples));
@@ -270,10 +279,15 @@ int main(int argc, char** argv) {
   const Stats five_ceres = summarize(std::move(cases[3].samples));
   const Stats other = summarize(std::move(cases[4].samples));
   const Stats other_five = summarize(std::move(cases[5].samples));
+  const Stats one_thread = summarize(std::move(cases[6].samples));
+  const Stats five_one_thread = summarize(std::move(cases[7].samples));
   std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, g_repeats,
               kBudget_s * 1e3);
-  std::printf("planner settings: %s (planner.*, max_iterations %d), %s\n", config_path.c_str(),
-              g_max_iterations, deployed_warm ? "warm-started" : "cold-started every cycle");
+  std::printf(
+      "planner settings: %s (planner.*, max_iterations %d), %s, sparse_lm on %d "
+      "thread(s); CPU = the calling thread's\n",
+      config_path.c_str(), g_max_iterations,
+      deployed_warm ? "warm-started" : "cold-started every cycle", g_deployed.solver_threads);
   auto line = [](const std::string& what, const Stats& s) {
     std::printf(
         "%-28s p50 %7.2f ms  p99 %7.2f ms  (CPU p50 %7.2f p99 %7.2f) | mean %.1f robot + %.1f "
@@ -292,6 +306,8 @@ int main(int argc, char** argv) {
   line("5 humans, ceres", five_ceres);
   line("1 human, " + other_name, other);
   line("5 humans, " + other_name, other_five);
+  line("1 human, one thread", one_thread);
+  line("5 humans, one thread", five_one_thread);
   std::printf("sparse_lm / ceres: 1 human p50 %.3f p99 %.3f; 5 humans p50 %.3f p99 %.3f\n",
               one.p50_s / one_ceres.p50_s, one.p99_s / one_ceres.p99_s,
               five.p50_s / five_ceres.p50_s, five.p99_s / five_ceres.p99_s);
@@ -308,5 +324,9 @@ int main(int argc, char** argv) {
   std::printf("RESULT band_cpu_5humans_vs_1 %.3f\n", five.cpu_p50_s / one.cpu_p50_s);
   std::printf("RESULT band_best_p99_budget_fraction %.4f\n", one.best_p99_s / kBudget_s);
   std::printf("RESULT band_best_5humans_vs_1 %.3f\n", five.best_p50_s / one.best_p50_s);
+  std::printf("RESULT band_one_thread_p99_budget_fraction %.4f\n", one_thread.p99_s / kBudget_s);
+  std::printf("RESULT band_one_thread_5humans_vs_1 %.3f\n",
+              five_one_thread.p50_s / one_thread.p50_s);
+  std::printf("RESULT band_deployed_vs_one_thread_p99 %.3f\n", one.p99_s / one_thread.p99_s);
   return 0;
 }

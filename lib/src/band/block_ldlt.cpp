@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "coopnav/band/two_lanes.hpp"
+
 /// The kernels' loops run over a node's few unknowns, fixed at compile time where the sizes are
 /// template arguments: unrolled, their indices are constants (-O2 does not unroll them itself).
 #define COOPNAV_UNROLL _Pragma("GCC unroll 6")
@@ -143,6 +145,108 @@ void BlockLdlt::analyze(const double* a) {
   row_val_.resize(m);
   for (std::size_t k = 0; k < m; ++k) row_val_[k] = entry_val_[entry_pos_[k]];
   lvals_.resize(vals);
+  splitIntoLanes();
+}
+
+void BlockLdlt::splitIntoLanes() {
+  for (std::vector<int>& l : lane_rows_) l.clear();
+  top_rows_.clear();
+  if (n_ == 0) return;
+  // Row v's work ~ its tiles' updates: the entries of each pattern column above it, plus one.
+  std::vector<double>& weight = row_work_;
+  std::vector<double>& subtree = subtree_work_;
+  weight.assign(n_, 1.0);
+  for (int v = 0; v < n_; ++v) {
+    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k)
+      weight[v] += 1.0 + entry_pos_[k] - col_start_[pattern_[k]];
+  }
+  subtree = weight;
+  first_child_.assign(n_, -1);
+  next_sibling_.assign(n_, -1);
+  double total = 0.0;
+  int heaviest_root = -1;
+  for (int v = n_ - 1; v >= 0; --v) {  // children lists, ascending
+    if (parent_[v] >= 0) {
+      next_sibling_[v] = first_child_[parent_[v]];
+      first_child_[parent_[v]] = v;
+    }
+  }
+  for (int v = 0; v < n_; ++v) {  // children before parents
+    total += weight[v];
+    if (parent_[v] >= 0) {
+      subtree[parent_[v]] += subtree[v];
+    } else if (heaviest_root < 0 || subtree[v] > subtree[heaviest_root]) {
+      heaviest_root = v;
+    }
+  }
+  // Walk down from the heaviest root along the heaviest child: the nodes walked are the rows
+  // computed after both lanes, the subtrees hanging off the walk are shared out between the
+  // lanes. Stop where max(lanes) + after is least, judged by its lower bound max(largest
+  // subtree, half their sum) + after.
+  double off_sum = 0.0, off_max = 0.0, after = 0.0;
+  for (int v = 0; v < n_; ++v) {
+    if (parent_[v] < 0 && v != heaviest_root) {
+      off_sum += subtree[v];
+      off_max = std::max(off_max, subtree[v]);
+    }
+  }
+  double best = total;  // no split: one thread does it all
+  int best_depth = 0, depth = 0;
+  for (int cur = heaviest_root; cur >= 0;) {
+    after += weight[cur];
+    ++depth;
+    int next = -1;
+    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
+      if (next < 0 || subtree[c] > subtree[next]) next = c;
+    }
+    double sum = off_sum, largest = off_max;
+    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
+      sum += subtree[c];
+      largest = std::max(largest, subtree[c]);
+      if (c != next) {
+        off_sum += subtree[c];
+        off_max = std::max(off_max, subtree[c]);
+      }
+    }
+    const double estimate = std::max(largest, 0.5 * sum) + after;
+    if (estimate < best) best = estimate, best_depth = depth;
+    if (next < 0 || subtree[next] < 0.25 * total) break;
+    cur = next;
+  }
+  if (best_depth == 0) return;
+  // The subtrees to share: the other roots and every child of a walked node not walked.
+  std::vector<int>& label = label_;  // 0 / 1: lane, 2: after the lanes, -1: not yet known
+  label.assign(n_, -1);
+  std::vector<int> shared;
+  int cur = heaviest_root;
+  for (int d = 0; d < best_depth; ++d) {
+    label[cur] = 2;
+    int next = -1;
+    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
+      if (next < 0 || subtree[c] > subtree[next]) next = c;
+    }
+    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
+      if (c != next || d + 1 == best_depth) shared.push_back(c);
+    }
+    cur = next;
+  }
+  for (int v = 0; v < n_; ++v) {
+    if (parent_[v] < 0 && v != heaviest_root) shared.push_back(v);
+  }
+  // Largest first, each to the lighter lane (ties by node, so the split is the structure's alone).
+  std::sort(shared.begin(), shared.end(), [&](int x, int y) {
+    return subtree[x] != subtree[y] ? subtree[x] > subtree[y] : x < y;
+  });
+  double load[2] = {0.0, 0.0};
+  for (const int r : shared) {
+    const int lane = load[1] < load[0] ? 1 : 0;
+    label[r] = lane;
+    load[lane] += subtree[r];
+  }
+  for (int v = n_ - 1; v >= 0; --v) {  // parents before children
+    if (label[v] < 0) label[v] = label[parent_[v]];
+  }
+  for (int v = 0; v < n_; ++v) (label[v] == 2 ? top_rows_ : lane_rows_[label[v]]).push_back(v);
 }
 
 namespace {
@@ -313,11 +417,12 @@ bool BlockLdlt::invertDiagonal(int v, double* d) {
 template <int SV, int SU>
 void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   const int sv = sizeOf<SV>(size_[v]), su = sizeOf<SU>(size_[u]);
-  // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · sv; so Yᵀ.
+  // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · kMaxNodeSize
+  // (whatever v's size, so that rows of different subtrees never share a place); so Yᵀ.
   double* w = work_.data();
   // Yᵀ = (L(v, u) D(u))ᵀ, taken out of the workspace (which is left zero).
   double yt[kMaxNodeSize * kMaxNodeSize];
-  double* wu = w + offset_[u] * sv;
+  double* wu = w + offset_[u] * kMaxNodeSize;
   std::copy(wu, wu + su * sv, yt);
   std::fill(wu, wu + su * sv, 0.0);
   // L(v, u) = Y D(u)⁻¹, row r = Σ_k Y(r, k) D⁻¹(k, ·).
@@ -338,7 +443,7 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   for (int e = col_start_[u]; e < pos; ++e) {
     const int rx = entry_row_[e], sx = size_[rx];
     const double* lx = lvals_.data() + entry_val_[e];
-    double* wx = w + offset_[rx] * sv;
+    double* wx = w + offset_[rx] * kMaxNodeSize;
     if (sx == 4) {
       scatterUpdate<SV, SU, 4>(yt, lx, wx, sv, su, sx);
     } else if (sx == 1) {
@@ -359,15 +464,40 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   }
 }
 
-bool BlockLdlt::factorize(const double* a, double lambda) {
+bool BlockLdlt::factorize(const double* a, double lambda, TwoLanes* lanes) {
+  if (lanes == nullptr || lane_rows_[0].empty() || lane_rows_[1].empty()) {
+    for (int v = 0; v < n_; ++v) {
+      if (!factorRow(v, a, lambda)) return false;
+    }
+    return true;
+  }
+  // Rows of disjoint subtrees read and write only their own subtree's tiles, workspace and D:
+  // the two lanes' rows are computed exactly as in row order, then the rows above them.
+  bool ok[2] = {true, true};
+  lanes->run([&](int lane) {
+    for (const int v : lane_rows_[lane]) {
+      if (!factorRow(v, a, lambda)) {
+        ok[lane] = false;
+        return;
+      }
+    }
+  });
+  if (!ok[0] || !ok[1]) return false;
+  for (const int v : top_rows_) {
+    if (!factorRow(v, a, lambda)) return false;
+  }
+  return true;
+}
+
+bool BlockLdlt::factorRow(int v, const double* a, double lambda) {
   double* w = work_.data();
-  for (int v = 0; v < n_; ++v) {
+  {
     const int sv = size_[v];
     for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
       const int k = nz_[q];
       const int u = lower_[k], su = size_[u];
       const double* t = a + tile_[k];
-      double* wu = w + offset_[u] * sv;
+      double* wu = w + offset_[u] * kMaxNodeSize;
       withSizes(sv, su, [&](auto kv, auto ku) {
         placeTransposed<decltype(kv)::value, decltype(ku)::value>(t, wu, sv, su);
       });
@@ -385,43 +515,64 @@ bool BlockLdlt::factorize(const double* a, double lambda) {
       });
     }
     // Every pattern node took its workspace entries out: the workspace is zero again.
-    if (!invertDiagonal(v, d)) return false;
+    return invertDiagonal(v, d);
   }
-  return true;
 }
 
-void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
+void BlockLdlt::forwardRow(int v, double* z) const {
+  const int sv = size_[v];
+  double* zv = z + offset_[v];
+  for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+    const int u = pattern_[k], su = size_[u];
+    const double* l = lvals_.data() + row_val_[k];
+    withSizes(sv, su, [&](auto kv, auto ku) {
+      subtractProduct<decltype(kv)::value, decltype(ku)::value>(l, z + offset_[u], zv, sv, su);
+    });
+  }
+}
+
+void BlockLdlt::scaleRow(int v, double* z) const {
+  const int sv = size_[v];
+  const double* di = dvals_.data() + dinv_[v];
+  withSizes(sv, sv,
+            [&](auto kv, auto) { multiplyInPlace<decltype(kv)::value>(di, z + offset_[v], sv); });
+}
+
+void BlockLdlt::backwardRow(int v, double* z) const {
+  const int sv = size_[v];
+  const double* zv = z + offset_[v];
+  for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+    const int u = pattern_[k], su = size_[u];
+    const double* l = lvals_.data() + row_val_[k];
+    withSizes(sv, su, [&](auto kv, auto ku) {
+      subtractTransposedProduct<decltype(kv)::value, decltype(ku)::value>(l, zv, z + offset_[u], sv,
+                                                                          su);
+    });
+  }
+}
+
+void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, TwoLanes* lanes) const {
   *x = b;
   double* z = x->data();
-  for (int v = 0; v < n_; ++v) {
-    const int sv = size_[v];
-    double* zv = z + offset_[v];
-    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
-      const int u = pattern_[k], su = size_[u];
-      const double* l = lvals_.data() + row_val_[k];
-      withSizes(sv, su, [&](auto kv, auto ku) {
-        subtractProduct<decltype(kv)::value, decltype(ku)::value>(l, z + offset_[u], zv, sv, su);
-      });
-    }
+  if (lanes == nullptr || lane_rows_[0].empty() || lane_rows_[1].empty()) {
+    for (int v = 0; v < n_; ++v) forwardRow(v, z);
+    for (int v = 0; v < n_; ++v) scaleRow(v, z);
+    for (int v = n_ - 1; v >= 0; --v) backwardRow(v, z);
+    return;
   }
-  for (int v = 0; v < n_; ++v) {
-    const int sv = size_[v];
-    double* zv = z + offset_[v];
-    const double* di = dvals_.data() + dinv_[v];
-    withSizes(sv, sv, [&](auto kv, auto) { multiplyInPlace<decltype(kv)::value>(di, zv, sv); });
-  }
-  for (int v = n_ - 1; v >= 0; --v) {
-    const int sv = size_[v];
-    const double* zv = z + offset_[v];
-    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
-      const int u = pattern_[k], su = size_[u];
-      const double* l = lvals_.data() + row_val_[k];
-      withSizes(sv, su, [&](auto kv, auto ku) {
-        subtractTransposedProduct<decltype(kv)::value, decltype(ku)::value>(l, zv, z + offset_[u],
-                                                                            sv, su);
-      });
-    }
-  }
+  // Forward, row v reads its descendants' entries; backward, it updates them, from the top
+  // down. Every entry meets the same operations in the same order as in row order: the rows
+  // above the lanes are the ancestors of theirs, numbered after all of them.
+  lanes->run([&](int lane) {
+    for (const int v : lane_rows_[lane]) forwardRow(v, z);
+  });
+  for (const int v : top_rows_) forwardRow(v, z);
+  for (int v = 0; v < n_; ++v) scaleRow(v, z);
+  for (auto it = top_rows_.rbegin(); it != top_rows_.rend(); ++it) backwardRow(*it, z);
+  lanes->run([&](int lane) {
+    for (auto it = lane_rows_[lane].rbegin(); it != lane_rows_[lane].rend(); ++it)
+      backwardRow(*it, z);
+  });
 }
 
 }  // namespace coopnav

@@ -713,14 +713,14 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
       break;
     }
     if (m.gradient.lpNorm<Eigen::Infinity>() < options.gradient_tolerance) break;
-    const bool factorized = m.ldlt.factorize(m.hessian.data(), lambda);
+    const bool factorized = m.ldlt.factorize(m.hessian.data(), lambda, options.lanes);
     ++s.iterations;
     if (!factorized) {
       lambda = std::min(lambda * nu, kMaxLambda);
       nu *= 2.0;
       continue;
     }
-    m.ldlt.solve(-m.gradient, &delta);
+    m.ldlt.solve(-m.gradient, &delta, options.lanes);
     m.saveUnknowns(&x_old);
     if (delta.norm() < options.parameter_tolerance * (x_old.norm() + options.parameter_tolerance))
       break;

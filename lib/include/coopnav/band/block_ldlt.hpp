@@ -11,6 +11,8 @@
 
 namespace coopnav {
 
+class TwoLanes;
+
 /// A = L D Lᵀ with L unit block lower triangular and D block diagonal, node by node ("up-looking":
 /// row v of L from the rows above it; Davis, "Direct methods for sparse linear systems", 2006,
 /// ch. 4), on the elimination tree of the tiles of A that are not zero.
@@ -45,11 +47,17 @@ class BlockLdlt {
   void analyze(const double* a);
 
   /// Factorises A + λI (A as the last analyze() saw its pattern); false when not numerically
-  /// positive definite.
-  bool factorize(const double* a, double lambda);
+  /// positive definite. With lanes, the rows of two sets of disjoint subtrees of the
+  /// elimination tree are computed side by side (analyze() picks them), then the rows above:
+  /// the same operations on every entry in the same order, so the same factor to the last bit.
+  bool factorize(const double* a, double lambda, TwoLanes* lanes = nullptr);
 
-  /// x = (L D Lᵀ)⁻¹ b after a successful factorize().
-  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const;
+  /// x = (L D Lᵀ)⁻¹ b after a successful factorize(); lanes as there, the same x to the bit.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, TwoLanes* lanes = nullptr) const;
+
+  /// Rows of each lane and rows after them (tests): all empty lanes when no split pays.
+  const std::vector<int>& laneRows(int lane) const { return lane_rows_[lane]; }
+  const std::vector<int>& rowsAfterLanes() const { return top_rows_; }
 
   /// Tiles of L below the diagonal on the last analyze()'s pattern (tests, benchmarks).
   std::size_t factorTiles() const { return pattern_.size(); }
@@ -58,6 +66,15 @@ class BlockLdlt {
   static constexpr double kMinPivot = 1e-300;
   /// D(v)⁻¹ (row-major, full) from D(v)'s lower half; false when not positive definite.
   bool invertDiagonal(int v, double* d);
+  /// Row v of L and D(v)⁻¹; false when D(v) is not positive definite.
+  bool factorRow(int v, const double* a, double lambda);
+  /// The solve's three passes, one row each: z_v −= L(v, ·) z; z_v = D(v)⁻¹ z_v; z_u −= L(v, u)ᵀ
+  /// z_v.
+  void forwardRow(int v, double* z) const;
+  void scaleRow(int v, double* z) const;
+  void backwardRow(int v, double* z) const;
+  /// lane_rows_ and top_rows_ from the elimination tree (analyze()).
+  void splitIntoLanes();
   /// Row v's tile L(v, u) from the workspace, its updates of row v's tiles right of u and of
   /// D(v); SV, SU: the node sizes if fixed, else 0.
   template <int SV, int SU>
@@ -86,7 +103,12 @@ class BlockLdlt {
   std::vector<int> dinv_;  ///< offset of D(v)⁻¹ in dvals_
   std::vector<double> dvals_;
 
+  // analyze(): rows of two sets of disjoint subtrees, and the rows above them, ascending.
+  std::vector<int> lane_rows_[2], top_rows_;
+
   // Scratch.
+  std::vector<double> row_work_, subtree_work_;
+  std::vector<int> first_child_, next_sibling_, label_;
   std::vector<double> work_;  ///< row v's tiles Y(v, ·), transposed: kMaxNodeSize per unknown
   std::vector<int> mark_;
 };

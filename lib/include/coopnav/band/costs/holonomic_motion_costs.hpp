@@ -36,8 +36,9 @@ namespace coopnav::band_costs {
 /// terms (its velocity, two accelerations, two kinematics terms), a segment's change three; the
 /// sin / cos / atan2 behind them were ~12 % of a cycle (bench_band). An entry is reused while
 /// its inputs keep their exact bits, so every term sees what it would compute itself.
-/// Not thread-safe (entries are filled while the terms evaluate): one solver thread evaluates a
-/// problem (SparseLm; the Ceres backend runs with num_threads = 1).
+/// Entries are filled while the terms evaluate, so two threads may evaluate terms of one band at
+/// once only if no pose is in both threads' terms: SparseLm's two lanes never share a parameter
+/// block (sparse_lm.hpp, Options::lanes); the Ceres backend runs with num_threads = 1.
 class BandTrig {
  public:
   explicit BandTrig(std::size_t num_poses);

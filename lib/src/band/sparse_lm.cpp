@@ -110,6 +110,7 @@ struct SparseLm::Impl {
   std::vector<double*> block_values;  ///< their values, flattened alike (Evaluate()'s argument)
   int num_unknowns{0};
   bool structure_ready{false};
+  bool lanes_ready{false};  ///< lane_blocks laid out for this structure (first solve with lanes)
 
   BlockLdlt ldlt;
   std::vector<double> hessian;  ///< JᵀJ in ldlt's tiles (lower triangle)
@@ -405,7 +406,7 @@ struct SparseLm::Impl {
       sc.columns.assign(kPad * max_cols, 0.0);
     }
     block_cost.assign(blocks.size(), 0.0);
-    layOutLanes();
+    lanes_ready = false;
     structure_ready = true;
   }
 
@@ -431,23 +432,20 @@ struct SparseLm::Impl {
     return 0.5 * c;
   }
 
-  /// f(0) and f(1): on the solve's two threads if it has them, else one after the other.
-  template <typename F>
-  void inLanes(F&& f) {
-    if (lanes != nullptr) {
-      lanes->run(f);
-    } else {
-      f(0);
-      f(1);
-    }
-  }
-
   /// ½ Σ r² over the blocks, summed in block order. Once it is known to reach `stop_at` it
   /// returns +inf (every block's cost is non-negative, so the full sum could only be larger): a
   /// lane whose own partial sum reaches it stops there.
   double cost(double stop_at = std::numeric_limits<double>::infinity()) {
+    if (lanes == nullptr) {
+      double c = 0.0;
+      for (const Block& blk : blocks) {
+        c += evaluateBlock(blk, false, scratch[0]);
+        if (c >= stop_at) return std::numeric_limits<double>::infinity();
+      }
+      return c;
+    }
     bool reached[2] = {false, false};
-    inLanes([&](int lane) {
+    lanes->run([&](int lane) {
       double partial = 0.0;
       for (const int b : lane_blocks[lane]) {
         block_cost[b] = evaluateBlock(blocks[b], false, scratch[lane]);
@@ -596,10 +594,14 @@ struct SparseLm::Impl {
   double linearize() {
     ldlt.clear(hessian.data());
     gradient.setZero();
-    inLanes([&](int lane) {
-      for (const int b : lane_blocks[lane]) linearizeBlock(b, scratch[lane]);
-    });
-    for (const int b : deferred_blocks) linearizeBlock(b, scratch[0]);
+    if (lanes == nullptr) {
+      for (int b = 0; b < static_cast<int>(blocks.size()); ++b) linearizeBlock(b, scratch[0]);
+    } else {
+      lanes->run([&](int lane) {
+        for (const int b : lane_blocks[lane]) linearizeBlock(b, scratch[lane]);
+      });
+      for (const int b : deferred_blocks) linearizeBlock(b, scratch[0]);
+    }
     double c = 0.0;
     for (const double bc : block_cost) c += bc;
     ldlt.analyze(hessian.data());
@@ -678,6 +680,10 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
   if (!m.structure_ready) m.buildStructure();
   Summary s;
   m.lanes = options.lanes;
+  if (m.lanes != nullptr && !m.lanes_ready) {
+    m.layOutLanes();
+    m.lanes_ready = true;
+  }
   struct Rest {  // the worker polls only while this solve runs
     TwoLanes* lanes;
     ~Rest() {
@@ -742,6 +748,9 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
       const double decrease = (cost - new_cost) / cost;
       cost = new_cost;
       if (decrease < options.function_tolerance) break;
+      // After the last step nothing would read the Jacobians (the cost is the one just summed,
+      // in the same block order): a band solve ends on an accepted step in most outer iterations.
+      if (s.iterations >= options.max_iterations) break;
       cost = m.linearize();
     } else {
       m.setUnknowns(x_old);

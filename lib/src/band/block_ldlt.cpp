@@ -145,7 +145,7 @@ void BlockLdlt::analyze(const double* a) {
   row_val_.resize(m);
   for (std::size_t k = 0; k < m; ++k) row_val_[k] = entry_val_[entry_pos_[k]];
   lvals_.resize(vals);
-  splitIntoLanes();
+  split_ready_ = false;
 }
 
 void BlockLdlt::splitIntoLanes() {
@@ -465,6 +465,10 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
 }
 
 bool BlockLdlt::factorize(const double* a, double lambda, TwoLanes* lanes) {
+  if (lanes != nullptr && !split_ready_) {
+    splitIntoLanes();
+    split_ready_ = true;
+  }
   if (lanes == nullptr || lane_rows_[0].empty() || lane_rows_[1].empty()) {
     for (int v = 0; v < n_; ++v) {
       if (!factorRow(v, a, lambda)) return false;

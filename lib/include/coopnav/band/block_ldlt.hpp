@@ -55,7 +55,8 @@ class BlockLdlt {
   /// x = (L D Lᵀ)⁻¹ b after a successful factorize(); lanes as there, the same x to the bit.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, TwoLanes* lanes = nullptr) const;
 
-  /// Rows of each lane and rows after them (tests): all empty lanes when no split pays.
+  /// Rows of each lane and rows after them (tests), as the last factorize() with lanes split
+  /// them: empty lanes when no split pays.
   const std::vector<int>& laneRows(int lane) const { return lane_rows_[lane]; }
   const std::vector<int>& rowsAfterLanes() const { return top_rows_; }
 
@@ -73,7 +74,8 @@ class BlockLdlt {
   void forwardRow(int v, double* z) const;
   void scaleRow(int v, double* z) const;
   void backwardRow(int v, double* z) const;
-  /// lane_rows_ and top_rows_ from the elimination tree (analyze()).
+  /// lane_rows_ and top_rows_ from analyze()'s elimination tree (at the first factorize() with
+  /// lanes after it).
   void splitIntoLanes();
   /// Row v's tile L(v, u) from the workspace, its updates of row v's tiles right of u and of
   /// D(v); SV, SU: the node sizes if fixed, else 0.
@@ -105,6 +107,7 @@ class BlockLdlt {
 
   // analyze(): rows of two sets of disjoint subtrees, and the rows above them, ascending.
   std::vector<int> lane_rows_[2], top_rows_;
+  bool split_ready_{false};
 
   // Scratch.
   std::vector<double> row_work_, subtree_work_;

@@ -128,11 +128,12 @@ struct SparseLm::Impl {
   };
   Scratch scratch[2];
 
-  /// The blocks of each lane, ascending, and the deferred ones, ascending: a lane's blocks share
-  /// no unknown with the other lane's, so the two lanes write disjoint entries of Jᵀr and JᵀJ;
-  /// a deferred block (one that spans both lanes, or touches an unknown that an earlier deferred
-  /// block touched) is assembled after both lanes, one by one. Every entry therefore receives
-  /// its terms in block order, whether the lanes ran on one thread or two (layOutLanes()).
+  /// With a second thread (Options::lanes): the blocks of each lane, ascending, and the deferred
+  /// ones, ascending. A lane's blocks share no parameter block with the other lane's, so the two
+  /// lanes write disjoint entries of Jᵀr and JᵀJ; a deferred block (one that spans both lanes,
+  /// or touches an unknown that an earlier deferred block touched) is assembled after both
+  /// lanes, one by one. Every entry therefore receives its terms in block order, as on one
+  /// thread, which runs the blocks in that order (layOutLanes()).
   std::vector<int> lane_blocks[2];
   std::vector<int> deferred_blocks;
   std::vector<double> block_cost;  ///< ½ Σ r² of every block at the last evaluation
@@ -684,12 +685,13 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
     m.layOutLanes();
     m.lanes_ready = true;
   }
-  struct Rest {  // the worker polls only while this solve runs
-    TwoLanes* lanes;
+  struct Rest {  // the worker polls only while this solve runs, and is not kept after it
+    Impl& m;
     ~Rest() {
-      if (lanes != nullptr) lanes->rest();
+      if (m.lanes != nullptr) m.lanes->rest();
+      m.lanes = nullptr;
     }
-  } rest{options.lanes};
+  } rest{m};
   if (options.lanes != nullptr) options.lanes->awake();
   double cost = m.linearize();
   s.initial_cost = s.final_cost = cost;

@@ -48,7 +48,8 @@ class BlockLdlt {
 
   /// Factorises A + λI (A as the last analyze() saw its pattern); false when not numerically
   /// positive definite. With lanes, the rows of two sets of disjoint subtrees of the
-  /// elimination tree are computed side by side (analyze() picks them), then the rows above:
+  /// elimination tree are computed side by side (picked at the first such call after analyze()),
+  /// then the rows above:
   /// the same operations on every entry in the same order, so the same factor to the last bit.
   bool factorize(const double* a, double lambda, TwoLanes* lanes = nullptr);
 
@@ -105,7 +106,7 @@ class BlockLdlt {
   std::vector<int> dinv_;  ///< offset of D(v)⁻¹ in dvals_
   std::vector<double> dvals_;
 
-  // analyze(): rows of two sets of disjoint subtrees, and the rows above them, ascending.
+  // splitIntoLanes(): rows of two sets of disjoint subtrees, and the rows above them, ascending.
   std::vector<int> lane_rows_[2], top_rows_;
   bool split_ready_{false};
 

@@ -4,6 +4,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -118,6 +119,11 @@ struct SparseLm::Impl {
   /// tile's row stride.
   std::vector<int> pair_tiles;
   Eigen::VectorXd gradient;  ///< Jᵀr
+
+  /// cost() on two lanes: a lane compares the lanes' partial sums with stop_at every this many
+  /// blocks (each comparison reads the other core's cache line), with this relative margin.
+  static constexpr int kLaneSumCheckBlocks = 32;
+  static constexpr double kLaneSumMargin = 1e-9;
 
   /// Scratch reused by every evaluation (no allocation in the loop), one per lane.
   struct Scratch {
@@ -434,8 +440,7 @@ struct SparseLm::Impl {
   }
 
   /// ½ Σ r² over the blocks, summed in block order. Once it is known to reach `stop_at` it
-  /// returns +inf (every block's cost is non-negative, so the full sum could only be larger): a
-  /// lane whose own partial sum reaches it stops there.
+  /// returns +inf (every block's cost is non-negative, so the full sum could only be larger).
   double cost(double stop_at = std::numeric_limits<double>::infinity()) {
     if (lanes == nullptr) {
       double c = 0.0;
@@ -445,19 +450,34 @@ struct SparseLm::Impl {
       }
       return c;
     }
-    bool reached[2] = {false, false};
+    // Each lane publishes its partial sum now and then, and both stop once the two together
+    // reach stop_at by a margin far above the rounding by which sums of the same non-negative
+    // terms in other orders can differ (~n ε of the sum, n the blocks): such a step would be
+    // rejected by the block-order sum too. Otherwise the sum is completed in block order below.
+    // How far the lanes got depends on timing; what is returned does not.
+    struct alignas(64) Partial {
+      std::atomic<double> sum{0.0};
+    };
+    Partial published[2];
+    std::atomic<bool> reached{false};
+    const double threshold = stop_at * (1.0 + kLaneSumMargin);
     lanes->run([&](int lane) {
       double partial = 0.0;
+      int since_check = 0;
       for (const int b : lane_blocks[lane]) {
         block_cost[b] = evaluateBlock(blocks[b], false, scratch[lane]);
         partial += block_cost[b];
-        if (partial >= stop_at) {
-          reached[lane] = true;
+        if (++since_check < kLaneSumCheckBlocks && partial < threshold) continue;
+        since_check = 0;
+        published[lane].sum.store(partial, std::memory_order_relaxed);
+        if (partial + published[1 - lane].sum.load(std::memory_order_relaxed) >= threshold ||
+            reached.load(std::memory_order_relaxed)) {
+          reached.store(true, std::memory_order_relaxed);
           return;
         }
       }
     });
-    if (reached[0] || reached[1]) return std::numeric_limits<double>::infinity();
+    if (reached.load()) return std::numeric_limits<double>::infinity();
     for (const int b : deferred_blocks) block_cost[b] = evaluateBlock(blocks[b], false, scratch[0]);
     double c = 0.0;
     for (const double bc : block_cost) {

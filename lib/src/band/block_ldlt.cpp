@@ -190,15 +190,20 @@ void BlockLdlt::splitIntoLanes() {
       off_max = std::max(off_max, subtree[v]);
     }
   }
-  double best = total;  // no split: one thread does it all
-  int best_depth = 0, depth = 0;
+  auto heaviestChild = [&](int v) {
+    int h = -1;
+    for (int c = first_child_[v]; c >= 0; c = next_sibling_[c]) {
+      if (h < 0 || subtree[c] > subtree[h]) h = c;
+    }
+    return h;
+  };
+  double best = total;    // no split: one thread does it all
+  std::vector<int> walk;  // the nodes walked, from the root
+  std::size_t best_depth = 0;
   for (int cur = heaviest_root; cur >= 0;) {
     after += weight[cur];
-    ++depth;
-    int next = -1;
-    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
-      if (next < 0 || subtree[c] > subtree[next]) next = c;
-    }
+    walk.push_back(cur);
+    const int next = heaviestChild(cur);
     double sum = off_sum, largest = off_max;
     for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
       sum += subtree[c];
@@ -209,7 +214,7 @@ void BlockLdlt::splitIntoLanes() {
       }
     }
     const double estimate = std::max(largest, 0.5 * sum) + after;
-    if (estimate < best) best = estimate, best_depth = depth;
+    if (estimate < best) best = estimate, best_depth = walk.size();
     if (next < 0 || subtree[next] < 0.25 * total) break;
     cur = next;
   }
@@ -218,17 +223,13 @@ void BlockLdlt::splitIntoLanes() {
   std::vector<int>& label = label_;  // 0 / 1: lane, 2: after the lanes, -1: not yet known
   label.assign(n_, -1);
   std::vector<int> shared;
-  int cur = heaviest_root;
-  for (int d = 0; d < best_depth; ++d) {
-    label[cur] = 2;
-    int next = -1;
-    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
-      if (next < 0 || subtree[c] > subtree[next]) next = c;
+  for (std::size_t d = 0; d < best_depth; ++d) {
+    const int v = walk[d];
+    label[v] = 2;
+    const int next = d + 1 < best_depth ? walk[d + 1] : -1;
+    for (int c = first_child_[v]; c >= 0; c = next_sibling_[c]) {
+      if (c != next) shared.push_back(c);
     }
-    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
-      if (c != next || d + 1 == best_depth) shared.push_back(c);
-    }
-    cur = next;
   }
   for (int v = 0; v < n_; ++v) {
     if (parent_[v] < 0 && v != heaviest_root) shared.push_back(v);

@@ -273,27 +273,28 @@ struct SparseLm::Impl {
     }
     adj.start[nv] = out;
     adj.nbr.resize(out);
-    // Minimum degree (Eigen's AMD: Amestoy, Davis & Duff 1996) on the block graph. Its input
-    // must hold the diagonal: Eigen's AMD takes a node without one for a dense node and
-    // leaves it, in order, to the end (all of them: the identity).
+    // Minimum degree (Eigen's AMD: Amestoy, Davis & Duff 1996) on the block graph, given as the
+    // lower triangle of its pattern. It must hold the diagonal: Eigen's AMD takes a node
+    // without one for a dense node and leaves it, in order, to the end (all of them: the
+    // identity).
     Eigen::SparseMatrix<double, Eigen::ColMajor, int> pattern(nv, nv);
-    pattern.resizeNonZeros(static_cast<Eigen::Index>(adj.nbr.size()) + nv);
+    pattern.resizeNonZeros(static_cast<Eigen::Index>(adj.nbr.size() / 2) + nv);
     {
       int* outer = pattern.outerIndexPtr();
       int* inner = pattern.innerIndexPtr();
       int q = 0;
       for (int v = 0; v < nv; ++v) {
         outer[v] = q;
-        const int* it = adj.begin(v);
-        for (; it != adj.end(v) && *it < v; ++it) inner[q++] = *it;
         inner[q++] = v;
-        for (; it != adj.end(v); ++it) inner[q++] = *it;
+        for (const int* it = adj.begin(v); it != adj.end(v); ++it) {
+          if (*it > v) inner[q++] = *it;
+        }
       }
       outer[nv] = q;
       std::fill(pattern.valuePtr(), pattern.valuePtr() + q, 1.0);
     }
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
-    Eigen::internal::minimum_degree_ordering(pattern, perm);
+    Eigen::AMDOrdering<int>()(pattern.selfadjointView<Eigen::Lower>(), perm);
     std::vector<int> node_of(nv), sizes(nv);
     num_unknowns = 0;
     for (int k = 0; k < nv; ++k) {

@@ -104,7 +104,7 @@ TEST(FacilitatingHuman, WideCorridorYieldsEarlyAndFar) {
   const Trace tr = runHeadOn(h);
   ASSERT_GT(tr.crossing_t_s, 0.0);
   EXPECT_GE(tr.maxAbsDev(), 0.5);
-  EXPECT_NEAR(tr.maxAbsDev(), 0.9, 0.1);  // clarifications: ~0.9 m in the 6 m corridor
+  EXPECT_NEAR(tr.maxAbsDev(), 0.9, 0.1);  // paper Table I: CM 0.94 m in the open corridor
   EXPECT_GE(tr.onsetLead(), 3.0);
   EXPECT_GT(tr.min_clearance_m, 0.0);
   EXPECT_NE(tr.status, SimStatus::kCollision);
@@ -119,7 +119,7 @@ TEST(FacilitatingHuman, NarrowCorridorYieldIsLimitedByWalls) {
   h.robot_lane_m = -0.3;  // in 2.25 m the robot must take its share too (on the human's left)
   h.behaviour = config(BehaviourType::kFacilitating);
   const Trace tr = runHeadOn(h);
-  // 2.25 / 2 - 0.3 (radius) - 0.3 (wall margin) = 0.525 m: clarifications' ~0.5 m.
+  // 2.25 / 2 - 0.3 (radius) - 0.3 (wall margin) = 0.525 m: paper Table I's CM 0.49 m (narrow).
   EXPECT_GE(tr.maxAbsDev(), 0.45);
   EXPECT_LE(tr.maxAbsDev(), 0.55);
   EXPECT_GE(tr.onsetLead(), 3.0);
@@ -170,7 +170,9 @@ TEST(MinimalHuman, WideCorridorSidestepsLateAndLittle) {
     EXPECT_LT(tr.maxAbsDev(), 0.4);
     EXPECT_GT(tr.maxAbsDev(), 0.1);  // it does avoid
     EXPECT_GT(tr.onsetLead(), 0.0);
-    EXPECT_LT(tr.onsetLead(), 1.5);  // real pedestrians: median 1.2-1.6 s (notes §6)
+    // Real head-on pedestrians (ETH / UCY datasets) start avoiding a median 1.2-1.6 s before
+    // the closest approach.
+    EXPECT_LT(tr.onsetLead(), 1.5);
     EXPECT_NE(tr.status, SimStatus::kCollision);
   }
 }

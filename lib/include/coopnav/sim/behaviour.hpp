@@ -95,8 +95,8 @@ struct ObliviousParams {
 
 /// Social force model: driving term of Helbing & Molnár 1995 (Phys. Rev. E 51:4282,
 /// doi 10.1103/PhysRevE.51.4282), agent interaction of Moussaïd et al. 2009 (Proc. R. Soc. B
-/// 276:2755, doi 10.1098/rspb.2009.0405), wall repulsion exp(-d/sigma). Defaults: the values in
-/// the notes (lightsfm / libpedsim calibration).
+/// 276:2755, doi 10.1098/rspb.2009.0405), wall repulsion exp(-d/sigma). Defaults: Moussaïd's
+/// interaction constants and the weights lightsfm / libpedsim use with them, except where noted.
 struct SocialForceParams {
   double relaxation_time_s{0.5};  ///< tau of the driving term
   /// Driving-term weight: 1 as in Helbing & Molnár (lightsfm uses 2.0, which pulls a human back
@@ -105,7 +105,8 @@ struct SocialForceParams {
   double social_weight{2.1};  ///< weight of the interaction with other humans
   /// Weight of the interaction with the robot: HuNavSim raises the social factor to 5.0 so that
   /// humans keep clear of robots; with 2.1 a head-on human passes a 0.47 m robot too closely
-  /// (notes §3: shift 0.16-0.24 m starting 0.3-0.45 s before).
+  /// (simulated head-on at 1.3 m/s against a robot at 0.3-0.7 m/s, this model shifts the human
+  /// only 0.16-0.24 m, starting 0.3-0.45 s before the crossing).
   double robot_weight{5.0};
   double lambda{2.0};   ///< Moussaïd: velocity-difference weight in the interaction vector
   double gamma{0.35};   ///< Moussaïd: B = gamma * |I|
@@ -143,7 +144,7 @@ struct SocialForceParams {
 /// robot (or the asked side), limited so that wall_margin_m stays between body and wall; hold it
 /// until the robot is behind, then return to the path.
 struct YieldParams {
-  double offset_m{0.9};          ///< wanted lateral shift [m] (clarifications: ~0.9 m open)
+  double offset_m{0.9};          ///< wanted lateral shift [m] (paper Table I: CM 0.94 m, open)
   double wall_margin_m{0.3};     ///< pedestrians keep ~0.3 m from walls (HCM shy distance)
   double lookahead_m{1.0};       ///< carrot distance while shifting: time constant ~ L / v
   double engage_lateral_m{2.0};  ///< yields only if the robot's predicted lateral offset from

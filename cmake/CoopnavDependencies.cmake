@@ -1,5 +1,6 @@
-# Debian 12 packages (scripts/install-deps.sh installs them). Debian's LCM 1.3.1 ships no CMake
-# config, only a pkg-config file whose glib requirement needs libglib2.0-dev.
+# Debian 12 packages (COOPNAV_DEBS in scripts/lib.sh; coopnav_install_deps there installs the
+# missing ones for scripts/run.sh, scripts/test.sh and the other scripts). Debian's LCM 1.3.1 ships
+# no CMake config, only a pkg-config file whose glib requirement needs libglib2.0-dev.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LCM REQUIRED IMPORTED_TARGET lcm)
 find_program(LCM_GEN lcm-gen REQUIRED)
@@ -9,6 +10,7 @@ find_package(dynamicEDT3D QUIET)
 find_package(spdlog REQUIRED)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)  # tools/ctl: summary.json
 find_package(Ceres REQUIRED)
 find_package(Threads REQUIRED)
 

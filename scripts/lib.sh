@@ -11,7 +11,7 @@ COOPNAV_DEBS=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless libjchart2d-java
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev
   iproute2 procps python3
   clang-14 libclang-rt-14-dev
 )

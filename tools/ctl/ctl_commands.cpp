@@ -89,7 +89,7 @@ int summarizeCommand() {
   ctl::Json doc = ctl::summaryDocument({entry});
   if (o.merge_into_out && std::filesystem::exists(o.out))
     doc = ctl::mergeSummaries({ctl::readSummaryFile(o.out), doc});
-  ctl::writeTextFile(o.out, doc.dump());
+  ctl::writeTextFile(o.out, ctl::dumpJson(doc));
   return 0;
 }
 
@@ -97,7 +97,7 @@ int mergeCommand() {
   const auto& o = opts();
   std::vector<ctl::Json> docs;
   for (const auto& in : o.inputs) docs.push_back(ctl::readSummaryFile(in));
-  ctl::writeTextFile(o.out, ctl::mergeSummaries(docs).dump());
+  ctl::writeTextFile(o.out, ctl::dumpJson(ctl::mergeSummaries(docs)));
   return 0;
 }
 

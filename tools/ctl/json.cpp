@@ -1,13 +1,111 @@
 #include "json.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 
 namespace coopnav::ctl {
+namespace {
+
+// Length of the well-formed UTF-8 sequence at s[i] (RFC 3629 table 3), 0 when it is ill-formed.
+std::size_t utf8SequenceLength(const std::string& s, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = byte(i);
+  if (c < 0x80) return 1;
+  std::size_t n = 0;
+  unsigned char lo = 0x80;
+  unsigned char hi = 0xBF;
+  if (c >= 0xC2 && c <= 0xDF) {
+    n = 2;
+  } else if (c >= 0xE0 && c <= 0xEF) {
+    n = 3;
+    if (c == 0xE0) lo = 0xA0;  // no overlong forms
+    if (c == 0xED) hi = 0x9F;  // no surrogates
+  } else if (c >= 0xF0 && c <= 0xF4) {
+    n = 4;
+    if (c == 0xF0) lo = 0x90;  // no overlong forms
+    if (c == 0xF4) hi = 0x8F;  // nothing above U+10FFFF
+  } else {
+    return 0;
+  }
+  if (i + n > s.size() || byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if ((byte(i + k) & 0xC0) != 0x80) return 0;
+  return n;
+}
+
+void dumpTo(const Json& v, std::string& out, int indent) {
+  const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
+  const std::string close_pad(static_cast<std::size_t>(indent), ' ');
+  switch (v.type()) {
+    case Json::value_t::null:
+      out += "null";
+      return;
+    case Json::value_t::boolean:
+      out += v.get<bool>() ? "true" : "false";
+      return;
+    case Json::value_t::number_integer:
+      out += std::to_string(v.get<std::int64_t>());
+      return;
+    case Json::value_t::number_unsigned:
+      out += std::to_string(v.get<std::uint64_t>());
+      return;
+    case Json::value_t::number_float:
+      out += jsonNumber(v.get<double>());
+      return;
+    case Json::value_t::string:
+      out += jsonQuote(v.get_ref<const std::string&>());
+      return;
+    case Json::value_t::array: {
+      if (v.empty()) {
+        out += "[]";
+        return;
+      }
+      bool scalars = true;
+      for (const auto& item : v) scalars = scalars && !item.is_structured();
+      if (scalars) {
+        out += "[";
+        for (std::size_t i = 0; i < v.size(); ++i) {
+          if (i) out += ", ";
+          dumpTo(v[i], out, indent);
+        }
+        out += "]";
+        return;
+      }
+      out += "[\n";
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        out += pad;
+        dumpTo(v[i], out, indent + 2);
+        out += i + 1 < v.size() ? ",\n" : "\n";
+      }
+      out += close_pad + "]";
+      return;
+    }
+    case Json::value_t::object: {
+      if (v.empty()) {
+        out += "{}";
+        return;
+      }
+      out += "{\n";
+      std::size_t i = 0;
+      for (const auto& [key, value] : v.items()) {
+        out += pad + jsonQuote(key) + ": ";
+        dumpTo(value, out, indent + 2);
+        out += ++i < v.size() ? ",\n" : "\n";
+      }
+      out += close_pad + "}";
+      return;
+    }
+    case Json::value_t::binary:
+    case Json::value_t::discarded:
+      break;
+  }
+  throw std::invalid_argument("dumpJson: a binary or discarded value is not JSON text");
+}
+
+}  // namespace
 
 std::string jsonNumber(double v) {
   if (!std::isfinite(v)) return "null";
@@ -22,8 +120,8 @@ std::string jsonNumber(double v) {
 
 std::string jsonQuote(const std::string& s) {
   std::string out = "\"";
-  for (const char ch : s) {
-    const auto c = static_cast<unsigned char>(ch);
+  for (std::size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
     switch (c) {
       case '"':
         out += "\\\"";
@@ -45,193 +143,64 @@ std::string jsonQuote(const std::string& s) {
           char buf[8];
           std::snprintf(buf, sizeof buf, "\\u%04x", c);
           out += buf;
+        } else if (const std::size_t n = utf8SequenceLength(s, i); n == 0) {
+          out += "\\ufffd";
         } else {
-          out += ch;
+          out.append(s, i, n);
+          i += n;
+          continue;
         }
     }
+    ++i;
   }
   return out + "\"";
 }
 
-Json Json::boolean(bool b) {
-  Json j;
-  j.type_ = Type::kBool;
-  j.text_ = b ? "true" : "false";
-  return j;
-}
+Json numberOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(); }
 
-Json Json::number(double v) {
-  if (!std::isfinite(v)) return null();
-  Json j;
-  j.type_ = Type::kNumber;
-  j.text_ = jsonNumber(v);
-  return j;
-}
+Json numberOrNull(std::optional<double> v) { return v ? numberOrNull(*v) : Json(); }
 
-Json Json::number(std::int64_t v) {
-  Json j;
-  j.type_ = Type::kNumber;
-  j.text_ = std::to_string(v);
-  return j;
-}
-
-Json Json::numberLiteral(std::string text) {
-  Json j;
-  j.type_ = Type::kNumber;
-  j.text_ = std::move(text);
-  return j;
-}
-
-Json Json::string(std::string s) {
-  Json j;
-  j.type_ = Type::kString;
-  j.text_ = std::move(s);
-  return j;
-}
-
-Json Json::array() {
-  Json j;
-  j.type_ = Type::kArray;
-  return j;
-}
-
-Json Json::object() {
-  Json j;
-  j.type_ = Type::kObject;
-  return j;
-}
-
-Json& Json::set(const std::string& key, Json value) {
-  for (auto& [k, v] : members_) {
-    if (k == key) {
-      v = std::move(value);
-      return *this;
-    }
-  }
-  members_.emplace_back(key, std::move(value));
-  return *this;
-}
-
-Json& Json::push(Json value) {
-  items_.push_back(std::move(value));
-  return *this;
-}
-
-const Json* Json::find(const std::string& key) const {
-  for (const auto& [k, v] : members_)
-    if (k == key) return &v;
-  return nullptr;
-}
-
-double Json::asNumber() const {
-  if (type_ != Type::kNumber) return std::nan("");
-  return std::strtod(text_.c_str(), nullptr);
-}
-
-std::string Json::dump() const {
+std::string dumpJson(const Json& value) {
   std::string out;
-  dumpTo(out, 0);
+  dumpTo(value, out, 0);
   out += "\n";
   return out;
 }
 
-void Json::dumpTo(std::string& out, int indent) const {
-  const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
-  const std::string close_pad(static_cast<std::size_t>(indent), ' ');
-  switch (type_) {
-    case Type::kNull:
-      out += "null";
-      return;
-    case Type::kBool:
-    case Type::kNumber:
-      out += text_;
-      return;
-    case Type::kString:
-      out += jsonQuote(text_);
-      return;
-    case Type::kArray: {
-      if (items_.empty()) {
-        out += "[]";
-        return;
-      }
-      bool scalars = true;
-      for (const auto& i : items_)
-        scalars = scalars && i.type_ != Type::kArray && i.type_ != Type::kObject;
-      if (scalars) {
-        out += "[";
-        for (std::size_t i = 0; i < items_.size(); ++i) {
-          if (i) out += ", ";
-          items_[i].dumpTo(out, indent);
-        }
-        out += "]";
-        return;
-      }
-      out += "[\n";
-      for (std::size_t i = 0; i < items_.size(); ++i) {
-        out += pad;
-        items_[i].dumpTo(out, indent + 2);
-        out += i + 1 < items_.size() ? ",\n" : "\n";
-      }
-      out += close_pad + "]";
-      return;
-    }
-    case Type::kObject: {
-      if (members_.empty()) {
-        out += "{}";
-        return;
-      }
-      out += "{\n";
-      for (std::size_t i = 0; i < members_.size(); ++i) {
-        out += pad + jsonQuote(members_[i].first) + ": ";
-        members_[i].second.dumpTo(out, indent + 2);
-        out += i + 1 < members_.size() ? ",\n" : "\n";
-      }
-      out += close_pad + "}";
-      return;
-    }
-  }
-}
-
-namespace {
-
-Json fromYaml(const YAML::Node& n) {
-  switch (n.Type()) {
-    case YAML::NodeType::Undefined:
-    case YAML::NodeType::Null:
-      return Json::null();
-    case YAML::NodeType::Scalar: {
-      const std::string& s = n.Scalar();
-      // Quoted scalars carry the non-specific tag "!": JSON strings. Plain ones are literals.
-      if (n.Tag() == "!") return Json::string(s);
-      if (s == "true" || s == "false") return Json::boolean(s == "true");
-      if (s == "null" || s == "~") return Json::null();
-      char* end = nullptr;
-      const double v = std::strtod(s.c_str(), &end);
-      if (!s.empty() && end && *end == '\0' && std::isfinite(v)) return Json::numberLiteral(s);
-      throw std::runtime_error("not a JSON value: '" + s + "'");
-    }
-    case YAML::NodeType::Sequence: {
-      Json a = Json::array();
-      for (const auto& item : n) a.push(fromYaml(item));
-      return a;
-    }
-    case YAML::NodeType::Map: {
-      Json o = Json::object();
-      for (const auto& kv : n) o.set(kv.first.as<std::string>(), fromYaml(kv.second));
-      return o;
-    }
-  }
-  return Json::null();
-}
-
-}  // namespace
-
-Json Json::parse(const std::string& text) {
+Json parseJson(const std::string& text) {
   try {
-    return fromYaml(YAML::Load(text));
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(std::string("invalid JSON: ") + e.what());
+    return Json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    // "[json.exception.parse_error.101] parse error at line 1, column 2: ..." without the id.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0) {
+      const auto end = what.find("] ");
+      if (end != std::string::npos) what.erase(0, end + 2);
+    }
+    throw std::runtime_error("invalid JSON: " + what);
   }
 }
+
+const Json* member(const Json& value, const std::string& key) {
+  if (!value.is_object()) return nullptr;
+  const auto it = value.find(key);
+  return it == value.end() ? nullptr : &*it;
+}
+
+const Json::array_t& elements(const Json* value) {
+  static const Json::array_t kEmpty;
+  return value && value->is_array() ? value->get_ref<const Json::array_t&>() : kEmpty;
+}
+
+double numberValue(const Json* value) {
+  return value && value->is_number() ? value->get<double>()
+                                     : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string stringValue(const Json* value) {
+  return value && value->is_string() ? value->get<std::string>() : std::string();
+}
+
+bool boolValue(const Json* value) { return value && value->is_boolean() && value->get<bool>(); }
 
 }  // namespace coopnav::ctl

@@ -1,69 +1,48 @@
 #pragma once
-/// @file A small JSON value for the run summaries: built by the tools, written with one fixed
-/// layout (so identical runs give identical files), read back (merging, the CM table) through
-/// yaml-cpp, whose YAML 1.2 parser accepts JSON. Numbers keep their text, so a file read and
-/// written again keeps every digit.
+/// @file JSON of the run summaries: values are nlohmann::ordered_json (members keep the order
+/// they were set or read in), read with nlohmann's strict RFC 8259 parser, written with our one
+/// fixed layout and number text (so identical runs give identical files, and a file we wrote
+/// reads and writes back byte for byte).
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace coopnav::ctl {
 
-/// Shortest decimal text that reads back to exactly `v` ("0.1", "0.98", "1e-05"); "null" for NaN
-/// and infinities (JSON has no such numbers).
+using Json = nlohmann::ordered_json;
+
+/// Shortest decimal text of 15 to 17 significant digits that reads back to exactly `v` ("0.1",
+/// "0.98", "1e-05"); "null" for NaN and infinities (JSON has no such numbers).
 std::string jsonNumber(double v);
 
-class Json {
- public:
-  enum class Type : std::uint8_t { kNull, kBool, kNumber, kString, kArray, kObject };
-
-  Json() = default;  ///< null
-  static Json null() { return Json(); }
-  static Json boolean(bool b);
-  static Json number(double v);  ///< NaN / inf -> null
-  static Json number(std::int64_t v);
-  static Json number(std::optional<double> v) { return v ? number(*v) : null(); }
-  /// A number from text already known to be a JSON number (kept verbatim, every digit).
-  static Json numberLiteral(std::string text);
-  static Json string(std::string s);
-  static Json array();
-  static Json object();
-
-  Type type() const { return type_; }
-  bool isNull() const { return type_ == Type::kNull; }
-
-  /// Object: sets `key` (replacing an existing member in place, else appending). Returns *this.
-  Json& set(const std::string& key, Json value);
-  /// Array: appends. Returns *this.
-  Json& push(Json value);
-
-  /// Object member or nullptr.
-  const Json* find(const std::string& key) const;
-  const std::vector<Json>& items() const { return items_; }
-  const std::vector<std::pair<std::string, Json>>& members() const { return members_; }
-  /// Number value (NaN when not a number), string text, bool value (false when not a bool).
-  double asNumber() const;
-  const std::string& asString() const { return text_; }
-  bool asBool() const { return type_ == Type::kBool && text_ == "true"; }
-
-  /// Fixed layout: two-space indent, one member per line, arrays of scalars on one line.
-  std::string dump() const;
-
-  /// Parses JSON text. Throws std::runtime_error with the reason when it is not valid.
-  static Json parse(const std::string& text);
-
- private:
-  void dumpTo(std::string& out, int indent) const;
-  Type type_{Type::kNull};
-  std::string text_;  // number literal, bool literal or string contents
-  std::vector<Json> items_;
-  std::vector<std::pair<std::string, Json>> members_;
-};
-
-/// JSON string literal with quotes and escapes.
+/// JSON string literal with quotes and escapes. Bytes that are not well-formed UTF-8 are written
+/// as "\ufffd" (one per byte), so the text is always JSON.
 std::string jsonQuote(const std::string& s);
+
+/// A number value; null for NaN and infinities (and for an empty optional).
+Json numberOrNull(double v);
+Json numberOrNull(std::optional<double> v);
+
+/// Fixed layout: two-space indent, one member per line, arrays of scalars on one line, numbers as
+/// jsonNumber (integers as integers), strings as jsonQuote; ends with a newline.
+std::string dumpJson(const Json& value);
+
+/// Parses JSON text (RFC 8259: no comments, no trailing commas, no YAML). Throws
+/// std::runtime_error("invalid JSON: parse error at line L, column C: ...") when it is not.
+Json parseJson(const std::string& text);
+
+/// Lenient reading of a summary whose shape is not guaranteed (another tool's file, an older
+/// format): the member `key` of an object, nullptr when `value` is not an object or lacks it.
+const Json* member(const Json& value, const std::string& key);
+/// The elements of an array; empty for a null pointer or any other value.
+const Json::array_t& elements(const Json* value);
+/// A number's value; NaN for a null pointer or any other value.
+double numberValue(const Json* value);
+/// A string's text; "" for a null pointer or any other value.
+std::string stringValue(const Json* value);
+/// A boolean's value; false for a null pointer or any other value.
+bool boolValue(const Json* value);
 
 }  // namespace coopnav::ctl

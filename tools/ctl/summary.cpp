@@ -15,9 +15,9 @@ namespace coopnav::ctl {
 namespace {
 
 Json tristateJson(std::int8_t pred) {
-  if (pred == situation_t::PRED_TRUE) return Json::boolean(true);
-  if (pred == situation_t::PRED_FALSE) return Json::boolean(false);
-  return Json::null();
+  if (pred == situation_t::PRED_TRUE) return true;
+  if (pred == situation_t::PRED_FALSE) return false;
+  return nullptr;
 }
 
 std::string recordingName(std::int8_t rec) {
@@ -38,12 +38,12 @@ Json cmByGamma(const std::vector<double>& ca_m) {
   for (const double gamma : kSummaryGammas) {
     char key[16];
     std::snprintf(key, sizeof key, "%.2f", gamma);
-    o.set(key, Json::number(assessment::discountedMean(ca_m, gamma)));
+    o[key] = numberOrNull(assessment::discountedMean(ca_m, gamma));
   }
   return o;
 }
 
-Json point(double x, double y) { return Json::array().push(Json::number(x)).push(Json::number(y)); }
+Json point(double x, double y) { return Json::array({numberOrNull(x), numberOrNull(y)}); }
 
 // [m] Minimum robot-human clearance (centre distance minus radii) over the logged states; NaN
 // when no state has both.
@@ -62,62 +62,60 @@ double minClearanceFromStates(const RunLog& run) {
 Json humanEntry(const RunLog& run, const HumanAnalysis& h,
                 const std::vector<TranscriptEntry>& transcript) {
   Json o = Json::object();
-  o.set("id", Json::number(std::int64_t{h.id}));
+  o["id"] = std::int64_t{h.id};
   const path_assessment_t* p = h.last_assessment ? &run.assessments[*h.last_assessment] : nullptr;
   if (p) {
-    o.set("cm_window_m", Json::number(p->cm_m));
-    o.set("window_samples", Json::number(std::int64_t{p->window_samples}));
-    o.set("is_contributing", tristateJson(p->is_contributing));
-    o.set("cm_interaction_m", Json::number(p->cm_interaction_m));
-    o.set("interaction_samples", Json::number(std::int64_t{p->interaction_samples}));
-    o.set("is_contributing_interaction", tristateJson(p->is_contributing_interaction));
-    o.set("gamma", Json::number(p->gamma));
-    o.set("tau_m", Json::number(p->tau_m));
-    o.set("recording", Json::string(recordingName(p->recording)));
-    o.set("cm_by_gamma", cmByGamma(p->ca_m));
-    o.set("cm_by_gamma_complete", Json::boolean(p->num_samples == p->window_samples));
+    o["cm_window_m"] = numberOrNull(p->cm_m);
+    o["window_samples"] = std::int64_t{p->window_samples};
+    o["is_contributing"] = tristateJson(p->is_contributing);
+    o["cm_interaction_m"] = numberOrNull(p->cm_interaction_m);
+    o["interaction_samples"] = std::int64_t{p->interaction_samples};
+    o["is_contributing_interaction"] = tristateJson(p->is_contributing_interaction);
+    o["gamma"] = numberOrNull(p->gamma);
+    o["tau_m"] = numberOrNull(p->tau_m);
+    o["recording"] = recordingName(p->recording);
+    o["cm_by_gamma"] = cmByGamma(p->ca_m);
+    o["cm_by_gamma_complete"] = p->num_samples == p->window_samples;
   } else {
     for (const char* k : {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
                           "interaction_samples", "is_contributing_interaction", "gamma", "tau_m",
                           "recording", "cm_by_gamma"})
-      o.set(k, Json::null());
-    o.set("cm_by_gamma_complete", Json::boolean(false));
+      o[k] = nullptr;
+    o["cm_by_gamma_complete"] = false;
   }
-  o.set("cm_interaction_by_gamma",
-        h.interaction_ca_complete ? cmByGamma(h.interaction_ca_m) : Json::null());
-  o.set("interaction_ca_complete", Json::boolean(h.interaction_ca_complete));
+  o["cm_interaction_by_gamma"] = h.interaction_ca_complete ? cmByGamma(h.interaction_ca_m) : Json();
+  o["interaction_ca_complete"] = h.interaction_ca_complete;
   // The CA itself, so that figures across scenarios (paper's γ-vs-CM plot) need only this file.
   const std::vector<double>* ca = h.interaction_ca_complete ? &h.interaction_ca_m
                                   : p                       ? &p->ca_m
                                                             : nullptr;
-  o.set("ca_kind",
-        ca ? Json::string(h.interaction_ca_complete ? "interaction" : "window") : Json::null());
+  o["ca_kind"] = ca ? Json(h.interaction_ca_complete ? "interaction" : "window") : Json();
   Json ca_json = Json::array();
   if (ca)
-    for (const double v : *ca) ca_json.push(Json::number(v));
-  o.set("ca_m", std::move(ca_json));
-  o.set("recorder_start_s", Json::number(h.recorder_start_s));
-  o.set("docked", Json::boolean(h.docked));
+    for (const double v : *ca) ca_json.push_back(numberOrNull(v));
+  o["ca_m"] = std::move(ca_json);
+  o["recorder_start_s"] = numberOrNull(h.recorder_start_s);
+  o["docked"] = h.docked;
   bool thanked = false;
   for (const auto& u : run.utterances)
     thanked = thanked || (u.human_id == h.id && u.speech_act == utterance_t::ACT_THANK);
-  o.set("thanked", Json::boolean(thanked));
+  o["thanked"] = thanked;
 
   if (h.first_round_situation) {
     const auto& s = run.situations[*h.first_round_situation];
     Json r = Json::object();
-    r.set("t_s", Json::number(utimeToS(s.utime)));
-    r.set("t_cross_s", Json::number(s.t_cross_s));
-    r.set("cp_h_m", point(s.cp_h_x_m, s.cp_h_y_m));
-    r.set("cp_r_m", point(s.cp_r_x_m, s.cp_r_y_m));
-    r.set("dir", Json::string(directionName(s.dir)));
-    r.set("d_h_m", Json::number(s.d_h_m));
-    r.set("human_needs_to_contribute", tristateJson(s.human_needs_to_contribute));
-    r.set("human_is_constrained", tristateJson(s.human_is_constrained));
-    r.set("robot_is_constrained", tristateJson(s.robot_is_constrained));
-    o.set("first_round", r);
+    r["t_s"] = numberOrNull(utimeToS(s.utime));
+    r["t_cross_s"] = numberOrNull(s.t_cross_s);
+    r["cp_h_m"] = point(s.cp_h_x_m, s.cp_h_y_m);
+    r["cp_r_m"] = point(s.cp_r_x_m, s.cp_r_y_m);
+    r["dir"] = directionName(s.dir);
+    r["d_h_m"] = numberOrNull(s.d_h_m);
+    r["human_needs_to_contribute"] = tristateJson(s.human_needs_to_contribute);
+    r["human_is_constrained"] = tristateJson(s.human_is_constrained);
+    r["robot_is_constrained"] = tristateJson(s.robot_is_constrained);
+    o["first_round"] = std::move(r);
   } else {
-    o.set("first_round", Json::null());
+    o["first_round"] = nullptr;
   }
 
   Json entries = Json::array();
@@ -126,22 +124,22 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
     if (e.human_id != h.id) continue;
     if (e.kind != Kind::kSay && e.kind != Kind::kAction && e.kind != Kind::kRecorder) continue;
     Json j = Json::object();
-    j.set("t_s", Json::number(utimeToS(e.utime)));
-    j.set("t_cross_s", Json::number(e.t_cross_s));
+    j["t_s"] = numberOrNull(utimeToS(e.utime));
+    j["t_cross_s"] = numberOrNull(e.t_cross_s);
     if (e.kind == Kind::kSay) {
-      j.set("kind", Json::string("say"));
-      j.set("act", Json::string(e.what));
-      j.set("text", Json::string(e.text));
-      j.set("round", Json::number(std::int64_t{e.round}));
-      j.set("direction", Json::string(e.direction));
+      j["kind"] = "say";
+      j["act"] = e.what;
+      j["text"] = e.text;
+      j["round"] = std::int64_t{e.round};
+      j["direction"] = e.direction;
     } else {
-      j.set("kind", Json::string(e.kind == Kind::kAction ? "action" : "recorder"));
-      j.set(e.kind == Kind::kAction ? "action" : "command", Json::string(e.what));
-      j.set("reason", Json::string(e.text));
+      j["kind"] = e.kind == Kind::kAction ? "action" : "recorder";
+      j[e.kind == Kind::kAction ? "action" : "command"] = e.what;
+      j["reason"] = e.text;
     }
-    entries.push(std::move(j));
+    entries.push_back(std::move(j));
   }
-  o.set("transcript", std::move(entries));
+  o["transcript"] = std::move(entries);
   return o;
 }
 
@@ -155,67 +153,63 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   const auto transcript = buildTranscript(run, analysis, topt);
 
   Json s = Json::object();
-  s.set("scenario", Json::string(analysis.scenario));
-  s.set("log", Json::string(log_name));
+  s["scenario"] = analysis.scenario;
+  s["log"] = log_name;
   const sim_status_t* st =
       analysis.final_status ? &run.sim_status[*analysis.final_status] : nullptr;
   if (st) {
-    s.set("final_state", Json::string(simStateName(st->state)));
-    s.set("collision", Json::boolean(st->state == sim_status_t::STATE_COLLISION));
-    s.set("min_clearance_m", Json::number(st->min_clearance_m));
-    s.set("robot_time_to_goal_s", Json::number(st->robot_time_to_goal_s));
-    s.set("sim_time_s", Json::number(utimeToS(st->utime)));
-    s.set("last_step", Json::number(st->step));
-    s.set("detail", Json::string(st->detail));
+    s["final_state"] = simStateName(st->state);
+    s["collision"] = st->state == sim_status_t::STATE_COLLISION;
+    s["min_clearance_m"] = numberOrNull(st->min_clearance_m);
+    s["robot_time_to_goal_s"] = numberOrNull(st->robot_time_to_goal_s);
+    s["sim_time_s"] = numberOrNull(utimeToS(st->utime));
+    s["last_step"] = st->step;
+    s["detail"] = st->detail;
   } else {
     for (const char* k : {"final_state", "collision", "min_clearance_m", "robot_time_to_goal_s",
                           "sim_time_s", "last_step", "detail"})
-      s.set(k, Json::null());
+      s[k] = nullptr;
   }
-  s.set("min_clearance_states_m", Json::number(minClearanceFromStates(run)));
+  s["min_clearance_states_m"] = numberOrNull(minClearanceFromStates(run));
   bool docked = false;
   for (const auto& h : analysis.humans) docked = docked || h.docked;
-  s.set("docked", Json::boolean(docked));
+  s["docked"] = docked;
 
   Json humans = Json::array();
-  for (const auto& h : analysis.humans) humans.push(humanEntry(run, h, transcript));
-  s.set("humans", std::move(humans));
+  for (const auto& h : analysis.humans) humans.push_back(humanEntry(run, h, transcript));
+  s["humans"] = std::move(humans);
 
   const auto& c = run.counts;
   Json counts = Json::object();
-  counts.set("events", Json::number(c.events));
-  counts.set("decoded", Json::number(c.decoded));
-  counts.set("not_needed", Json::number(c.not_needed));
-  counts.set("undecodable", Json::number(c.undecodable));
-  counts.set("unknown_channel", Json::number(c.unknown_channel));
-  counts.set("bad_headers", Json::number(c.bad_headers));
-  counts.set("skipped_bytes", Json::number(c.skipped_bytes));
-  counts.set("truncated", Json::boolean(c.truncated));
-  s.set("log_counts", std::move(counts));
+  counts["events"] = c.events;
+  counts["decoded"] = c.decoded;
+  counts["not_needed"] = c.not_needed;
+  counts["undecodable"] = c.undecodable;
+  counts["unknown_channel"] = c.unknown_channel;
+  counts["bad_headers"] = c.bad_headers;
+  counts["skipped_bytes"] = c.skipped_bytes;
+  counts["truncated"] = c.truncated;
+  s["log_counts"] = std::move(counts);
   return s;
 }
 
 Json summaryDocument(const std::vector<Json>& scenario_entries) {
   Json doc = Json::object();
-  doc.set("format", Json::string(kSummaryFormat));
-  Json list = Json::array();
-  for (const auto& e : scenario_entries) list.push(e);
-  doc.set("scenarios", std::move(list));
+  doc["format"] = kSummaryFormat;
+  doc["scenarios"] = Json::array_t(scenario_entries.begin(), scenario_entries.end());
   return doc;
 }
 
 Json mergeSummaries(const std::vector<Json>& documents) {
   std::vector<Json> merged;
   for (const auto& doc : documents) {
-    const Json* list = doc.type() == Json::Type::kObject ? doc.find("scenarios") : nullptr;
-    if (!list || list->type() != Json::Type::kArray)
+    const Json* list = member(doc, "scenarios");
+    if (!list || !list->is_array())
       throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
-    for (const auto& entry : list->items()) {
-      const Json* name = entry.find("scenario");
-      const std::string key = name ? name->asString() : "";
+    for (const auto& entry : *list) {
+      const std::string key = stringValue(member(entry, "scenario"));
       auto it = std::find_if(merged.begin(), merged.end(), [&](const Json& m) {
-        const Json* n = m.find("scenario");
-        return (n ? n->asString() : "") == key;
+        return stringValue(member(m, "scenario")) == key;
       });
       if (it != merged.end())
         *it = entry;
@@ -232,7 +226,7 @@ Json readSummaryFile(const std::string& path) {
   std::stringstream ss;
   ss << in.rdbuf();
   try {
-    return Json::parse(ss.str());
+    return parseJson(ss.str());
   } catch (const std::exception& e) {
     throw std::runtime_error(path + ": " + e.what());
   }
@@ -257,8 +251,8 @@ double paperTableCm(const std::string& scenario) {
 }
 
 std::string formatCmTable(const Json& summary) {
-  const Json* list = summary.find("scenarios");
-  if (!list || list->type() != Json::Type::kArray)
+  const Json* list = member(summary, "scenarios");
+  if (!list || !list->is_array())
     throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
 
   // Table I order first (open then narrow; facilitating then minimal as issue 6 lists them).
@@ -266,21 +260,21 @@ std::string formatCmTable(const Json& summary) {
                                        "narrow_minimal"};
   std::vector<const Json*> rows;
   for (const char* name : kOrder)
-    for (const auto& e : list->items())
-      if (const Json* n = e.find("scenario"); n && n->asString().rfind(name, 0) == 0)
+    for (const auto& e : *list)
+      if (const Json* n = member(e, "scenario"); n && stringValue(n).rfind(name, 0) == 0)
         rows.push_back(&e);
-  for (const auto& e : list->items())
+  for (const auto& e : *list)
     if (std::find(rows.begin(), rows.end(), &e) == rows.end()) rows.push_back(&e);
 
   auto boolText = [](const Json* j) {
-    if (!j || j->isNull()) return std::string("-");
-    return std::string(j->asBool() ? "yes" : "no");
+    if (!j || j->is_null()) return std::string("-");
+    return std::string(boolValue(j) ? "yes" : "no");
   };
   auto predText = [](const Json* j) {
-    if (!j || j->isNull()) return std::string("UNKNOWN");
-    return std::string(j->asBool() ? "TRUE" : "FALSE");
+    if (!j || j->is_null()) return std::string("UNKNOWN");
+    return std::string(boolValue(j) ? "TRUE" : "FALSE");
   };
-  auto num = [](const Json* j) { return fixed(j ? j->asNumber() : std::nan(""), 2); };
+  auto num = [](const Json* j) { return fixed(numberValue(j), 2); };
 
   std::string out =
       "CM [m]: ours = interaction CM (round 1 to crossing, no reset), as Table I reports it;\n"
@@ -291,28 +285,28 @@ std::string formatCmTable(const Json& summary) {
                 "final state");
   out += buf;
   for (const Json* e : rows) {
-    const Json* n = e->find("scenario");
-    const std::string name = n ? n->asString() : "";
-    const Json* humans = e->find("humans");
+    const std::string name = stringValue(member(*e, "scenario"));
+    const Json* humans = member(*e, "humans");
     const std::string paper = fixed(paperTableCm(name), 2);
-    const Json* final_state = e->find("final_state");
-    const std::string state = final_state && !final_state->isNull() ? final_state->asString() : "-";
-    if (!humans || humans->items().empty()) {
+    const Json* final_state = member(*e, "final_state");
+    const std::string state =
+        final_state && !final_state->is_null() ? stringValue(final_state) : "-";
+    if (elements(humans).empty()) {
       std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", name.c_str(),
-                    "-", "-", paper.c_str(), "-", "-", boolText(e->find("docked")).c_str(),
-                    boolText(e->find("collision")).c_str(), state.c_str());
+                    "-", "-", paper.c_str(), "-", "-", boolText(member(*e, "docked")).c_str(),
+                    boolText(member(*e, "collision")).c_str(), state.c_str());
       out += buf;
       continue;
     }
-    for (const auto& h : humans->items()) {
-      const Json* id = h.find("id");
-      const std::string id_text = id ? jsonNumber(id->asNumber()) : "-";
+    for (const auto& h : elements(humans)) {
+      const Json* id = member(h, "id");
+      const std::string id_text = id ? jsonNumber(numberValue(id)) : "-";
       std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", name.c_str(),
-                    id_text.c_str(), num(h.find("cm_interaction_m")).c_str(), paper.c_str(),
-                    num(h.find("cm_window_m")).c_str(),
-                    predText(h.find("is_contributing_interaction")).c_str(),
-                    boolText(h.find("docked")).c_str(), boolText(e->find("collision")).c_str(),
-                    state.c_str());
+                    id_text.c_str(), num(member(h, "cm_interaction_m")).c_str(), paper.c_str(),
+                    num(member(h, "cm_window_m")).c_str(),
+                    predText(member(h, "is_contributing_interaction")).c_str(),
+                    boolText(member(h, "docked")).c_str(),
+                    boolText(member(*e, "collision")).c_str(), state.c_str());
       out += buf;
     }
   }

@@ -436,21 +436,22 @@ struct SummaryCurve {
 
 std::vector<SummaryCurve> summaryCurves(const Json& summary) {
   std::vector<SummaryCurve> curves;
-  const Json* list = summary.find("scenarios");
+  const Json* list = member(summary, "scenarios");
   if (!list) throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
-  for (const auto& s : list->items()) {
-    const Json* name = s.find("scenario");
-    const Json* humans = s.find("humans");
-    if (!humans) continue;
-    for (const auto& h : humans->items()) {
-      const Json* ca = h.find("ca_m");
-      if (!ca || ca->items().empty()) continue;
+  for (const auto& s : elements(list)) {
+    const Json* name = member(s, "scenario");
+    const auto& humans = elements(member(s, "humans"));
+    for (const auto& h : humans) {
+      const auto& ca = elements(member(h, "ca_m"));
+      if (ca.empty()) continue;
       SummaryCurve c;
-      c.label = name ? name->asString() : "?";
-      if (humans->items().size() > 1)
-        c.label += " human " + jsonNumber(h.find("id") ? h.find("id")->asNumber() : -1.0);
-      for (const auto& v : ca->items()) c.ca_m.push_back(v.asNumber());
-      if (const Json* tau = h.find("tau_m")) c.tau_m = tau->asNumber();
+      c.label = name ? stringValue(name) : "?";
+      if (humans.size() > 1) {
+        const Json* id = member(h, "id");
+        c.label += " human " + jsonNumber(id ? numberValue(id) : -1.0);
+      }
+      for (const auto& v : ca) c.ca_m.push_back(numberValue(&v));
+      if (const Json* tau = member(h, "tau_m")) c.tau_m = numberValue(tau);
       curves.push_back(std::move(c));
     }
   }

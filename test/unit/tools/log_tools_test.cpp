@@ -431,99 +431,91 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
   const Json doc =
-      Json::parse(summaryDocument({summarizeRun(run, analyseRun(run), "run.lcm")}).dump());
-  ASSERT_NE(doc.find("format"), nullptr);
-  EXPECT_EQ(doc.find("format")->asString(), kSummaryFormat);
-  const Json& s = doc.find("scenarios")->items().at(0);
-  EXPECT_EQ(s.find("scenario")->asString(), "open_facilitating");
-  EXPECT_EQ(s.find("log")->asString(), "run.lcm");
-  EXPECT_EQ(s.find("final_state")->asString(), "GOAL_REACHED");
-  EXPECT_FALSE(s.find("collision")->asBool());
-  EXPECT_EQ(s.find("collision")->type(), Json::Type::kBool);
-  EXPECT_DOUBLE_EQ(s.find("min_clearance_m")->asNumber(), 0.65);
-  EXPECT_DOUBLE_EQ(s.find("robot_time_to_goal_s")->asNumber(), 8.9);
-  EXPECT_TRUE(s.find("docked")->asBool());
+      parseJson(dumpJson(summaryDocument({summarizeRun(run, analyseRun(run), "run.lcm")})));
+  EXPECT_EQ(doc.at("format"), kSummaryFormat);
+  const Json& s = doc.at("scenarios").at(0);
+  EXPECT_EQ(s.at("scenario"), "open_facilitating");
+  EXPECT_EQ(s.at("log"), "run.lcm");
+  EXPECT_EQ(s.at("final_state"), "GOAL_REACHED");
+  EXPECT_EQ(s.at("collision"), false);
+  EXPECT_TRUE(s.at("collision").is_boolean());
+  EXPECT_DOUBLE_EQ(s.at("min_clearance_m").get<double>(), 0.65);
+  EXPECT_DOUBLE_EQ(s.at("robot_time_to_goal_s").get<double>(), 8.9);
+  EXPECT_EQ(s.at("docked"), true);
   // Closest approach of the script: step 80, both at x 8, y 1.5 and 2.4, radii 0.3.
-  EXPECT_NEAR(s.find("min_clearance_states_m")->asNumber(), 0.3, 1e-9);
+  EXPECT_NEAR(s.at("min_clearance_states_m").get<double>(), 0.3, 1e-9);
 
-  const Json& h = s.find("humans")->items().at(0);
+  const Json& h = s.at("humans").at(0);
   const path_assessment_t& last = run.assessments.back();
-  EXPECT_EQ(h.find("id")->asNumber(), 1.0);
-  EXPECT_EQ(h.find("cm_window_m")->asNumber(), last.cm_m);
-  EXPECT_EQ(h.find("cm_interaction_m")->asNumber(), last.cm_interaction_m);
-  EXPECT_EQ(h.find("window_samples")->asNumber(), 49.0);
-  EXPECT_EQ(h.find("interaction_samples")->asNumber(), 80.0);
-  EXPECT_TRUE(h.find("is_contributing")->asBool());
-  EXPECT_TRUE(h.find("is_contributing_interaction")->asBool());
-  EXPECT_EQ(h.find("recording")->asString(), "STOPPED");
-  EXPECT_TRUE(h.find("docked")->asBool());
-  EXPECT_TRUE(h.find("thanked")->asBool());
-  EXPECT_TRUE(h.find("interaction_ca_complete")->asBool());
-  const Json* round1 = h.find("first_round");
-  ASSERT_NE(round1, nullptr);
-  EXPECT_DOUBLE_EQ(round1->find("t_s")->asNumber(), 1.0);
-  EXPECT_DOUBLE_EQ(round1->find("cp_h_m")->items().at(1).asNumber(), 2.4);
-  EXPECT_EQ(round1->find("dir")->asString(), "left");
+  EXPECT_EQ(h.at("id"), 1);
+  EXPECT_EQ(h.at("cm_window_m").get<double>(), last.cm_m);
+  EXPECT_EQ(h.at("cm_interaction_m").get<double>(), last.cm_interaction_m);
+  EXPECT_EQ(h.at("window_samples"), 49);
+  EXPECT_EQ(h.at("interaction_samples"), 80);
+  EXPECT_EQ(h.at("is_contributing"), true);
+  EXPECT_EQ(h.at("is_contributing_interaction"), true);
+  EXPECT_EQ(h.at("recording"), "STOPPED");
+  EXPECT_EQ(h.at("docked"), true);
+  EXPECT_EQ(h.at("thanked"), true);
+  EXPECT_EQ(h.at("interaction_ca_complete"), true);
+  const Json& round1 = h.at("first_round");
+  ASSERT_TRUE(round1.is_object());
+  EXPECT_DOUBLE_EQ(round1.at("t_s").get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(round1.at("cp_h_m").at(1).get<double>(), 2.4);
+  EXPECT_EQ(round1.at("dir"), "left");
 
-  const auto& entries = h.find("transcript")->items();
+  const Json& entries = h.at("transcript");
   ASSERT_EQ(entries.size(), 8u);
-  EXPECT_EQ(entries[0].find("kind")->asString(), "recorder");
-  EXPECT_EQ(entries[0].find("command")->asString(), "START");
-  EXPECT_EQ(entries[1].find("kind")->asString(), "say");
-  EXPECT_EQ(entries[1].find("act")->asString(), "INFORM_DIRECTION");
-  EXPECT_EQ(entries[1].find("text")->asString(), "I will pass on your left.");
-  EXPECT_EQ(entries[1].find("round")->asNumber(), 1.0);
-  EXPECT_EQ(entries[1].find("direction")->asString(), "left");
-  EXPECT_DOUBLE_EQ(entries[1].find("t_s")->asNumber(), 1.0);
-  EXPECT_DOUBLE_EQ(entries[1].find("t_cross_s")->asNumber(), 7.0);
-  EXPECT_EQ(entries[3].find("kind")->asString(), "action");
-  EXPECT_EQ(entries[3].find("action")->asString(), "DOCK");
+  EXPECT_EQ(entries[0].at("kind"), "recorder");
+  EXPECT_EQ(entries[0].at("command"), "START");
+  EXPECT_EQ(entries[1].at("kind"), "say");
+  EXPECT_EQ(entries[1].at("act"), "INFORM_DIRECTION");
+  EXPECT_EQ(entries[1].at("text"), "I will pass on your left.");
+  EXPECT_EQ(entries[1].at("round"), 1);
+  EXPECT_EQ(entries[1].at("direction"), "left");
+  EXPECT_DOUBLE_EQ(entries[1].at("t_s").get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(entries[1].at("t_cross_s").get<double>(), 7.0);
+  EXPECT_EQ(entries[3].at("kind"), "action");
+  EXPECT_EQ(entries[3].at("action"), "DOCK");
   // THANK after crossing: t_CROSS unknown -> null.
-  EXPECT_TRUE(entries[7].find("t_cross_s")->isNull());
+  EXPECT_TRUE(entries[7].at("t_cross_s").is_null());
 }
 
 TEST(LogTools, CmByGammaIsDiscountedMeanOfTheLoggedCa) {
   TempDir dir;
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
-  const Json h = Json::parse(summarizeRun(run, analyseRun(run), "run.lcm").dump())
-                     .find("humans")
-                     ->items()
-                     .at(0);
-  const Json* window = h.find("cm_by_gamma");
-  const Json* inter = h.find("cm_interaction_by_gamma");
-  ASSERT_NE(window, nullptr);
-  ASSERT_NE(inter, nullptr);
-  ASSERT_EQ(window->members().size(), std::size(kSummaryGammas));
+  const Json h =
+      parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm"))).at("humans").at(0);
+  const Json& window = h.at("cm_by_gamma");
+  const Json& inter = h.at("cm_interaction_by_gamma");
+  ASSERT_EQ(window.size(), std::size(kSummaryGammas));
   for (const double gamma : kSummaryGammas) {
     char key[16];
     std::snprintf(key, sizeof key, "%.2f", gamma);
-    ASSERT_NE(window->find(key), nullptr) << key;
+    ASSERT_TRUE(window.contains(key)) << key;
     // Shortest round-trip text: the exact double comes back.
-    EXPECT_EQ(window->find(key)->asNumber(),
+    EXPECT_EQ(window.at(key).get<double>(),
               *assessment::discountedMean(run.assessments.back().ca_m, gamma))
         << key;
-    EXPECT_EQ(inter->find(key)->asNumber(),
+    EXPECT_EQ(inter.at(key).get<double>(),
               *assessment::discountedMean(interactionCa(kSteps - 1), gamma))
         << key;
   }
-  EXPECT_EQ(window->find("0.98")->asNumber(), run.assessments.back().cm_m);
+  EXPECT_EQ(window.at("0.98").get<double>(), run.assessments.back().cm_m);
 }
 
 TEST(LogTools, MergeReplacesTheSameScenarioAndKeepsOrder) {
-  Json a = Json::object();
-  a.set("scenario", Json::string("open_facilitating")).set("x", Json::number(1.0));
-  Json b = Json::object();
-  b.set("scenario", Json::string("narrow_minimal")).set("x", Json::number(2.0));
-  Json a2 = Json::object();
-  a2.set("scenario", Json::string("open_facilitating")).set("x", Json::number(3.0));
+  const Json a = {{"scenario", "open_facilitating"}, {"x", 1.0}};
+  const Json b = {{"scenario", "narrow_minimal"}, {"x", 2.0}};
+  const Json a2 = {{"scenario", "open_facilitating"}, {"x", 3.0}};
   const Json merged = mergeSummaries(
-      {Json::parse(summaryDocument({a, b}).dump()), Json::parse(summaryDocument({a2}).dump())});
-  const auto& list = merged.find("scenarios")->items();
+      {parseJson(dumpJson(summaryDocument({a, b}))), parseJson(dumpJson(summaryDocument({a2})))});
+  const Json& list = merged.at("scenarios");
   ASSERT_EQ(list.size(), 2u);
-  EXPECT_EQ(list[0].find("scenario")->asString(), "open_facilitating");
-  EXPECT_EQ(list[0].find("x")->asNumber(), 3.0);
-  EXPECT_EQ(list[1].find("scenario")->asString(), "narrow_minimal");
+  EXPECT_EQ(list[0].at("scenario"), "open_facilitating");
+  EXPECT_EQ(list[0].at("x"), 3.0);
+  EXPECT_EQ(list[1].at("scenario"), "narrow_minimal");
   EXPECT_THROW(mergeSummaries({Json::object()}), std::runtime_error);
 }
 
@@ -531,8 +523,8 @@ TEST(LogTools, SummaryTextSurvivesParseAndDumpUnchanged) {
   TempDir dir;
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
-  const std::string text = summaryDocument({summarizeRun(run, analyseRun(run), "r.lcm")}).dump();
-  EXPECT_EQ(Json::parse(text).dump(), text);
+  const std::string text = dumpJson(summaryDocument({summarizeRun(run, analyseRun(run), "r.lcm")}));
+  EXPECT_EQ(dumpJson(parseJson(text)), text);
   EXPECT_NE(text.find("\"cm_window_m\": "), std::string::npos);
 }
 
@@ -543,28 +535,101 @@ TEST(LogTools, JsonNumbersStringsAndNull) {
   EXPECT_EQ(jsonNumber(std::nan("")), "null");
   EXPECT_EQ(jsonNumber(-INFINITY), "null");
   EXPECT_EQ(jsonNumber(-0.0), "0");
-  EXPECT_EQ(Json::number(std::nan("")).dump(), "null\n");
-  EXPECT_EQ(Json::number(std::optional<double>()).dump(), "null\n");
+  EXPECT_EQ(dumpJson(numberOrNull(std::nan(""))), "null\n");
+  EXPECT_EQ(dumpJson(numberOrNull(std::optional<double>())), "null\n");
   const std::string tricky = "say \"hi\"\\ \n\t\x01 é";
   EXPECT_EQ(jsonQuote(tricky), "\"say \\\"hi\\\"\\\\ \\n\\t\\u0001 é\"");
-  Json o = Json::object();
-  o.set("s", Json::string(tricky)).set("n", Json::null()).set("b", Json::boolean(true));
-  const Json back = Json::parse(o.dump());
-  EXPECT_EQ(back.find("s")->asString(), tricky);
-  EXPECT_TRUE(back.find("n")->isNull());
-  EXPECT_TRUE(back.find("b")->asBool());
-  EXPECT_THROW(Json::parse("{\"a\": [1, 2"), std::runtime_error);
+  const Json o = {{"s", tricky}, {"n", nullptr}, {"b", true}};
+  const Json back = parseJson(dumpJson(o));
+  EXPECT_EQ(back.at("s"), tricky);
+  EXPECT_TRUE(back.at("n").is_null());
+  EXPECT_EQ(back.at("b"), true);
+  EXPECT_THROW(parseJson("{\"a\": [1, 2"), std::runtime_error);
+  // Not well-formed UTF-8 (a corrupt log's text): written as U+FFFD, so the file stays JSON.
+  EXPECT_EQ(jsonQuote("a\xff\xc3"
+                      "b\xed\xa0\x80"),
+            "\"a\\ufffd\\ufffdb\\ufffd\\ufffd\\ufffd\"");
+  EXPECT_EQ(parseJson(dumpJson(Json{{"s",
+                                     "a\xff"
+                                     "b"}}))
+                .at("s"),
+            "a\xef\xbf\xbd"
+            "b");
+}
+
+TEST(LogTools, JsonNumbersReadBackToTheSameText) {
+  const std::string text = "[0.1, 0.98, 1e-05, 1e+20, 0.3333333333333333, 12, -3, 0]\n";
+  const Json back = parseJson(text);
+  EXPECT_EQ(dumpJson(back), text);
+  EXPECT_EQ(back.at(0).get<double>(), 0.1);
+  EXPECT_EQ(back.at(5), 12);
+}
+
+// Given text that YAML (or a lenient reader) accepts but JSON does not, when it is read, then
+// reading fails and says where and why.
+TEST(LogTools, ReadingRejectsWhatIsNotJson) {
+  const char* const kNotJson[] = {
+      "{a: 1}",               // YAML flow map: unquoted key
+      "{\"a\": 1,}",          // trailing comma in an object
+      "[1, 2,]",              // trailing comma in an array
+      "a: 1\n",               // YAML block map
+      "- 1\n- 2\n",           // YAML block sequence
+      "{'a': 1}",             // single quotes
+      "{\"a\": 1} # note",    // comment
+      "// note\n{\"a\": 1}",  // comment
+      "{\"a\": ~}",           // YAML null
+      "{\"a\": .inf}",        // YAML infinity
+      "{\"a\": NaN}",         // not a JSON number
+      "{\"a\": 0x10}",        // hexadecimal
+      "{\"a\": 01}",          // leading zero
+      "{\"a\": yes}",         // YAML 1.1 boolean
+      "{\"a\": 1e999}",       // no double holds it
+      "{\"a\": \"\xff\"}",    // not UTF-8
+      "{} {}",                // two documents
+      "",                     // nothing
+  };
+  for (const char* text : kNotJson) {
+    try {
+      (void)parseJson(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("invalid JSON: ", 0), 0u) << what;
+      EXPECT_EQ(what.find("[json.exception"), std::string::npos) << what;
+    }
+  }
+  try {
+    (void)parseJson("{a: 1}");
+    ADD_FAILURE();
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(),
+                 "invalid JSON: parse error at line 1, column 2: syntax error while parsing "
+                 "object key - invalid literal; last read: '{a'; expected string literal");
+  }
+
+  // A summary file names itself in the error.
+  TempDir dir;
+  {
+    std::ofstream out(dir.file("summary.json"));
+    out << "{\"format\": \"coopnav-summary/1\", \"scenarios\": [],}\n";
+  }
+  try {
+    (void)readSummaryFile(dir.file("summary.json"));
+    ADD_FAILURE();
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind(dir.file("summary.json") + ": invalid JSON: parse error at line 1", 0), 0u)
+        << what;
+  }
 }
 
 TEST(LogTools, CmTableSitsBesideTableI) {
   TempDir dir;
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
-  Json other = Json::object();
-  other.set("scenario", Json::string("narrow_minimal"));
-  other.set("humans", Json::array());
+  const Json other = {{"scenario", "narrow_minimal"}, {"humans", Json::array()}};
   const Json doc = summaryDocument({other, summarizeRun(run, analyseRun(run), "run.lcm")});
-  const std::string table = formatCmTable(Json::parse(doc.dump()));
+  const std::string table = formatCmTable(parseJson(dumpJson(doc)));
   std::istringstream lines(table);
   std::string line;
   std::vector<std::string> rows;
@@ -624,13 +689,12 @@ TEST(LogTools, SummaryFiguresDrawOneCurvePerScenarioFromTheSummaryAlone) {
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
   const Json entry = summarizeRun(run, analyseRun(run), "run.lcm");
-  EXPECT_EQ(entry.find("humans")->items().at(0).find("ca_kind")->asString(), "interaction");
-  EXPECT_EQ(entry.find("humans")->items().at(0).find("ca_m")->items().size(), 80u);
-  Json renamed = Json::parse(entry.dump());
-  renamed.set("scenario", Json::string("narrow_minimal"));
-  Json no_ca = Json::object();
-  no_ca.set("scenario", Json::string("open_minimal")).set("humans", Json::array());
-  const Json doc = Json::parse(summaryDocument({entry, renamed, no_ca}).dump());
+  EXPECT_EQ(entry.at("humans").at(0).at("ca_kind"), "interaction");
+  EXPECT_EQ(entry.at("humans").at(0).at("ca_m").size(), 80u);
+  Json renamed = parseJson(dumpJson(entry));
+  renamed["scenario"] = "narrow_minimal";
+  const Json no_ca = {{"scenario", "open_minimal"}, {"humans", Json::array()}};
+  const Json doc = parseJson(dumpJson(summaryDocument({entry, renamed, no_ca})));
   const FigurePaths paths = writeSummaryFigures(doc, dir.file("fig"));
   EXPECT_EQ(paths.cm_gamma, dir.file("fig") + "/summary_cm_gamma.svg");
   const std::string cm = summaryCmGammaSvg(doc);

@@ -8,8 +8,8 @@
 /// minimally contributing walkers, and the planner runs again. Both solvers
 /// (our SparseLm and Ceres) on the same problems; every case's repeats interleaved with the
 /// others' so that all share the machine's load.
-/// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS [THREADS]]` runs one case only
-/// (for a profiler).
+/// Ends with RESULT lines. `bench_band SOLVER HUMANS [REPEATS]` runs one case only (for a
+/// profiler).
 
 #include <algorithm>
 #include <chrono>
@@ -120,13 +120,11 @@ struct Samples {
 };
 
 /// One repeat of a case: kCycles closed-loop cycles from the start of the head-on world.
-/// threads: sparse_lm's solver_threads; 0: band_source.yaml's.
 void runOnce(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
-             bool warm_start, Samples* out, int threads = 0) {
+             bool warm_start, Samples* out) {
   BandPlannerConfig cfg = g_deployed;
   cfg.solver = solver;
   cfg.warm_start = warm_start;
-  if (threads > 0) cfg.solver_threads = threads;
   DualBandPlanner planner(cfg, map);
   const sim::WorldSpec spec = headOnWorld(cfg, n_humans);
   sim::Simulation world(spec, map.get());
@@ -212,10 +210,9 @@ Stats summarize(Samples in) {
 }
 
 Stats run(const std::shared_ptr<const DistanceMap>& map, int n_humans, const std::string& solver,
-          bool warm_start, int threads = 0) {
+          bool warm_start) {
   Samples samples;
-  for (int rep = 0; rep < g_repeats; ++rep)
-    runOnce(map, n_humans, solver, warm_start, &samples, threads);
+  for (int rep = 0; rep < g_repeats; ++rep) runOnce(map, n_humans, solver, warm_start, &samples);
   return summarize(std::move(samples));
 }
 
@@ -235,12 +232,10 @@ int main(int argc, char** argv) {
   LoadedMap loaded = loadMap(yaml);
   auto map = std::make_shared<GridDistanceField>(std::move(loaded.grid));
   const bool deployed_warm = g_deployed.warm_start;
-  if (argc >= 3 && argc <= 5) {
-    if (argc >= 4) g_repeats = std::max(1, std::atoi(argv[3]));
-    // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf; a fifth argument
-    // sets sparse_lm's threads.
-    const Stats s =
-        run(map, std::atoi(argv[2]), argv[1], deployed_warm, argc == 5 ? std::atoi(argv[4]) : 0);
+  if (argc == 3 || argc == 4) {
+    if (argc == 4) g_repeats = std::max(1, std::atoi(argv[3]));
+    // Profiling aid: one case only, e.g. `bench_band sparse_lm 5` under perf.
+    const Stats s = run(map, std::atoi(argv[2]), argv[1], deployed_warm);
     std::printf(
         "%s, %s humans: p50 %.2f ms p99 %.2f ms (CPU p50 %.2f p99 %.2f), %.1f iterations "
         "(%.1f steps taken), %.1f robot + %.1f human poses, final cost %.17g; per-cycle best of "
@@ -254,28 +249,21 @@ int main(int argc, char** argv) {
   run(map, 1, "sparse_lm", deployed_warm);
   // Repeat by repeat, every case in turn: the host's speed drifts by up to 1.5x within minutes,
   // and interleaving gives every case, and so every ratio, the same share of that drift.
-  const int other_threads = g_deployed.solver_threads == 1 ? 2 : 1;
   struct Case {
     int humans;
     const char* solver;
     bool warm;
-    int threads;  ///< 0: band_source.yaml's solver_threads
     Samples samples;
   };
   // The other warm-start setting beside the deployed one (the lib default is warm,
-  // band_source.yaml runs cold), and sparse_lm on the other thread count (1 or 2). Ceres
-  // runs on one thread: its parallel evaluation would run terms of one band concurrently, and
-  // they share the band's heading cache (BandTrig).
-  std::vector<Case> cases = {{1, "sparse_lm", deployed_warm, 0, {}},
-                             {1, "ceres", deployed_warm, 0, {}},
-                             {5, "sparse_lm", deployed_warm, 0, {}},
-                             {5, "ceres", deployed_warm, 0, {}},
-                             {1, "sparse_lm", !deployed_warm, 0, {}},
-                             {5, "sparse_lm", !deployed_warm, 0, {}},
-                             {1, "sparse_lm", deployed_warm, other_threads, {}},
-                             {5, "sparse_lm", deployed_warm, other_threads, {}}};
+  // band_source.yaml runs cold). Both solvers run on one thread: Ceres' parallel evaluation
+  // would run terms of one band concurrently, and they share the band's heading cache (BandTrig).
+  std::vector<Case> cases = {
+      {1, "sparse_lm", deployed_warm, {}},  {1, "ceres", deployed_warm, {}},
+      {5, "sparse_lm", deployed_warm, {}},  {5, "ceres", deployed_warm, {}},
+      {1, "sparse_lm", !deployed_warm, {}}, {5, "sparse_lm", !deployed_warm, {}}};
   for (int rep = 0; rep < g_repeats; ++rep) {
-    for (Case& c : cases) runOnce(map, c.humans, c.solver, c.warm, &c.samples, c.threads);
+    for (Case& c : cases) runOnce(map, c.humans, c.solver, c.warm, &c.samples);
   }
   const Stats one = summarize(std::move(cases[0].samples));
   const Stats one_ceres = summarize(std::move(cases[1].samples));
@@ -283,23 +271,21 @@ int main(int argc, char** argv) {
   const Stats five_ceres = summarize(std::move(cases[3].samples));
   const Stats other = summarize(std::move(cases[4].samples));
   const Stats other_five = summarize(std::move(cases[5].samples));
-  const Stats one_other_threads = summarize(std::move(cases[6].samples));
-  const Stats five_other_threads = summarize(std::move(cases[7].samples));
   std::printf("map %s, %d cycles x %d runs, budget %.0f ms\n", yaml.c_str(), kCycles, g_repeats,
               kBudget_s * 1e3);
   std::printf(
-      "planner settings: %s (planner.*, max_iterations %d), %s, sparse_lm on %d "
-      "thread(s); CPU = the calling thread's\n",
+      "planner settings: %s (planner.*, max_iterations %d), %s; CPU = the calling thread's\n",
       config_path.c_str(), g_max_iterations,
-      deployed_warm ? "warm-started" : "cold-started every cycle", g_deployed.solver_threads);
+      deployed_warm ? "warm-started" : "cold-started every cycle");
   auto line = [](const std::string& what, const Stats& s) {
     std::printf(
         "%-28s p50 %7.2f ms  p99 %7.2f ms  (CPU p50 %7.2f p99 %7.2f) | mean %.1f robot + %.1f "
         "human poses, %.1f LM iterations (%.1f steps taken), solver %.0f %% of plan(); "
-        "per-cycle best of %d: p50 %.2f p99 %.2f ms\n",
+        "per-cycle best of %d: p50 %.2f p99 %.2f ms; final cost %.17g\n",
         what.c_str(), s.p50_s * 1e3, s.p99_s * 1e3, s.cpu_p50_s * 1e3, s.cpu_p99_s * 1e3,
         s.mean_robot_poses, s.mean_human_poses, s.mean_iterations, s.mean_accepted,
-        100.0 * s.solver_share, g_repeats, s.best_p50_s * 1e3, s.best_p99_s * 1e3);
+        100.0 * s.solver_share, g_repeats, s.best_p50_s * 1e3, s.best_p99_s * 1e3,
+        s.mean_final_cost);
   };
   std::printf("first cycle (1 human): %zu robot + %zu human poses\n", one.robot_poses,
               one.human_poses);
@@ -310,9 +296,6 @@ int main(int argc, char** argv) {
   line("5 humans, ceres", five_ceres);
   line("1 human, " + other_name, other);
   line("5 humans, " + other_name, other_five);
-  const std::string threads_name = other_threads == 1 ? "one thread" : "two threads";
-  line("1 human, " + threads_name, one_other_threads);
-  line("5 humans, " + threads_name, five_other_threads);
   std::printf("sparse_lm / ceres: 1 human p50 %.3f p99 %.3f; 5 humans p50 %.3f p99 %.3f\n",
               one.p50_s / one_ceres.p50_s, one.p99_s / one_ceres.p99_s,
               five.p50_s / five_ceres.p50_s, five.p99_s / five_ceres.p99_s);
@@ -329,16 +312,5 @@ int main(int argc, char** argv) {
   std::printf("RESULT band_cpu_5humans_vs_1 %.3f\n", five.cpu_p50_s / one.cpu_p50_s);
   std::printf("RESULT band_best_p99_budget_fraction %.4f\n", one.best_p99_s / kBudget_s);
   std::printf("RESULT band_best_5humans_vs_1 %.3f\n", five.best_p50_s / one.best_p50_s);
-  const std::string threads_key = other_threads == 1 ? "one_thread" : "two_threads";
-  std::printf("RESULT band_%s_p99_budget_fraction %.4f\n", threads_key.c_str(),
-              one_other_threads.p99_s / kBudget_s);
-  std::printf("RESULT band_%s_best_p99_budget_fraction %.4f\n", threads_key.c_str(),
-              one_other_threads.best_p99_s / kBudget_s);
-  std::printf("RESULT band_%s_5humans_vs_1 %.3f\n", threads_key.c_str(),
-              five_other_threads.p50_s / one_other_threads.p50_s);
-  std::printf("RESULT band_%s_vs_deployed_p50 %.3f\n", threads_key.c_str(),
-              one_other_threads.p50_s / one.p50_s);
-  std::printf("RESULT band_%s_vs_deployed_p99 %.3f\n", threads_key.c_str(),
-              one_other_threads.p99_s / one.p99_s);
   return 0;
 }

@@ -20,7 +20,6 @@ if [ "$#" -eq 0 ] && [ "${COOPNAV_SANITIZERS:-1}" != 0 ]; then
   rc=0
   coopnav_sanitizer_pass asan address,undefined "coopnav_unit_tests coopnav_node_tests coopnav_ctl" \
     -L 'unit|node' || rc=1
-  coopnav_sanitizer_pass tsan thread "coopnav_node_tests coopnav_ctl unit_band" -L 'node|threads' ||
-    rc=1
+  coopnav_sanitizer_pass tsan thread "coopnav_node_tests coopnav_ctl" -L 'node' || rc=1
   exit "$rc"
 fi

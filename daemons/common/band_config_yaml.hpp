@@ -80,7 +80,6 @@ struct BandPlannerConfigYaml {
     v("penalty_epsilon", c.penalty_epsilon);
     v("warm_start", c.warm_start);
     v("solver", c.solver, OneOf{{"sparse_lm", "ceres"}});
-    v("solver_threads", c.solver_threads);
     v("warm_start_reset_dist_m", c.warm_start_reset_dist_m);
     AgentKinematicsYaml robot{&c.robot};
     AgentKinematicsYaml human{&c.human};

@@ -79,7 +79,6 @@ std::vector<BandPlannerConfig::Error> BandPlannerConfig::validate() const {
   c.range("weight_adapt_factor", weight_adapt_factor, 1.0, 100.0);
   c.range("initial_damping_scale", initial_damping_scale, 0.0, 1e6);
   c.range("penalty_epsilon", penalty_epsilon, 0.0, 1.0);
-  c.range("solver_threads", solver_threads, 1, 2);
   c.range("warm_start_reset_dist_m", warm_start_reset_dist_m, 0.0, 100.0, true);
   if (solver != "sparse_lm" && solver != "ceres") {
     errors.push_back({"solver", std::numeric_limits<double>::quiet_NaN(), "sparse_lm | ceres"});

@@ -84,8 +84,8 @@ double minPairedDistance(const TimedElasticBand& a, const TimedElasticBand& b) {
   return best;
 }
 
-/// The joint problem of one planning cycle, built ONCE (notes §9: rebuilding every outer
-/// iteration costs 1.3-2.7 ms of ~10). What TEB re-derives per outer iteration without changing
+/// The joint problem of one planning cycle, built ONCE (rebuilding it every outer iteration
+/// costs 1.3-2.7 ms of a ~10 ms cycle). What TEB re-derives per outer iteration without changing
 /// the structure lives in storage the cost terms read through pointers: the weight multiplier,
 /// the via-point projections and the time-pairing fractions (refresh()). The structure itself
 /// (which poses pair with which segments, which pairs are coupled) is fixed for the cycle; the
@@ -363,7 +363,7 @@ struct SolveOutcome {
 };
 
 /// One least-squares solver over the residual blocks a ProblemBuilder made. Two exist so that
-/// bench_band can compare them on the same problem (issue 3); config `solver` picks one.
+/// bench_band can compare them on the same problem; config `solver` picks one.
 class Backend {
  public:
   virtual ~Backend() = default;
@@ -374,8 +374,8 @@ class Backend {
 
 class SparseLmBackend final : public Backend {
  public:
-  SparseLmBackend(const ProblemBuilder& pb, double initial_damping_scale, TwoLanes* lanes)
-      : initial_damping_scale_(initial_damping_scale), lanes_(lanes) {
+  SparseLmBackend(const ProblemBuilder& pb, double initial_damping_scale)
+      : initial_damping_scale_(initial_damping_scale) {
     for (const auto& p : pb.params()) lm_.addParameterBlock(p.values, p.size, p.constant);
     for (const auto& r : pb.residuals())
       lm_.addResidualBlock(r.cost.get(), r.params.data(), r.num_params);
@@ -385,7 +385,6 @@ class SparseLmBackend final : public Backend {
     o.max_iterations = max_iterations;
     o.should_stop = out_of_time;
     o.initial_lambda_scale = initial_damping_scale_;
-    o.lanes = lanes_;
     const SparseLm::Summary s = lm_.solve(o);
     return {s.initial_cost, s.iterations, s.accepted, s.stopped};
   }
@@ -393,7 +392,6 @@ class SparseLmBackend final : public Backend {
 
  private:
   double initial_damping_scale_;
-  TwoLanes* lanes_;
   SparseLm lm_;
 };
 
@@ -413,9 +411,10 @@ class CeresBackend final : public Backend {
     }
     for (const auto& r : pb.residuals())
       ids_.push_back(problem_->AddResidualBlock(r.cost.get(), nullptr, r.paramVector()));
-    // Tuned as measured in notes §9: plain λI damping as g2o (no Jacobi scaling,
-    // min = max LM diagonal), initial trust radius 1, no line search, one thread; defaults were
-    // 3x slower and stalled in the flat θ/y directions.
+    // Tuned: plain λI damping as g2o (no Jacobi scaling, min = max LM diagonal), initial trust
+    // radius 1, no line search, one thread (the terms of a band share its BandTrig). With Ceres'
+    // defaults a cycle takes 3x as long, and Jacobi-scaled damping stalls in the flat θ/y
+    // directions.
     opt_.minimizer_type = ceres::TRUST_REGION;
     opt_.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
     opt_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -460,10 +459,9 @@ class CeresBackend final : public Backend {
   ceres::Solver::Options opt_;
 };
 
-std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg,
-                                     TwoLanes* lanes) {
+std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg) {
   if (cfg.solver == "ceres") return std::make_unique<CeresBackend>(pb);
-  return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale, lanes);
+  return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale);
 }
 
 double evaluateTerms(const ProblemBuilder& pb, Backend& backend, std::vector<TermCost>* terms) {
@@ -522,7 +520,7 @@ std::vector<std::optional<TimedElasticBand::Locator>> pairByTime(const TimedElas
 
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
                             const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
-                            const std::function<double()>& clock_s, TwoLanes* lanes) {
+                            const std::function<double()>& clock_s) {
   OptimizeStats stats;
   if (agents.empty()) return stats;
   const int total_iter =
@@ -551,14 +549,14 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
   auto pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
   pb->build();
   if (pb->residuals().empty()) return stats;
-  auto backend = makeBackend(*pb, cfg, lanes);
+  auto backend = makeBackend(*pb, cfg);
 
   double multiplier = 1.0;
   // Each solve starts from λ₀ = 1 (Ceres' start) or, with cfg.initial_damping_scale, from the
   // problem's scale. Carrying the last solve's damping into the next outer iteration takes 6-7
   // of 8 steps instead of ~4 and ends ~15 % lower in cost, but, like the scale-aware start, it
-  // changes the narrow-corridor bands enough to move the paper's round-2 decision there
-  // (band_source README "Speed"): not taken until that is understood.
+  // changes the narrow-corridor bands enough to move the paper's round-2 decision there, so
+  // every solve starts afresh.
   for (int outer = 0; outer < cfg.no_outer_iterations; ++outer) {
     const int left = total_iter - stats.iterations;
     if (left <= 0) break;
@@ -575,7 +573,7 @@ OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& m
         backend.reset();
         pb = std::make_unique<ProblemBuilder>(agents, map, cfg);
         pb->build();
-        backend = makeBackend(*pb, cfg, lanes);
+        backend = makeBackend(*pb, cfg);
         ++stats.rebuilds;
       } else {
         pb->refresh();

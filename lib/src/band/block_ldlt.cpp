@@ -5,8 +5,6 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "coopnav/band/two_lanes.hpp"
-
 /// The kernels' loops run over a node's few unknowns, fixed at compile time where the sizes are
 /// template arguments: unrolled, their indices are constants (-O2 does not unroll them itself).
 #define COOPNAV_UNROLL _Pragma("GCC unroll 6")
@@ -145,109 +143,6 @@ void BlockLdlt::analyze(const double* a) {
   row_val_.resize(m);
   for (std::size_t k = 0; k < m; ++k) row_val_[k] = entry_val_[entry_pos_[k]];
   lvals_.resize(vals);
-  split_ready_ = false;
-}
-
-void BlockLdlt::splitIntoLanes() {
-  for (std::vector<int>& l : lane_rows_) l.clear();
-  top_rows_.clear();
-  if (n_ == 0) return;
-  // Row v's work ~ its tiles' updates: the entries of each pattern column above it, plus one.
-  std::vector<double>& weight = row_work_;
-  std::vector<double>& subtree = subtree_work_;
-  weight.assign(n_, 1.0);
-  for (int v = 0; v < n_; ++v) {
-    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k)
-      weight[v] += 1.0 + entry_pos_[k] - col_start_[pattern_[k]];
-  }
-  subtree = weight;
-  first_child_.assign(n_, -1);
-  next_sibling_.assign(n_, -1);
-  double total = 0.0;
-  int heaviest_root = -1;
-  for (int v = n_ - 1; v >= 0; --v) {  // children lists, ascending
-    if (parent_[v] >= 0) {
-      next_sibling_[v] = first_child_[parent_[v]];
-      first_child_[parent_[v]] = v;
-    }
-  }
-  for (int v = 0; v < n_; ++v) {  // children before parents
-    total += weight[v];
-    if (parent_[v] >= 0) {
-      subtree[parent_[v]] += subtree[v];
-    } else if (heaviest_root < 0 || subtree[v] > subtree[heaviest_root]) {
-      heaviest_root = v;
-    }
-  }
-  // Walk down from the heaviest root along the heaviest child: the nodes walked are the rows
-  // computed after both lanes, the subtrees hanging off the walk are shared out between the
-  // lanes. Stop where max(lanes) + after is least, judged by its lower bound max(largest
-  // subtree, half their sum) + after.
-  double off_sum = 0.0, off_max = 0.0, after = 0.0;
-  for (int v = 0; v < n_; ++v) {
-    if (parent_[v] < 0 && v != heaviest_root) {
-      off_sum += subtree[v];
-      off_max = std::max(off_max, subtree[v]);
-    }
-  }
-  auto heaviestChild = [&](int v) {
-    int h = -1;
-    for (int c = first_child_[v]; c >= 0; c = next_sibling_[c]) {
-      if (h < 0 || subtree[c] > subtree[h]) h = c;
-    }
-    return h;
-  };
-  double best = total;    // no split: one thread does it all
-  std::vector<int> walk;  // the nodes walked, from the root
-  std::size_t best_depth = 0;
-  for (int cur = heaviest_root; cur >= 0;) {
-    after += weight[cur];
-    walk.push_back(cur);
-    const int next = heaviestChild(cur);
-    double sum = off_sum, largest = off_max;
-    for (int c = first_child_[cur]; c >= 0; c = next_sibling_[c]) {
-      sum += subtree[c];
-      largest = std::max(largest, subtree[c]);
-      if (c != next) {
-        off_sum += subtree[c];
-        off_max = std::max(off_max, subtree[c]);
-      }
-    }
-    const double estimate = std::max(largest, 0.5 * sum) + after;
-    if (estimate < best) best = estimate, best_depth = walk.size();
-    if (next < 0 || subtree[next] < 0.25 * total) break;
-    cur = next;
-  }
-  if (best_depth == 0) return;
-  // The subtrees to share: the other roots and every child of a walked node not walked.
-  std::vector<int>& label = label_;  // 0 / 1: lane, 2: after the lanes, -1: not yet known
-  label.assign(n_, -1);
-  std::vector<int> shared;
-  for (std::size_t d = 0; d < best_depth; ++d) {
-    const int v = walk[d];
-    label[v] = 2;
-    const int next = d + 1 < best_depth ? walk[d + 1] : -1;
-    for (int c = first_child_[v]; c >= 0; c = next_sibling_[c]) {
-      if (c != next) shared.push_back(c);
-    }
-  }
-  for (int v = 0; v < n_; ++v) {
-    if (parent_[v] < 0 && v != heaviest_root) shared.push_back(v);
-  }
-  // Largest first, each to the lighter lane (ties by node, so the split is the structure's alone).
-  std::sort(shared.begin(), shared.end(), [&](int x, int y) {
-    return subtree[x] != subtree[y] ? subtree[x] > subtree[y] : x < y;
-  });
-  double load[2] = {0.0, 0.0};
-  for (const int r : shared) {
-    const int lane = load[1] < load[0] ? 1 : 0;
-    label[r] = lane;
-    load[lane] += subtree[r];
-  }
-  for (int v = n_ - 1; v >= 0; --v) {  // parents before children
-    if (label[v] < 0) label[v] = label[parent_[v]];
-  }
-  for (int v = 0; v < n_; ++v) (label[v] == 2 ? top_rows_ : lane_rows_[label[v]]).push_back(v);
 }
 
 namespace {
@@ -419,7 +314,7 @@ template <int SV, int SU>
 void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   const int sv = sizeOf<SV>(size_[v]), su = sizeOf<SU>(size_[u]);
   // The workspace holds row v's tiles transposed, tile (v, x) at w + offset(x) · kMaxNodeSize
-  // (whatever v's size, so that rows of different subtrees never share a place); so Yᵀ.
+  // (a fixed place per node x, whatever v's size); so Yᵀ.
   double* w = work_.data();
   // Yᵀ = (L(v, u) D(u))ᵀ, taken out of the workspace (which is left zero).
   double yt[kMaxNodeSize * kMaxNodeSize];
@@ -465,30 +360,8 @@ void BlockLdlt::eliminate(int v, int u, int pos, double* d) {
   }
 }
 
-bool BlockLdlt::factorize(const double* a, double lambda, TwoLanes* lanes) {
-  if (lanes != nullptr && !split_ready_) {
-    splitIntoLanes();
-    split_ready_ = true;
-  }
-  if (lanes == nullptr || lane_rows_[0].empty() || lane_rows_[1].empty()) {
-    for (int v = 0; v < n_; ++v) {
-      if (!factorRow(v, a, lambda)) return false;
-    }
-    return true;
-  }
-  // Rows of disjoint subtrees read and write only their own subtree's tiles, workspace and D:
-  // the two lanes' rows are computed exactly as in row order, then the rows above them.
-  bool ok[2] = {true, true};
-  lanes->run([&](int lane) {
-    for (const int v : lane_rows_[lane]) {
-      if (!factorRow(v, a, lambda)) {
-        ok[lane] = false;
-        return;
-      }
-    }
-  });
-  if (!ok[0] || !ok[1]) return false;
-  for (const int v : top_rows_) {
+bool BlockLdlt::factorize(const double* a, double lambda) {
+  for (int v = 0; v < n_; ++v) {
     if (!factorRow(v, a, lambda)) return false;
   }
   return true;
@@ -496,32 +369,30 @@ bool BlockLdlt::factorize(const double* a, double lambda, TwoLanes* lanes) {
 
 bool BlockLdlt::factorRow(int v, const double* a, double lambda) {
   double* w = work_.data();
-  {
-    const int sv = size_[v];
-    for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
-      const int k = nz_[q];
-      const int u = lower_[k], su = size_[u];
-      const double* t = a + tile_[k];
-      double* wu = w + offset_[u] * kMaxNodeSize;
-      withSizes(sv, su, [&](auto kv, auto ku) {
-        placeTransposed<decltype(kv)::value, decltype(ku)::value>(t, wu, sv, su);
-      });
-    }
-    double d[kMaxNodeSize * kMaxNodeSize];
-    const double* av = a + diag_[v];
-    for (int i = 0; i < sv; ++i) {
-      for (int j = 0; j <= i; ++j) d[i * sv + j] = d[j * sv + i] = av[i * sv + j];
-      d[i * sv + i] += lambda;
-    }
-    for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
-      const int u = pattern_[k], su = size_[u], pos = entry_pos_[k];
-      withSizes(sv, su, [&](auto kv, auto ku) {
-        eliminate<decltype(kv)::value, decltype(ku)::value>(v, u, pos, d);
-      });
-    }
-    // Every pattern node took its workspace entries out: the workspace is zero again.
-    return invertDiagonal(v, d);
+  const int sv = size_[v];
+  for (int q = nz_start_[v]; q < nz_start_[v + 1]; ++q) {
+    const int k = nz_[q];
+    const int u = lower_[k], su = size_[u];
+    const double* t = a + tile_[k];
+    double* wu = w + offset_[u] * kMaxNodeSize;
+    withSizes(sv, su, [&](auto kv, auto ku) {
+      placeTransposed<decltype(kv)::value, decltype(ku)::value>(t, wu, sv, su);
+    });
   }
+  double d[kMaxNodeSize * kMaxNodeSize];
+  const double* av = a + diag_[v];
+  for (int i = 0; i < sv; ++i) {
+    for (int j = 0; j <= i; ++j) d[i * sv + j] = d[j * sv + i] = av[i * sv + j];
+    d[i * sv + i] += lambda;
+  }
+  for (int k = row_start_[v]; k < row_start_[v + 1]; ++k) {
+    const int u = pattern_[k], su = size_[u], pos = entry_pos_[k];
+    withSizes(sv, su, [&](auto kv, auto ku) {
+      eliminate<decltype(kv)::value, decltype(ku)::value>(v, u, pos, d);
+    });
+  }
+  // Every pattern node took its workspace entries out: the workspace is zero again.
+  return invertDiagonal(v, d);
 }
 
 void BlockLdlt::forwardRow(int v, double* z) const {
@@ -556,28 +427,12 @@ void BlockLdlt::backwardRow(int v, double* z) const {
   }
 }
 
-void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x, TwoLanes* lanes) const {
+void BlockLdlt::solve(const Eigen::VectorXd& b, Eigen::VectorXd* x) const {
   *x = b;
   double* z = x->data();
-  if (lanes == nullptr || lane_rows_[0].empty() || lane_rows_[1].empty()) {
-    for (int v = 0; v < n_; ++v) forwardRow(v, z);
-    for (int v = 0; v < n_; ++v) scaleRow(v, z);
-    for (int v = n_ - 1; v >= 0; --v) backwardRow(v, z);
-    return;
-  }
-  // Forward, row v reads its descendants' entries; backward, it updates them, from the top
-  // down. Every entry meets the same operations in the same order as in row order: the rows
-  // above the lanes are the ancestors of theirs, numbered after all of them.
-  lanes->run([&](int lane) {
-    for (const int v : lane_rows_[lane]) forwardRow(v, z);
-  });
-  for (const int v : top_rows_) forwardRow(v, z);
+  for (int v = 0; v < n_; ++v) forwardRow(v, z);
   for (int v = 0; v < n_; ++v) scaleRow(v, z);
-  for (auto it = top_rows_.rbegin(); it != top_rows_.rend(); ++it) backwardRow(*it, z);
-  lanes->run([&](int lane) {
-    for (auto it = lane_rows_[lane].rbegin(); it != lane_rows_[lane].rend(); ++it)
-      backwardRow(*it, z);
-  });
+  for (int v = n_ - 1; v >= 0; --v) backwardRow(v, z);
 }
 
 }  // namespace coopnav

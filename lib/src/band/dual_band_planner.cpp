@@ -30,7 +30,8 @@ constexpr double kConstVelHorizon_s = 10.0;
 /// Where a cold-started band begins across its path. A band laid on the path from a robot
 /// beside it returns to the path within its first segment: its first segment, the command,
 /// then points back to the path, and the optimiser, to keep that segment within the limits,
-/// slows the band instead (band_source README, "Fixed 2026-12-03").
+/// slows the band instead. A band that begins at the agent's offset and joins the path
+/// further on (PathJoin) keeps its speed.
 struct PathJoin {
   bool valid{false};
   Eigen::Vector2d left{0.0, 1.0};  ///< unit normal of the local path at its first point
@@ -160,8 +161,6 @@ DualBandPlanner::DualBandPlanner(BandPlannerConfig config, std::shared_ptr<const
     o.clearance_weight = config_.global_clearance_weight;
     o.sample_spacing_m = 0.1;
     global_ = std::make_unique<GridPathPlanner>(map_, o);
-    if (config_.solver == "sparse_lm" && config_.solver_threads == 2)
-      lanes_ = std::make_unique<TwoLanes>();
   }
 }
 
@@ -364,8 +363,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       prof.acc_m_s2 = k.acc_lim_x_m_s2;
       prof.stop_at_end = end_is_goal;
       // Laid from the human's own pose, hop to its reference included: the join the robot's
-      // band gets made t_CROSS steadier here too, but brought back the dock for the narrow
-      // corridor's facilitating human and a 0.039 m pass in narrow_minimal (band_source README).
+      // band gets would make t_CROSS steadier here too, but it brings back the dock for the
+      // narrow corridor's facilitating human and a 0.039 m pass in narrow_minimal.
       band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad, prof);
     }
     res.reference_path = ref;
@@ -484,8 +483,8 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     a.reference = &out.others[i].reference_path;
     agents.push_back(a);
   }
-  const OptimizeStats stats = optimizeBands(agents, *map_, cfg, req.max_iterations,
-                                            req.time_budget_s, req.clock_s, lanes_.get());
+  const OptimizeStats stats =
+      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
   out.iterations = stats.iterations;
   out.accepted_steps = stats.accepted;
   out.final_cost = stats.final_cost;

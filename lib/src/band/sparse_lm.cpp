@@ -4,7 +4,6 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -13,7 +12,6 @@
 #include <string>
 
 #include "coopnav/band/block_ldlt.hpp"
-#include "coopnav/band/two_lanes.hpp"
 
 namespace coopnav {
 namespace {
@@ -111,7 +109,6 @@ struct SparseLm::Impl {
   std::vector<double*> block_values;  ///< their values, flattened alike (Evaluate()'s argument)
   int num_unknowns{0};
   bool structure_ready{false};
-  bool lanes_ready{false};  ///< lane_blocks laid out for this structure (first solve with lanes)
 
   BlockLdlt ldlt;
   std::vector<double> hessian;  ///< JᵀJ in ldlt's tiles (lower triangle)
@@ -120,30 +117,14 @@ struct SparseLm::Impl {
   std::vector<int> pair_tiles;
   Eigen::VectorXd gradient;  ///< Jᵀr
 
-  /// cost() on two lanes: a lane compares the lanes' partial sums with stop_at every this many
-  /// blocks (each comparison reads the other core's cache line), with this relative margin.
-  static constexpr int kLaneSumCheckBlocks = 32;
-  static constexpr double kLaneSumMargin = 1e-9;
-
-  /// Scratch reused by every evaluation (no allocation in the loop), one per lane.
+  /// Scratch reused by every evaluation (no allocation in the loop).
   struct Scratch {
     std::vector<double> residuals;
     std::vector<double> jacobian_storage;
     std::vector<double*> jacobians;
     std::vector<double> columns;  ///< accumulateFixed(): up to kPad entries per Jacobian column
   };
-  Scratch scratch[2];
-
-  /// With a second thread (Options::lanes): the blocks of each lane, ascending, and the deferred
-  /// ones, ascending. A lane's blocks share no parameter block with the other lane's, so the two
-  /// lanes write disjoint entries of Jᵀr and JᵀJ; a deferred block (one that spans both lanes,
-  /// or touches an unknown that an earlier deferred block touched) is assembled after both
-  /// lanes, one by one. Every entry therefore receives its terms in block order, as on one
-  /// thread, which runs the blocks in that order (layOutLanes()).
-  std::vector<int> lane_blocks[2];
-  std::vector<int> deferred_blocks;
-  std::vector<double> block_cost;  ///< ½ Σ r² of every block at the last evaluation
-  TwoLanes* lanes{nullptr};        ///< the solve's worker, if any (Options::lanes)
+  Scratch scratch;
   /// Parameter blocks per residual block that accumulatePadded() handles on the stack.
   static constexpr int kMaxBlockParams = 16;
 
@@ -325,60 +306,6 @@ struct SparseLm::Impl {
     ldlt.setStructure(std::move(sizes), std::move(start), std::move(lower));
   }
 
-  /// Fills lane_blocks and deferred_blocks. A cut in declaration order splits the parameter
-  /// blocks, fixed ones included: those declared before it are lane 0's, the rest lane 1's. A
-  /// block whose parameter blocks all lie in one lane belongs to it, so the lanes' cost
-  /// functions never share a parameter block (nor state kept per parameter block, as BandTrig's
-  /// per pose) and write disjoint entries of Jᵀr and JᵀJ. Any other block is deferred, and so
-  /// is every later block on one of its unknowns: deferred terms reach an entry after all of the
-  /// lanes' terms, as in block order. In a chain of terms (a band) one deferred block therefore
-  /// defers the rest of the chain, so the cuts tried are where a fixed parameter block ends or
-  /// starts one (a band's first and last pose); the one taken has the least max(lane 0, lane
-  /// 1) + deferred work, a block's work ~ a call plus its Jacobian's entries.
-  void layOutLanes() {
-    const int np = static_cast<int>(params.size());
-    std::vector<char> touched(np);  // unknowns of a deferred block so far
-    // Assigns every block for the cut; returns the critical work. fill: keep the assignment.
-    auto assess = [&](int cut, bool fill) {
-      if (fill) {
-        for (std::vector<int>& l : lane_blocks) l.clear();
-        deferred_blocks.clear();
-      }
-      std::fill(touched.begin(), touched.end(), 0);
-      double work[3] = {0.0, 0.0, 0.0};
-      for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
-        const Block& blk = blocks[b];
-        int lane = -1;
-        bool defer = false, has_unknown = false;
-        for (int i = 0; i < blk.num_params; ++i) {
-          const int k = block_params[blk.first_param + i];
-          const int l = k < cut ? 0 : 1;
-          if (touched[k] || (lane >= 0 && lane != l)) defer = true;
-          lane = l;
-          has_unknown |= params[k].offset >= 0;
-        }
-        if (defer || !has_unknown) {
-          for (int i = 0; i < blk.num_params; ++i) {
-            const int k = block_params[blk.first_param + i];
-            if (params[k].offset >= 0) touched[k] = 1;
-          }
-          lane = 2;
-        }
-        work[lane] += 16.0 + blk.jacobian_size;
-        if (fill) (lane == 2 ? deferred_blocks : lane_blocks[lane]).push_back(b);
-      }
-      return std::max(work[0], work[1]) + work[2];
-    };
-    int best_cut = 0;  // everything in lane 1: one thread's work
-    double best = std::numeric_limits<double>::infinity();
-    for (int k = 1; k < np; ++k) {
-      if (params[k - 1].offset >= 0 && params[k].offset >= 0) continue;
-      const double w = assess(k, false);
-      if (w < best) best = w, best_cut = k;
-    }
-    assess(best_cut, true);
-  }
-
   void buildStructure() {
     assignOffsets();
     pair_tiles.clear();
@@ -407,82 +334,41 @@ struct SparseLm::Impl {
     }
     hessian.assign(ldlt.storage(), 0.0);
     gradient.resize(num_unknowns);
-    for (Scratch& sc : scratch) {
-      sc.residuals.resize(max_res);
-      sc.jacobian_storage.resize(max_jac);
-      sc.jacobians.resize(max_params);
-      sc.columns.assign(kPad * max_cols, 0.0);
-    }
-    block_cost.assign(blocks.size(), 0.0);
-    lanes_ready = false;
+    scratch.residuals.resize(max_res);
+    scratch.jacobian_storage.resize(max_jac);
+    scratch.jacobians.resize(max_params);
+    scratch.columns.assign(kPad * max_cols, 0.0);
     structure_ready = true;
   }
 
-  double evaluateBlock(const Block& blk, bool with_jacobians, Scratch& sc) {
+  double evaluateBlock(const Block& blk, bool with_jacobians) {
     if (with_jacobians) {
-      double* jac = sc.jacobian_storage.data();
+      double* jac = scratch.jacobian_storage.data();
       for (int i = 0; i < blk.num_params; ++i) {
         const Param& p = params[block_params[blk.first_param + i]];
         if (p.offset >= 0) {
-          sc.jacobians[i] = jac;
+          scratch.jacobians[i] = jac;
           jac += blk.num_residuals * p.size;
         } else {
-          sc.jacobians[i] = nullptr;
+          scratch.jacobians[i] = nullptr;
         }
       }
     }
-    if (!blk.cost->Evaluate(block_values.data() + blk.first_param, sc.residuals.data(),
-                            with_jacobians ? sc.jacobians.data() : nullptr)) {
+    if (!blk.cost->Evaluate(block_values.data() + blk.first_param, scratch.residuals.data(),
+                            with_jacobians ? scratch.jacobians.data() : nullptr)) {
       return std::numeric_limits<double>::infinity();
     }
     double c = 0.0;
-    for (int k = 0; k < blk.num_residuals; ++k) c += sc.residuals[k] * sc.residuals[k];
+    for (int k = 0; k < blk.num_residuals; ++k) c += scratch.residuals[k] * scratch.residuals[k];
     return 0.5 * c;
   }
 
   /// ½ Σ r² over the blocks, summed in block order. Once it is known to reach `stop_at` it
   /// returns +inf (every block's cost is non-negative, so the full sum could only be larger).
   double cost(double stop_at = std::numeric_limits<double>::infinity()) {
-    if (lanes == nullptr) {
-      double c = 0.0;
-      for (const Block& blk : blocks) {
-        c += evaluateBlock(blk, false, scratch[0]);
-        if (c >= stop_at) return std::numeric_limits<double>::infinity();
-      }
-      return c;
-    }
-    // Each lane publishes its partial sum now and then, and both stop once the two together
-    // reach stop_at by a margin far above the rounding by which sums of the same non-negative
-    // terms in other orders can differ (~n ε of the sum, n the blocks): such a step would be
-    // rejected by the block-order sum too. Otherwise the sum is completed in block order below.
-    // How far the lanes got depends on timing; what is returned does not.
-    struct alignas(64) Partial {
-      std::atomic<double> sum{0.0};
-    };
-    Partial published[2];
-    std::atomic<bool> reached{false};
-    const double threshold = stop_at * (1.0 + kLaneSumMargin);
-    lanes->run([&](int lane) {
-      double partial = 0.0;
-      int since_check = 0;
-      for (const int b : lane_blocks[lane]) {
-        block_cost[b] = evaluateBlock(blocks[b], false, scratch[lane]);
-        partial += block_cost[b];
-        if (++since_check < kLaneSumCheckBlocks && partial < threshold) continue;
-        since_check = 0;
-        published[lane].sum.store(partial, std::memory_order_relaxed);
-        if (partial + published[1 - lane].sum.load(std::memory_order_relaxed) >= threshold ||
-            reached.load(std::memory_order_relaxed)) {
-          reached.store(true, std::memory_order_relaxed);
-          return;
-        }
-      }
-    });
-    if (reached.load()) return std::numeric_limits<double>::infinity();
-    for (const int b : deferred_blocks) block_cost[b] = evaluateBlock(blocks[b], false, scratch[0]);
     double c = 0.0;
-    for (const double bc : block_cost) {
-      c += bc;
+    for (const Block& blk : blocks) {
+      c += evaluateBlock(blk, false);
       if (c >= stop_at) return std::numeric_limits<double>::infinity();
     }
     return c;
@@ -505,18 +391,18 @@ struct SparseLm::Impl {
   /// those of four products padded with zeros, to the bit (a padded +0.0 changes no sum that
   /// starts from +0.0, as the gradient and the Hessian do).
   template <int kM>
-  void accumulateFixed(const Block& blk, Scratch& sc) {
+  void accumulateFixed(const Block& blk) {
     double r[kM];
-    std::copy(sc.residuals.begin(), sc.residuals.begin() + kM, r);
+    std::copy(scratch.residuals.begin(), scratch.residuals.begin() + kM, r);
     // Columns of the unknown parameters, in block order: column (i, a) at col_base[i] + a.
-    double* cols = sc.columns.data();
+    double* cols = scratch.columns.data();
     int col_base[kMaxBlockParams];
     int ncols = 0;
     for (int i = 0; i < blk.num_params; ++i) {
       const Param& p = params[block_params[blk.first_param + i]];
       col_base[i] = ncols;
       if (p.offset < 0) continue;
-      const double* J = sc.jacobians[i];  // row-major kM × size
+      const double* J = scratch.jacobians[i];  // row-major kM × size
       for (int a = 0; a < p.size; ++a, ++ncols) {
         double* c = cols + kM * ncols;
         for (int k = 0; k < kM; ++k) c[k] = J[k * p.size + a];
@@ -557,20 +443,20 @@ struct SparseLm::Impl {
   }
 
   /// accumulateFixed<m>() for the block's residual count m in 1..kPad; false otherwise.
-  bool accumulatePadded(const Block& blk, Scratch& sc) {
+  bool accumulatePadded(const Block& blk) {
     if (blk.num_params > kMaxBlockParams) return false;
     switch (blk.num_residuals) {
       case 1:
-        accumulateFixed<1>(blk, sc);
+        accumulateFixed<1>(blk);
         return true;
       case 2:
-        accumulateFixed<2>(blk, sc);
+        accumulateFixed<2>(blk);
         return true;
       case 3:
-        accumulateFixed<3>(blk, sc);
+        accumulateFixed<3>(blk);
         return true;
       case 4:
-        accumulateFixed<4>(blk, sc);
+        accumulateFixed<4>(blk);
         return true;
       default:
         return false;
@@ -578,16 +464,16 @@ struct SparseLm::Impl {
   }
 
   /// As accumulatePadded() for any residual count.
-  void accumulateGeneral(const Block& blk, Scratch& sc) {
+  void accumulateGeneral(const Block& blk) {
     const int m = blk.num_residuals;
-    const std::vector<double*>& jacobians = sc.jacobians;
+    const std::vector<double*>& jacobians = scratch.jacobians;
     for (int i = 0; i < blk.num_params; ++i) {
       const Param& p = params[block_params[blk.first_param + i]];
       if (p.offset < 0) continue;
       const double* J = jacobians[i];  // row-major m × size
       for (int a = 0; a < p.size; ++a) {
         double s = 0.0;
-        for (int k = 0; k < m; ++k) s += J[k * p.size + a] * sc.residuals[k];
+        for (int k = 0; k < m; ++k) s += J[k * p.size + a] * scratch.residuals[k];
         gradient[p.offset + a] += s;
       }
     }
@@ -600,32 +486,24 @@ struct SparseLm::Impl {
     });
   }
 
-  /// Block b's cost (into block_cost), Jᵀr and JᵀJ.
-  void linearizeBlock(int b, Scratch& sc) {
-    const Block& blk = blocks[b];
-    block_cost[b] = evaluateBlock(blk, true, sc);
+  /// A block's cost (returned), Jᵀr and JᵀJ.
+  double linearizeBlock(const Block& blk) {
+    const double c = evaluateBlock(blk, true);
     // An inactive penalty (a hinge inside its allowed set) has an exactly zero Jacobian and
     // adds nothing: most blocks of a band are such at any time (no limit violated, no wall or
     // agent near).
-    const double* jac = sc.jacobian_storage.data();
-    if (std::all_of(jac, jac + blk.jacobian_size, [](double v) { return v == 0.0; })) return;
-    if (!accumulatePadded(blk, sc)) accumulateGeneral(blk, sc);
+    const double* jac = scratch.jacobian_storage.data();
+    if (std::all_of(jac, jac + blk.jacobian_size, [](double v) { return v == 0.0; })) return c;
+    if (!accumulatePadded(blk)) accumulateGeneral(blk);
+    return c;
   }
 
   /// Cost, Jᵀr and JᵀJ at the current parameters (and the pattern of JᵀJ's non-zero tiles).
   double linearize() {
     ldlt.clear(hessian.data());
     gradient.setZero();
-    if (lanes == nullptr) {
-      for (int b = 0; b < static_cast<int>(blocks.size()); ++b) linearizeBlock(b, scratch[0]);
-    } else {
-      lanes->run([&](int lane) {
-        for (const int b : lane_blocks[lane]) linearizeBlock(b, scratch[lane]);
-      });
-      for (const int b : deferred_blocks) linearizeBlock(b, scratch[0]);
-    }
     double c = 0.0;
-    for (const double bc : block_cost) c += bc;
+    for (const Block& blk : blocks) c += linearizeBlock(blk);
     ldlt.analyze(hessian.data());
     return c;
   }
@@ -688,7 +566,7 @@ std::size_t SparseLm::addResidualBlock(const ceres::CostFunction* cost, double* 
 
 double SparseLm::blockCost(std::size_t block) {
   if (!impl_->structure_ready) impl_->buildStructure();
-  return impl_->evaluateBlock(impl_->blocks[block], false, impl_->scratch[0]);
+  return impl_->evaluateBlock(impl_->blocks[block], false);
 }
 
 std::size_t SparseLm::numUnknowns() {
@@ -701,19 +579,6 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
   Impl& m = *impl_;
   if (!m.structure_ready) m.buildStructure();
   Summary s;
-  m.lanes = options.lanes;
-  if (m.lanes != nullptr && !m.lanes_ready) {
-    m.layOutLanes();
-    m.lanes_ready = true;
-  }
-  struct Rest {  // the worker polls only while this solve runs, and is not kept after it
-    Impl& m;
-    ~Rest() {
-      if (m.lanes != nullptr) m.lanes->rest();
-      m.lanes = nullptr;
-    }
-  } rest{m};
-  if (options.lanes != nullptr) options.lanes->awake();
   double cost = m.linearize();
   s.initial_cost = s.final_cost = cost;
   if (m.num_unknowns == 0 || !std::isfinite(cost)) return s;
@@ -742,14 +607,14 @@ SparseLm::Summary SparseLm::solve(const Options& options) {
       break;
     }
     if (m.gradient.lpNorm<Eigen::Infinity>() < options.gradient_tolerance) break;
-    const bool factorized = m.ldlt.factorize(m.hessian.data(), lambda, options.lanes);
+    const bool factorized = m.ldlt.factorize(m.hessian.data(), lambda);
     ++s.iterations;
     if (!factorized) {
       lambda = std::min(lambda * nu, kMaxLambda);
       nu *= 2.0;
       continue;
     }
-    m.ldlt.solve(-m.gradient, &delta, options.lanes);
+    m.ldlt.solve(-m.gradient, &delta);
     m.saveUnknowns(&x_old);
     if (delta.norm() < options.parameter_tolerance * (x_old.norm() + options.parameter_tolerance))
       break;

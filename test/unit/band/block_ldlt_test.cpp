@@ -8,12 +8,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <stdexcept>
 #include <vector>
-
-#include "coopnav/band/two_lanes.hpp"
 
 namespace coopnav {
 namespace {
@@ -190,84 +187,6 @@ TEST(BlockLdltTest, RefusesAMatrixThatIsNotPositiveDefinite) {
   Eigen::Matrix3d dense;
   dense << 2.5, 2.0, 0.0, 2.0, 2.5, 0.0, 0.0, 0.0, 2.5;
   EXPECT_LT((dense * x - Eigen::Vector3d(1.0, 0.0, 2.0)).norm(), 1e-14);
-}
-
-/// Two chains of 20 nodes (4 and 1 unknowns by turns), numbered one after the other, tied at
-/// their ends to 4 nodes numbered last: the elimination tree is the two chains under the four.
-Structure twoChains() {
-  Structure s;
-  s.start.push_back(0);
-  for (int v = 0; v < 44; ++v) {
-    s.sizes.push_back(v % 2 == 0 ? 4 : 1);
-    if (v < 40 && v % 20 != 0) s.lower.push_back(v - 1);
-    if (v >= 40) {
-      s.lower.push_back(19);
-      s.lower.push_back(39);
-      for (int u = 40; u < v; ++u) s.lower.push_back(u);
-    }
-    s.start.push_back(static_cast<int>(s.lower.size()));
-  }
-  return s;
-}
-
-TEST(BlockLdltTest, TwoLanesGiveTheSameSolutionToTheBit) {
-  TwoLanes lanes;
-  lanes.awake();
-  std::vector<Structure> structures = {twoChains()};
-  for (unsigned seed = 1; seed <= 10; ++seed) structures.push_back(randomStructure(80, seed));
-  int split = 0;
-  for (std::size_t i = 0; i < structures.size(); ++i) {
-    const Structure& s = structures[i];
-    BlockLdlt serial = make(s), parallel = make(s);
-    for (double zeros : {0.0, 0.5}) {
-      const TiledMatrix m(s, serial, zeros, 7 + static_cast<unsigned>(i));
-      serial.analyze(m.stored.data());
-      parallel.analyze(m.stored.data());
-      const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(serial.unknowns(), -1.0, 2.0);
-      for (double lambda : {0.0, 0.7}) {
-        ASSERT_TRUE(serial.factorize(m.stored.data(), lambda));
-        ASSERT_TRUE(parallel.factorize(m.stored.data(), lambda, &lanes));
-        if (lambda == 0.0 && !parallel.laneRows(0).empty() && !parallel.laneRows(1).empty())
-          ++split;
-        Eigen::VectorXd x, y;
-        serial.solve(b, &x);
-        parallel.solve(b, &y, &lanes);
-        ASSERT_EQ(x.size(), y.size());
-        EXPECT_EQ(std::memcmp(x.data(), y.data(), sizeof(double) * x.size()), 0)
-            << "structure " << i << " zeros " << zeros << " lambda " << lambda;
-      }
-    }
-  }
-  lanes.rest();
-  // The two chains are the lanes and their four common nodes come after.
-  BlockLdlt chains = make(structures[0]);
-  const TiledMatrix m(structures[0], chains, 0.0, 1);
-  chains.analyze(m.stored.data());
-  ASSERT_TRUE(chains.factorize(m.stored.data(), 0.0, &lanes));
-  std::vector<int> lane0 = chains.laneRows(0), lane1 = chains.laneRows(1);
-  if (lane0.front() > lane1.front()) std::swap(lane0, lane1);
-  ASSERT_EQ(lane0.size(), 20u);
-  ASSERT_EQ(lane1.size(), 20u);
-  EXPECT_EQ(lane0.front(), 0);
-  EXPECT_EQ(lane1.front(), 20);
-  EXPECT_EQ(chains.rowsAfterLanes(), (std::vector<int>{40, 41, 42, 43}));
-  EXPECT_GE(split, 2);
-}
-
-TEST(BlockLdltTest, TwoLanesRefuseAMatrixThatIsNotPositiveDefinite) {
-  // The two chains with one diagonal entry of each chain's middle node made negative.
-  TwoLanes lanes;
-  const Structure s = twoChains();
-  BlockLdlt ldlt = make(s);
-  TiledMatrix m(s, ldlt, 0.0, 3);
-  for (const int v : {10, 30}) {
-    BlockLdlt fresh = make(s);
-    TiledMatrix bad = m;
-    bad.stored[fresh.diagonalTile(v)] = -50.0;
-    fresh.analyze(bad.stored.data());
-    EXPECT_FALSE(fresh.factorize(bad.stored.data(), 0.0, &lanes)) << "node " << v;
-    EXPECT_TRUE(fresh.factorize(bad.stored.data(), 1000.0, &lanes)) << "node " << v;
-  }
 }
 
 TEST(BlockLdltTest, RejectsMalformedStructures) {

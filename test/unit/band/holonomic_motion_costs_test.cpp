@@ -3,9 +3,11 @@
 // segments with every penalty branch (inside, below, above) and with the nominal-speed residual.
 #include "coopnav/band/costs/holonomic_motion_costs.hpp"
 
+#include <ceres/autodiff_cost_function.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -116,6 +118,48 @@ TEST(HolonomicMotionCosts, JacobiansMatchAutodiffOnRandomSegments) {
   }
   // The random segments exercise the penalties, not only their zero branch.
   EXPECT_GT(active, 200);
+}
+
+// HingeAutoDiffCostFunction's dual numbers are ceres::AutoDiffCostFunction's to the bit
+// (residuals and Jacobians); an inactive hinge's skipped Jacobian is zero, as Ceres' is.
+template <typename Functor, int kN, int... kBlocks>
+void expectCeresBits(const Functor& f, const std::vector<double*>& params) {
+  const HingeAutoDiffCostFunction<Functor, kN, kBlocks...> ours{Functor(f)};
+  const ceres::AutoDiffCostFunction<Functor, kN, kBlocks...> ceres_ad{new Functor(f)};
+  const Evaluated a = evaluate(ours, params, -7.0);
+  const Evaluated b = evaluate(ceres_ad, params, 7.0);
+  auto same = [](double x, double y) {
+    return std::memcmp(&x, &y, sizeof x) == 0 || (x == 0.0 && y == 0.0);
+  };
+  for (int k = 0; k < kN; ++k) {
+    EXPECT_EQ(std::memcmp(&a.r[k], &b.r[k], sizeof(double)), 0) << "residual " << k;
+  }
+  for (std::size_t i = 0; i < a.j.size(); ++i) {
+    for (std::size_t e = 0; e < a.j[i].size(); ++e)
+      EXPECT_TRUE(same(a.j[i][e], b.j[i][e])) << "block " << i << " entry " << e;
+  }
+  std::vector<double> r(kN), rc(kN);
+  ASSERT_TRUE(ours.Evaluate(params.data(), r.data(), nullptr));
+  ASSERT_TRUE(ceres_ad.Evaluate(params.data(), rc.data(), nullptr));
+  EXPECT_EQ(std::memcmp(r.data(), rc.data(), sizeof(double) * kN), 0);
+}
+
+TEST(HolonomicMotionCosts, HingeAutodiffGivesCeresAutodiffBits) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> pos(-0.25, 0.25), ang(-3.0, 3.0), dt(0.05, 0.4);
+  for (int trial = 0; trial < 200; ++trial) {
+    const MotionLimits lim = limits(trial % 2 == 0);
+    double p0[3] = {pos(rng), pos(rng), ang(rng)};
+    double p1[3] = {p0[0] + pos(rng), p0[1] + pos(rng), p0[2] + 0.3 * pos(rng)};
+    double p2[3] = {p1[0] + pos(rng), p1[1] + pos(rng), p1[2] + 0.3 * pos(rng)};
+    double t0[1] = {dt(rng)}, t1[1] = {dt(rng)};
+    expectCeresBits<VelocityCost, 4, 3, 3, 1>(VelocityCost(lim), {p0, p1, t0});
+    expectCeresBits<AccelerationCost, 3, 3, 3, 3, 1, 1>(AccelerationCost(lim),
+                                                        {p0, p1, p2, t0, t1});
+    expectCeresBits<BoundaryAccelerationCost, 3, 3, 3, 1>(
+        BoundaryAccelerationCost(lim, 0.4, -0.1, 0.2, trial % 3 == 0), {p0, p1, t0});
+    expectCeresBits<KinematicsCost, 2, 3, 3>(KinematicsCost(1.7, 2.0), {p0, p1});
+  }
 }
 
 // Terms sharing a band's trigonometry cache give the bits of terms without one, also after

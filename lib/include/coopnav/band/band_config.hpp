@@ -1,9 +1,9 @@
 #pragma once
 /// @file Configuration of the dual time-elastic-band planner (CoHAN-style, Singamaneni et al.
 /// 2021, arXiv 2106.09971; TEB: Rösmann et al. 2013/2015). In-class defaults are CoHAN 2.0's
-/// simulation values (`config/robot/hateb_local_planner_params.yaml`, see
-/// ../shared/notes/band-planner.md §6) unless a comment says why we differ. Defaults live here
-/// and only here; the daemon's YAML overrides them key by key.
+/// simulation values (`LAAS-HRI/CoHAN2.0`, `config/robot/hateb_local_planner_params.yaml`;
+/// HATEB's `hateb_config.h` defaults where it sets none) unless a comment says why we differ.
+/// Defaults live here and only here; the daemon's YAML overrides them key by key.
 
 #include <string>
 #include <vector>
@@ -56,7 +56,8 @@ struct BandWeights {
   double viapoint{0.05};
   double obstacle{50.0};
   /// Non-holonomic term. CoHAN 2.0 sim uses 1.0 for its omni PR2; for a differential-drive agent
-  /// the planner uses `kinematics_nh_diff_drive` instead (1.0 lets bands jump sideways, notes §9).
+  /// the planner uses `kinematics_nh_diff_drive` instead (with 1.0 a differential-drive band
+  /// jumps sideways, where the velocity term does not see it: segments reach 5 m/s).
   double kinematics_nh{1.0};
   double kinematics_nh_diff_drive{1000.0};
   double kinematics_forward_drive{100.0};  ///< diff drive only (CoHAN code default)
@@ -95,7 +96,7 @@ struct BandPlannerConfig {
   /// Others planned jointly per cycle, the nearest first (clearance, ties by id); the rest get no
   /// band this cycle (PlanResult::unplanned_ids) and so no assessment. The joint factorisation
   /// grows faster than the number of bands it couples (bench_band: 5 humans take 4.6x the time
-  /// of one; 64 took over 2 min a cycle), so a crowd must not stall the robot's planner. CoHAN
+  /// of one; 64 take over 2 min a cycle), so a crowd must not stall the robot's planner. CoHAN
   /// predicts at most 2 moving humans per cycle.
   int max_planned_others{5};
 
@@ -107,16 +108,15 @@ struct BandPlannerConfig {
   /// Nielsen & Tingleff 2004, eq. 3.14); 0: λ₀ = 1 whatever the problem's scale (Ceres' start,
   /// the default). The band problem's accepted damping is ~1e-2 of its largest diagonal entry
   /// (bench_band), so from λ₀ = 1 the first 3 of every 8 solves are rejected while λ climbs; a
-  /// scale-aware start takes more steps per budget but changes the bands (band_source README).
+  /// scale-aware start takes more steps per budget but changes the narrow-corridor bands enough
+  /// to move the paper's round-2 decision there.
   double initial_damping_scale{0.0};
   double penalty_epsilon{0.01};
   bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
-  /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp) or "ceres" (Ceres' sparse normal
-  /// Cholesky LM, tuned as notes §9). Same residual blocks; bench_band compares the two.
+  /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp: single-threaded, deterministic)
+  /// or "ceres" (Ceres' sparse normal Cholesky LM, tuned as band_optimizer.cpp says). Same
+  /// residual blocks; bench_band compares the two.
   std::string solver{"sparse_lm"};
-  /// sparse_lm's threads (1..2): with 2, the residual blocks are evaluated and assembled in two
-  /// lanes side by side (two_lanes.hpp), with the same result to the last bit as 1.
-  int solver_threads{1};
   /// Re-initialise a warm band whose start is farther than this from the agent [m].
   double warm_start_reset_dist_m{1.0};
 
@@ -152,7 +152,8 @@ struct BandPlannerConfig {
   /// it pairs by index. We pair by time, so the term is safe to keep always (<= 0: always).
   double safety_activation_dist_m{0.0};
   /// Lateral offset given to the planning band at a predicted head-on meeting, to break the
-  /// exact symmetry (notes §9: no lateral gradient, 1/|d| blow-up) [m].
+  /// exact symmetry (two poses on one point: no lateral gradient, and the relative-velocity
+  /// term's 1/|d| blows up) [m].
   double symmetry_break_offset_m{0.3};
   /// On a cold start, place the planning band aside by the full safety separation at the
   /// predicted meeting (within the free room): the optimum under "minimal human contribution"

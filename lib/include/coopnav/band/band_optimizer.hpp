@@ -5,7 +5,8 @@
 /// TEB (Rösmann et al. 2015) — autoResize, build, a few Levenberg–Marquardt iterations, obstacle
 /// and safety weights × weight_adapt_factor — except that the bands are resized and the problem is
 /// built once per call: between outer iterations only the via-point projections, the pairing
-/// fractions and the weight multiplier change (notes §9, "built once + warm start").
+/// fractions and the weight multiplier change (rebuilding every outer iteration, as TEB does,
+/// costs 1.3-2.7 ms of a ~10 ms cycle).
 
 #include <cstdint>
 #include <functional>
@@ -19,8 +20,6 @@
 #include "coopnav/geometry/types.hpp"
 
 namespace coopnav {
-
-class TwoLanes;
 
 /// One band in the joint problem. The optimiser changes *band in place.
 struct BandAgent {
@@ -63,10 +62,10 @@ struct OptimizeStats {
 /// others are coupled pairwise when their bands come close. Respects max_iterations (total LM
 /// iterations, <= 0: config inner × outer) and time_budget_s (<= 0: none), measured with the
 /// caller's monotonic clock_s (lib/ reads no clock; empty: no budget and no solver_time_s).
-/// Bands with < 2 poses are left untouched. lanes: sparse_lm's second thread (nullptr: none).
+/// Bands with < 2 poses are left untouched.
 OptimizeStats optimizeBands(std::vector<BandAgent>& agents, const DistanceMap& map,
                             const BandPlannerConfig& cfg, int max_iterations, double time_budget_s,
-                            const std::function<double()>& clock_s = {}, TwoLanes* lanes = nullptr);
+                            const std::function<double()>& clock_s = {});
 
 /// Time pairing helper: for each pose time of band a, the segment and fraction of band b at the
 /// same time (nullopt past b's end). Exposed for tests and the crossing read-out.

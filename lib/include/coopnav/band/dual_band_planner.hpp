@@ -7,7 +7,7 @@
 /// The planning agent is any agent: band_source passes the robot (kind kRobot) and the tracked
 /// humans as `others`; world_sim's "facilitating" human passes the simulated human as `agent`
 /// and the robot (kind kRobot) as an `other`, which is then anticipated with the "minimal
-/// contribution" weights (clarifications.md, Simulated humans). Limits follow each agent's
+/// contribution" weights, so the simulated human yields early. Limits follow each agent's
 /// kind (config.robot / config.human); weights follow the role (planning_weights for `agent`,
 /// other_weights for `others`). Time comes only from request.stamp_s.
 
@@ -21,7 +21,6 @@
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/band/band_optimizer.hpp"
 #include "coopnav/band/timed_elastic_band.hpp"
-#include "coopnav/band/two_lanes.hpp"
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/planning/global_planner.hpp"
@@ -119,7 +118,6 @@ class DualBandPlanner {
   std::vector<BandPlannerConfig::Error> config_errors_;
   std::shared_ptr<const DistanceMap> map_;
   std::unique_ptr<GridPathPlanner> global_;
-  std::unique_ptr<TwoLanes> lanes_;           ///< sparse_lm's second thread (solver_threads 2)
   std::map<std::int32_t, Memory> bands_;      ///< warm start per agent id
   std::map<std::int32_t, CachedPath> paths_;  ///< global / reference path per agent id
 };

@@ -1,25 +1,24 @@
 #pragma once
-/// @file Our own sparse Levenberg–Marquardt solver for the band problem (issue 3: "your own sparse
-/// LM on Eigen is welcome only if the benchmark shows it faster than Ceres on the same problem";
-/// bench_band measures both on the same residual blocks). Ceres' `CostFunction` is used only as
-/// the evaluation interface of a residual block (its autodiff and our analytic terms), so both
-/// solvers see exactly the same residuals and Jacobians.
+/// @file Our own sparse Levenberg–Marquardt solver for the band problem.
+/// Why ours: ~1/5 of Ceres' time on the same blocks (bench_band: ours / Ceres p50 0.18-0.20).
+/// Ceres' `CostFunction` is used only as the evaluation interface of a residual block (its
+/// autodiff and our analytic terms), so both solvers (band_optimizer.cpp runs either, and
+/// bench_band both, with Ceres' tuned SPARSE_NORMAL_CHOLESKY LM) see exactly the same residuals
+/// and Jacobians.
 ///
-/// Why it is faster than Ceres' SPARSE_NORMAL_CHOLESKY here (bench_band measures it): the
-/// unknowns are grouped and ordered ONCE per problem (Ceres re-derives the JᵀJ
-/// product structure every iteration and goes through CHOLMOD's supernodal BLAS/OpenMP path,
-/// whose hand-offs cost more than this ~750-unknown factorisation); here every residual block
-/// writes its JᵀJ and Jᵀr contributions straight into their places in the factorisation's own
-/// storage (tiles of nodes: a band's ΔT and the pose after it), the nodes are numbered in a
-/// minimum-degree order of their graph, and the factorisation is a block LDLᵀ on the pattern
-/// of the tiles that are not zero at that linearisation (block_ldlt.hpp): terms inside their
-/// limits add exact zeros and so no fill. It replaced (2026-12-03) a dense-row envelope LDLᵀ on
-/// Sloan's profile-reducing order: one human 12 % faster at p50 (13 % at p99), five humans 23 %
-/// (31 %), in the same bench_band run (band_source README).
+/// Where the difference comes from: the unknowns are grouped and ordered ONCE per problem (Ceres
+/// re-derives the JᵀJ product structure every iteration and goes through CHOLMOD's supernodal
+/// BLAS/OpenMP path, whose hand-offs cost more than this ~750-unknown factorisation); here every
+/// residual block writes its JᵀJ and Jᵀr contributions straight into their places in the
+/// factorisation's own storage (tiles of nodes: a band's ΔT and the pose after it), the nodes are
+/// numbered in a minimum-degree order of their graph, and the factorisation is a block LDLᵀ on
+/// the pattern of the tiles that are not zero at that linearisation (block_ldlt.hpp): terms
+/// inside their limits add exact zeros and so no fill. Single-threaded: every sum runs in block
+/// order, so a solve is deterministic to the last bit.
 ///
-/// Damping is plain λI, as g2o does for TEB and CoHAN (Jacobi scaling barely damps the flat θ / y
-/// directions, notes §9), with Nielsen's λ update (Madsen, Nielsen & Tingleff, "Methods for
-/// non-linear least squares problems", 2004, §3.2).
+/// Damping is plain λI, as g2o does for TEB and CoHAN (Jacobi-scaled damping barely damps a
+/// band's flat θ / y directions, and LM stalls there), with Nielsen's λ update (Madsen, Nielsen &
+/// Tingleff, "Methods for non-linear least squares problems", 2004, §3.2).
 
 #include <ceres/cost_function.h>
 
@@ -29,8 +28,6 @@
 #include <vector>
 
 namespace coopnav {
-
-class TwoLanes;
 
 class SparseLm {
  public:
@@ -52,11 +49,6 @@ class SparseLm {
     /// Tingleff 2004, eq. 3.14: τ · max a_ii), so that the start follows the problem's scale;
     /// <= 0: λ₀ = 1 (Ceres' 1 / initial trust radius 1), whatever the scale.
     double initial_lambda_scale{0.0};
-    /// Two threads for the evaluations (two_lanes.hpp), or nullptr: one. The result is the
-    /// same to the last bit either way. With two, cost functions of blocks that share no
-    /// unknown run concurrently: state a cost function writes while it evaluates must belong to
-    /// the parameter blocks it is on (band_costs::BandTrig: an entry per pose).
-    TwoLanes* lanes{nullptr};
   };
 
   struct Summary {

@@ -3,7 +3,7 @@
 /// acceleration_cost.hpp: TEB EdgeVelocityHolonomic / EdgeAcceleration*, CoHAN's nominal
 /// walking speed) with hand-derived Jacobians. They are the band problem's most frequent terms
 /// and, with dual numbers, its most expensive ones (bench_band: the acceleration term's Jet<11>
-/// with sin / cos / atan2 was 7 % of a cycle). Residuals are the functors' own, evaluated on
+/// with sin / cos / atan2 takes 7 % of a cycle). Residuals are the functors' own, evaluated on
 /// doubles, so they are exactly the autodiff terms' residuals; the Jacobians agree with the
 /// autodiff ones to rounding (test/unit/band/holonomic_motion_costs_test.cpp).
 ///
@@ -33,12 +33,12 @@ namespace coopnav::band_costs {
 
 /// Heading trigonometry of one band, each value computed once: cos / sin of every pose's θ and
 /// the wrapped heading change of every segment (angleDiff). A pose's heading enters up to five
-/// terms (its velocity, two accelerations, two kinematics terms), a segment's change three; the
-/// sin / cos / atan2 behind them were ~12 % of a cycle (bench_band). An entry is reused while
-/// its inputs keep their exact bits, so every term sees what it would compute itself.
-/// Entries are filled while the terms evaluate, so two threads may evaluate terms of one band at
-/// once only if no pose is in both threads' terms: SparseLm's two lanes never share a parameter
-/// block (sparse_lm.hpp, Options::lanes); the Ceres backend runs with num_threads = 1.
+/// terms (its velocity, two accelerations, two kinematics terms), a segment's change three;
+/// computed by every term, the sin / cos / atan2 behind them take ~12 % of a cycle (bench_band).
+/// An entry is reused while its inputs keep their exact bits, so every term sees what it would
+/// compute itself. Entries are filled while the terms evaluate, so the terms of one band must not
+/// be evaluated on two threads at once: SparseLm evaluates on one, and the Ceres backend runs
+/// with num_threads = 1.
 class BandTrig {
  public:
   explicit BandTrig(std::size_t num_poses);

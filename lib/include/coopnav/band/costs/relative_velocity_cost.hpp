@@ -1,6 +1,6 @@
 #pragma once
 /// @file Relative-velocity ("directional") term between the robot and a human (CoHAN
-/// EdgeAgentRobotRelVelocity, formerly EdgeHumanRobotDirectional; Khambhaita & Alami 2020,
+/// EdgeAgentRobotRelVelocity, HATEB's EdgeHumanRobotDirectional; Khambhaita & Alami 2020,
 /// Singamaneni et al. 2021): with d_rh = p_h − p_r (not normalised),
 ///   c = (max((v_r − v_h)·d_rh, 0) + |v_r| + 1) / |d_rh|,
 /// penalised above `threshold`. It grows as the agents close in on each other head-on, long
@@ -38,7 +38,8 @@ struct RelativeVelocityCost {
     T closing = (vrx - vhx) * dx + (vry - vhy) * dy;
     if (closing < T(0.0)) closing = T(0.0);
     // Floor on the distance: coinciding poses (a symmetric head-on start) would make c explode
-    // (notes §9: initial cost 7e12); the safety term takes over at such range anyway.
+    // (initial cost ~7e12 on an exactly symmetric start); the safety term takes over at such
+    // range anyway.
     constexpr double kMinDist_m = 0.1;
     T dist = safeNorm(dx, dy);
     if (dist < T(kMinDist_m)) dist = T(kMinDist_m);

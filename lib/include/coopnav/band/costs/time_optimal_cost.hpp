@@ -1,7 +1,8 @@
 #pragma once
 /// @file Time-optimality term (TEB EdgeTimeOptimal: e = ΔT) plus a floor keeping ΔT positive.
 /// TEB bounds ΔT in g2o; a Ceres parameter bound would switch on a projected line search that
-/// costs ~3x per cycle (notes §9), so a stiff one-sided penalty does the job instead.
+/// re-evaluates Jacobians and takes ~3x as long per cycle, so a stiff one-sided penalty does the
+/// job instead.
 
 #include "coopnav/band/costs/penalties.hpp"
 

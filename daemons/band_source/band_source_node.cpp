@@ -86,7 +86,7 @@ std::string idList(const std::set<std::int32_t>& ids) {
 void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePaths(base_dir); }
 
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
-    : config_(config), runtime_(runtime), outputs_(runtime) {
+    : config_(config), runtime_(runtime) {
   map_ = loadDistanceField(config_.map, /*build_tree=*/false).field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
@@ -101,17 +101,17 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   mo.dock.robot_radius_m = pc.robot.radius_m;
   modes_ = DockModeMachine(mo);
 
-  StepGateOptions gate;
+  StepNodeOptions steps;
   // Step k plans with every robot action of k-1 and the goals of k (a lost one is re-sent when
   // the world publishes the step again; docs/lockstep.md "Loss and restarts").
-  gate.requirements = {{kDialogueParticipant, -1, {channels::kRobotAction}},
-                       {"world_sim", 0, {}, true}};
-  gate.timeout = std::chrono::milliseconds(
+  steps.requirements = {{kDialogueParticipant, -1, {channels::kRobotAction}},
+                        {"world_sim", 0, {}, true}};
+  steps.timeout = std::chrono::milliseconds(
       static_cast<std::int64_t>(std::llround(config_.step_gate_timeout_s * 1e3)));
-  gate_ = std::make_unique<StepGate>(runtime_, gate);
-  gate_->setCondition([this](std::int64_t step) -> std::string {
+  steps_ = std::make_unique<StepNode>(runtime_, steps);
+  steps_->setCondition([this](std::int64_t step) -> std::string {
     const auto it = step_utime_.find(step);
-    if (it == step_utime_.end() || gate_->lastAck("world_sim") < step) return "";
+    if (it == step_utime_.end() || steps_->lastAck("world_sim") < step) return "";
     return goal_utimes_.count(it->second) ? "" : "goals of step " + std::to_string(step);
   });
   runtime_.setLostStateNote(
@@ -148,83 +148,58 @@ BandSourceNode::~BandSourceNode() {
       *std::max_element(all_plan_ms_.begin(), all_plan_ms_.end()));
 }
 
-void BandSourceNode::ackInOrder(std::int64_t utime, std::int64_t step) {
-  if (step < 0) return;
-  gate_->submit(step, [this, utime, step](bool, const std::string&) { outputs_.ack(utime, step); });
-}
-
 void BandSourceNode::onAgentStates(const agent_states_t& msg) {
-  AgentStatesSnapshot s;
-  try {
-    s = fromLcm(msg);
+  steps_->open("world_sim", channels::kAgentStates, msg, [&]() -> StepNode::Work {
+    AgentStatesSnapshot s = fromLcm(msg);  // throws RejectedMessage
     for (const auto& h : s.humans)
       if (h.id == s.robot.id)
         throw RejectedMessage("human id " + std::to_string(h.id) + " is the robot's id");
-  } catch (const RejectedMessage&) {
-    ackInOrder(msg.utime, msg.step);
-    throw;
-  }
-  {
-    // A tracker glitch can put a human anywhere (10^300 m away): the planner would resample a
-    // path of that length and never finish. Humans farther from the map than its own size are
-    // left out of planning (no band, no reference path), with a log line.
-    const auto& g = map_->grid();
-    const Eigen::Vector2d size_m(g.width() * g.resolution_m(), g.height() * g.resolution_m());
-    const Eigen::AlignedBox2d reach(g.origin_m() - size_m, g.origin_m() + 2.0 * size_m);
-    const auto far = std::remove_if(s.humans.begin(), s.humans.end(), [&](const AgentState& h) {
-      return !reach.contains(h.pose.position());
-    });
-    for (auto it = far; it != s.humans.end(); ++it)
-      log().warn("band_source: human {} at ({:g}, {:g}) is far off the map: left out of planning",
-                 it->id, it->pose.x_m, it->pose.y_m);
-    s.humans.erase(far, s.humans.end());
-  }
-  if (s.step >= 0) {
-    if (s.step <= last_step_) {
-      // The world published a step again: someone misses an answer of ours (or of the dialogue
-      // manager's, which holds our next step). Send the kept ones again, never recompute.
-      outputs_.republishRecent(s.step);
-      runtime_.countDropped();  // not planned again: counted as a stale input
-      log().debug("band_source: agent states of step {} again (latest {}): answers re-sent", s.step,
-                  last_step_);
-      return;
+    leaveOutFarHumans(s);
+    if (s.step >= 0) step_utime_[s.step] = s.utime;
+    if (last_utime_ && s.utime < *last_utime_)
+      throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
+                           std::to_string(*last_utime_));
+    last_utime_ = s.utime;
+    runtime_.noteLogicTime(s.utime);
+    if (s.step < 0) {
+      // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
+      const double period_us = 1e6 / config_.control_hz;
+      if (last_cycle_utime_ && utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 <
+                                   period_us * (1.0 - kThrottleSlack))
+        return nullptr;
+      last_cycle_utime_ = s.utime;
+      // A state stream: when inputs come faster than cycles run, only the newest is planned (the
+      // loop drains what is queued before it runs its timers), so the daemon never falls further
+      // and further behind with its queue growing. The superseded ones count as dropped.
+      if (free_running_next_) runtime_.countDropped();
+      free_running_next_ = s;
+      return nullptr;
     }
-    last_step_ = s.step;
-    step_utime_[s.step] = s.utime;
-  }
-  if (last_utime_ && s.utime < *last_utime_) {
-    ackInOrder(s.utime, s.step);
-    throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
-                         std::to_string(*last_utime_));
-  }
-  last_utime_ = s.utime;
-  runtime_.noteLogicTime(s.utime);
-  if (s.step < 0) {
-    // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
-    const double period_us = 1e6 / config_.control_hz;
-    if (last_cycle_utime_ &&
-        utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 < period_us * (1.0 - kThrottleSlack))
-      return;
-    last_cycle_utime_ = s.utime;
-    // A state stream: when inputs come faster than cycles run, only the newest is planned (the
-    // loop drains what is queued before it runs its timers), so the daemon never falls further
-    // and further behind with its queue growing. The superseded ones count as dropped.
-    if (free_running_next_) runtime_.countDropped();
-    free_running_next_ = s;
-    return;
-  }
-  gate_->submit(s.step, [this, s](bool degraded, const std::string& missing) {
-    cycle(s, degraded, missing);
+    return [this, s](StepNode::Step& step) { cycle(s, step); };
   });
+}
+
+void BandSourceNode::leaveOutFarHumans(AgentStatesSnapshot& s) const {
+  // A tracker glitch can put a human anywhere (10^300 m away): the planner would resample a
+  // path of that length and never finish. Humans farther from the map than its own size are
+  // left out of planning (no band, no reference path), with a log line.
+  const auto& g = map_->grid();
+  const Eigen::Vector2d size_m(g.width() * g.resolution_m(), g.height() * g.resolution_m());
+  const Eigen::AlignedBox2d reach(g.origin_m() - size_m, g.origin_m() + 2.0 * size_m);
+  const auto far = std::remove_if(s.humans.begin(), s.humans.end(), [&](const AgentState& h) {
+    return !reach.contains(h.pose.position());
+  });
+  for (auto it = far; it != s.humans.end(); ++it)
+    log().warn("band_source: human {} at ({:g}, {:g}) is far off the map: left out of planning",
+               it->id, it->pose.x_m, it->pose.y_m);
+  s.humans.erase(far, s.humans.end());
 }
 
 void BandSourceNode::planLatestFreeRunning() {
   if (!free_running_next_) return;
   const AgentStatesSnapshot s = std::move(*free_running_next_);
   free_running_next_.reset();
-  gate_->submit(s.step, [this, s](bool degraded, const std::string& missing) {
-    cycle(s, degraded, missing);
-  });
+  steps_->schedule(s.step, s.utime, [this, s](StepNode::Step& step) { cycle(s, step); });
 }
 
 void BandSourceNode::onGoals(const goals_t& msg) {
@@ -234,48 +209,39 @@ void BandSourceNode::onGoals(const goals_t& msg) {
   goals_ = std::move(g);  // full state: replaces the previous goals
   goal_utimes_.insert(msg.utime);
   while (goal_utimes_.size() > 64) goal_utimes_.erase(goal_utimes_.begin());
-  gate_->poke();
+  steps_->poke();
 }
 
 void BandSourceNode::onRobotAction(const robot_action_t& msg) {
-  if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME)
-    throw RejectedMessage("unknown robot action " + std::to_string(msg.action));
-  if (msg.step < -1)
-    throw RejectedMessage("robot action step " + std::to_string(msg.step) +
-                          " is neither -1 nor >= 0");
+  RobotActionMsg a = fromLcm(msg);  // throws RejectedMessage (unknown action, bad step)
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
-  if (!gate_->noteReceived(kDialogueParticipant, channels::kRobotAction, msg.step,
-                           std::to_string(msg.action) + "/" + std::to_string(msg.human_id)))
-    return;
-  struct Poke {
-    StepGate& g;
-    ~Poke() { g.poke(); }
-  } poke{*gate_};
-  log().info("band_source: robot action {} for human {} at step {} ({})",
-             msg.action == robot_action_t::ACTION_DOCK ? "DOCK" : "RESUME", msg.human_id, msg.step,
-             msg.reason);
-  actions_.push_back({msg.action, msg.human_id, msg.step});
+  steps_->input(kDialogueParticipant, channels::kRobotAction, msg.step,
+                std::to_string(msg.action) + "/" + std::to_string(msg.human_id), [&] {
+                  log().info("band_source: robot action {} for human {} at step {} ({})",
+                             a.action == dialogue::RobotAction::kDock ? "DOCK" : "RESUME",
+                             a.stamp.human_id, a.stamp.step, a.reason);
+                  actions_.push_back(std::move(a));
+                });
 }
 
-void BandSourceNode::cycle(const AgentStatesSnapshot& s, bool degraded,
-                           const std::string& missing) {
+void BandSourceNode::cycle(const AgentStatesSnapshot& s, StepNode::Step& step) {
   try {
-    plan(s);
+    plan(s, step);
   } catch (const std::exception& e) {
     // A bug or an unforeseen input: never take the daemon down, never leave a step unanswered.
     runtime_.countRejected();
     log().error("band_source: step {} (utime {}) failed: {}", s.step, s.utime, e.what());
   }
-  if (degraded) {
-    runtime_.setDegraded("step " + std::to_string(s.step) + " planned without " + missing);
+  if (step.degraded()) {
+    runtime_.setDegraded("step " + std::to_string(s.step) + " planned without " + step.missing());
   } else {
     runtime_.setRunning(detail_);
   }
-  outputs_.ack(s.utime, s.step);
+  step.finish();
   step_utime_.erase(s.step);
 }
 
-void BandSourceNode::plan(const AgentStatesSnapshot& s) {
+void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   const double stamp_s = utimeToSeconds(s.utime);
 
   // --- goals: the robot's (kind ROBOT; its own id preferred) and the humans' ---
@@ -295,9 +261,9 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
   bool dock_req = false, resume_req = false;
   std::int32_t dock_for = -1;
   for (const auto& a : actions_) {
-    dock_req = a.action == robot_action_t::ACTION_DOCK;
-    resume_req = a.action == robot_action_t::ACTION_RESUME;
-    if (dock_req) dock_for = a.human_id;
+    dock_req = a.action == dialogue::RobotAction::kDock;
+    resume_req = a.action == dialogue::RobotAction::kResume;
+    if (dock_req) dock_for = a.stamp.human_id;
   }
   actions_.clear();
 
@@ -401,7 +367,7 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
               toString(r.status), toString(mode), r.iterations, r.final_cost, plan_ms);
 
   // --- outputs, in the lockstep order: reference paths, bands, command ---
-  publishReferencePaths(s, r, with_goal);
+  publishReferencePaths(s, r, with_goal, step);
 
   const bool idle = !robot_goal;
   const bool usable = r.status == PlanStatus::kOk || r.status == PlanStatus::kGoalReached;
@@ -419,18 +385,19 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s) {
   b.robot_id = s.robot.id;
   b.robot = r.agent_band;
   for (const auto& o : r.others) b.humans.emplace_back(o.id, o.band);
-  outputs_.publish(s.step, channels::kBands, toLcm(b));
+  step.publish(channels::kBands, toLcm(b));
 
   VelocityCommand c;
   c.utime = s.utime;
   c.step = s.step;
   c.mode = cmd_mode;
   if (r.status == PlanStatus::kOk && !hold && !idle) c.body = r.command_body;
-  outputs_.publish(s.step, channels::kRobotCmd, toLcm(c));
+  step.publish(channels::kRobotCmd, toLcm(c));
 }
 
 void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const PlanResult& r,
-                                           const std::set<std::int32_t>& with_goal) {
+                                           const std::set<std::int32_t>& with_goal,
+                                           StepNode::Step& step) {
   bool changed = false;
   // Forget humans who left, or whose goal became unknown (their path is no longer a reference).
   for (auto it = refs_.begin(); it != refs_.end();) {
@@ -467,7 +434,7 @@ void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const P
     e.path = ref.path;
     out.paths.push_back(std::move(e));
   }
-  outputs_.publish(s.step, channels::kReferencePaths, toLcm(out));
+  step.publish(channels::kReferencePaths, toLcm(out));
   last_refs_utime_ = s.utime;
 }
 

@@ -16,10 +16,10 @@
 #include "common/band_config_yaml.hpp"
 #include "common/config.hpp"
 #include "common/conversions.hpp"
+#include "common/conversions_dialogue.hpp"
 #include "common/map_source.hpp"
 #include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "common/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
@@ -82,11 +82,6 @@ class BandSourceNode {
   std::int64_t cycles() const { return cycles_; }
 
  private:
-  struct PendingAction {
-    std::int8_t action{0};
-    std::int32_t human_id{0};
-    std::int64_t step{-1};
-  };
   struct RefPath {
     Path2 path;
     std::int32_t revision{0};
@@ -97,13 +92,13 @@ class BandSourceNode {
   void planLatestFreeRunning();
   void onGoals(const goals_t& msg);
   void onRobotAction(const robot_action_t& msg);
-  /// Queues an ack of `step` behind any queued work (a dropped input still completes its step).
-  void ackInOrder(std::int64_t utime, std::int64_t step);
+  /// Leaves humans far off the map out of planning (a tracker glitch), with a log line.
+  void leaveOutFarHumans(AgentStatesSnapshot& states) const;
   /// One control cycle; never throws (it may run from the gate's timer).
-  void cycle(const AgentStatesSnapshot& states, bool degraded, const std::string& missing);
-  void plan(const AgentStatesSnapshot& states);
+  void cycle(const AgentStatesSnapshot& states, StepNode::Step& step);
+  void plan(const AgentStatesSnapshot& states, StepNode::Step& step);
   void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
-                             const std::set<std::int32_t>& with_goal);
+                             const std::set<std::int32_t>& with_goal, StepNode::Step& step);
   void notePlanTime(double ms);
 
   Config config_;
@@ -111,15 +106,12 @@ class BandSourceNode {
   std::shared_ptr<const GridDistanceField> map_;
   std::unique_ptr<DualBandPlanner> planner_;
   DockModeMachine modes_;
-  std::unique_ptr<StepGate> gate_;
-  StepOutputs outputs_;
   std::map<std::int64_t, std::int64_t> step_utime_;  ///< utime of each step queued in the gate
   std::set<std::int64_t> goal_utimes_;               ///< utimes of the latest goals received
 
   std::optional<GoalsSnapshot> goals_;
-  std::vector<PendingAction> actions_;         ///< robot actions not yet applied
+  std::vector<RobotActionMsg> actions_;        ///< robot actions not yet applied
   std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
-  std::int64_t last_step_{-1};                 ///< highest lockstep step received
   std::optional<std::int64_t> last_utime_;     ///< latest agent-states utime accepted
   std::optional<std::int64_t> last_cycle_utime_;          ///< free-running throttle
   std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
@@ -132,6 +124,8 @@ class BandSourceNode {
   std::int64_t cycles_{0};
   std::vector<double> plan_ms_;  ///< wall time per planning call since the last summary
   std::vector<double> all_plan_ms_;
+  /// Last: steps still held when the node goes away are not acknowledged.
+  std::unique_ptr<StepNode> steps_;
 };
 
 }  // namespace coopnav

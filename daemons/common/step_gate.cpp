@@ -27,13 +27,13 @@ StepGate::StepGate(Runtime& runtime, StepGateOptions options)
 }
 
 void StepGate::submit(std::int64_t step, Work work) {
-  if (step < 0 && queue_.empty()) {
+  if (step < 0 && queue_.empty() && holding_ == 0) {
     Pending item{step, std::move(work), std::chrono::steady_clock::now()};
     runItem(item, false, "");
     return;
   }
   queue_.push_back({step, std::move(work), std::chrono::steady_clock::now()});
-  drain();
+  if (holding_ == 0) drain();
 }
 
 namespace {
@@ -137,7 +137,7 @@ void StepGate::runItem(Pending& item, bool degraded, const std::string& missing)
 }
 
 void StepGate::drain() {
-  if (draining_) return;  // work may publish and re-enter through a local ack
+  if (draining_ || holding_ > 0) return;  // work may publish and re-enter through a local ack
   draining_ = true;
   while (!queue_.empty() && missingFor(queue_.front().step).empty()) {
     Pending item = std::move(queue_.front());

@@ -51,8 +51,28 @@ class StepGate {
 
   /// Runs `work` now if step < 0 (free-running) or the step's requirements are met, else queues
   /// it; queued work runs in submission order. An exception thrown by work is logged and counted
-  /// as rejected, and the gate goes on (it never reaches an unrelated handler).
+  /// as rejected, and the gate goes on (it never reaches an unrelated handler). Inside accept(),
+  /// work is only queued: it runs once the input is stored.
   void submit(std::int64_t step, Work work);
+
+  /// An input counted for the gate: notes it (noteReceived) and, unless it is a repeat, calls
+  /// `store()`, then runs what became runnable, whether store() returned or threw. Returns false
+  /// for a repeat (nothing stored). Free-running inputs (step < 0) are always stored.
+  template <class Store>
+  bool accept(const std::string& participant, const std::string& channel, std::int64_t step,
+              const std::string& key, Store&& store) {
+    if (!noteReceived(participant, channel, step, key)) return false;
+    struct Release {
+      StepGate& g;
+      ~Release() {
+        if (--g.holding_ == 0) g.drain();
+      }
+    };
+    ++holding_;
+    Release release{*this};
+    store();
+    return true;
+  }
 
   /// Feeds an acknowledgement (the gate's own subscription calls this; tests may too).
   /// `counts`: messages per channel the participant published for the step (empty = unknown).
@@ -61,7 +81,7 @@ class StepGate {
 
   /// Notes a message of `participant` on `channel` for `step`, identified by `key` (e.g. the
   /// human id). Returns false when that message was already noted (a repeat: handle it once).
-  /// Does not run queued work: call poke() once the message is stored.
+  /// Does not run queued work: call poke() once the message is stored (or use accept()).
   bool noteReceived(const std::string& participant, const std::string& channel, std::int64_t step,
                     const std::string& key);
   /// Runs what became runnable (after noteReceived and storing the message).
@@ -106,6 +126,7 @@ class StepGate {
   std::map<std::string, Peer> peers_;
   std::deque<Pending> queue_;
   bool draining_{false};
+  int holding_{0};  ///< inside accept(): submitted work waits until the input is stored
   std::function<std::string(std::int64_t)> condition_;
 };
 

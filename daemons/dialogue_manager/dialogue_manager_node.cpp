@@ -37,17 +37,16 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
     : config_(config),
       decision_config_(config.decisionConfig()),
       runtime_(runtime),
-      outputs_(runtime),
       speech_(config.speech) {
   // Step k is decided with every situation and path assessment of k and the world's agent
   // states of k (a lost one holds the step until the world publishes it again).
-  StepGateOptions gate;
-  gate.requirements = {{kSituationAssessor, 0, {channels::kSituation}},
-                       {kPathAssessor, 0, {channels::kPathAssessment}},
-                       {"world_sim", 0, {channels::kAgentStates}, true}};
-  gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
-  gate.wait_for_unseen = config_.gate_wait_for_unseen;
-  gate_ = std::make_unique<StepGate>(runtime_, gate);
+  StepNodeOptions steps;
+  steps.requirements = {{kSituationAssessor, 0, {channels::kSituation}},
+                        {kPathAssessor, 0, {channels::kPathAssessment}},
+                        {"world_sim", 0, {channels::kAgentStates}, true}};
+  steps.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
+  steps.wait_for_unseen = config_.gate_wait_for_unseen;
+  steps_ = std::make_unique<StepNode>(runtime_, steps);
   runtime_.subscribe<situation_t>(channels::kSituation,
                                   [this](const situation_t& m, std::int64_t) { onSituation(m); });
   runtime_.subscribe<path_assessment_t>(
@@ -72,46 +71,36 @@ const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) co
 // ---- input ----
 
 template <class Fill>
-void DialogueManagerNode::file(std::int64_t step, std::int64_t utime, const char* publisher,
-                               const char* channel, const std::string& key, Fill fill) {
-  if (step < -1) throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
+void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const char* publisher,
+                                    const char* channel, const std::string& key, Fill fill) {
+  // The world's repeat of a step means someone waits: our answers go out again.
   const bool world = std::string(channel) == channels::kAgentStates;
-  if (step >= 0) {
-    const bool fresh = gate_->noteReceived(publisher, channel, step, key);
-    if (!fresh) {
-      // A repeat. The world's repeat of a step means someone waits: send our answers again.
-      if (world) outputs_.republishRecent(step);
-      runtime_.countDropped();
-      return;
-    }
-    if (step <= last_done_step_)
-      throw RejectedMessage("step " + std::to_string(step) + " goes backwards (already decided " +
-                            std::to_string(last_done_step_) + ")");
-  }
-  struct Poke {
-    StepGate& g;
-    ~Poke() { g.poke(); }
-  } poke{*gate_};
-  const bool is_new = steps_.find(step) == steps_.end();
-  // A step never seen that is older than the newest one seen goes backwards (a step already
-  // decided was answered above).
-  if (is_new && step >= 0 && step < newest_step_)
-    throw RejectedMessage("step " + std::to_string(step) + " goes backwards (newest " +
-                          std::to_string(newest_step_) + ")");
-  StepInputs& bucket = steps_[step];
-  if (bucket.utime < 0) bucket.utime = utime;
-  if (step > newest_step_) newest_step_ = step;
-  try {
-    fill(bucket);
-  } catch (...) {
-    if (is_new) submit(step);  // rejected, but the step is still acknowledged
-    throw;
-  }
-  if (is_new) submit(step);
+  steps_->input(
+      publisher, channel, step, key,
+      [&] {
+        if (step >= 0 && step <= last_done_step_)
+          throw RejectedMessage("step " + std::to_string(step) +
+                                " goes backwards (already decided " +
+                                std::to_string(last_done_step_) + ")");
+        const bool is_new = inputs_.find(step) == inputs_.end();
+        // A step never seen that is older than the newest one seen goes backwards (a step
+        // already decided was answered above).
+        if (is_new && step >= 0 && step < newest_step_)
+          throw RejectedMessage("step " + std::to_string(step) + " goes backwards (newest " +
+                                std::to_string(newest_step_) + ")");
+        StepInputs& bucket = inputs_[step];
+        if (bucket.utime < 0) bucket.utime = utime;
+        if (step > newest_step_) newest_step_ = step;
+        // Scheduled before filling, so that a rejected input still has its step acknowledged; it
+        // runs once this input is stored.
+        if (is_new) schedule(step);
+        fill(bucket);
+      },
+      world);
 }
 
 void DialogueManagerNode::onSituation(const situation_t& msg) {
-  file(msg.step, msg.utime, kSituationAssessor, channels::kSituation, std::to_string(msg.human_id),
+  fileInput(msg.step, msg.utime, kSituationAssessor, channels::kSituation, std::to_string(msg.human_id),
        [&](StepInputs& b) {
          b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
                                        situationSnapshotFromLcm(msg)};
@@ -119,12 +108,12 @@ void DialogueManagerNode::onSituation(const situation_t& msg) {
 }
 
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
-  file(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment, std::to_string(msg.human_id),
+  fileInput(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment, std::to_string(msg.human_id),
        [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
-  file(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
+  fileInput(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
        [&](StepInputs& b) { b.agents = fromLcm(msg); });
 }
 
@@ -133,26 +122,25 @@ void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
   // needs a work item, or the step would never be acknowledged downstream.
   if (ack.participant != kSituationAssessor && ack.participant != kPathAssessor) return;
   if (ack.step < 0 || ack.step <= newest_step_ || ack.step <= last_done_step_ ||
-      steps_.count(ack.step))
+      inputs_.count(ack.step))
     return;
   newest_step_ = ack.step;
-  steps_[ack.step].utime = ack.utime;
-  submit(ack.step);
+  inputs_[ack.step].utime = ack.utime;
+  schedule(ack.step);
 }
 
-void DialogueManagerNode::submit(std::int64_t step) {
-  gate_->submit(step, [this, step](bool degraded, const std::string& missing) {
-    runStep(step, degraded, missing);
-  });
+void DialogueManagerNode::schedule(std::int64_t step) {
+  steps_->schedule(step, inputs_.at(step).utime, [this](StepNode::Step& run) { runStep(run); });
 }
 
 // ---- one step ----
 
-void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::string& missing) {
-  auto it = steps_.find(step);
-  if (it == steps_.end()) return;  // cannot happen: one work item per bucket
+void DialogueManagerNode::runStep(StepNode::Step& run) {
+  const std::int64_t step = run.step();
+  auto it = inputs_.find(step);
+  if (it == inputs_.end()) return;  // cannot happen: one work item per bucket
   StepInputs in = std::move(it->second);
-  steps_.erase(it);
+  inputs_.erase(it);
   if (step >= 0 && !first_step_seen_) {
     first_step_seen_ = true;
     // A journal replay starts at step 0, muted; a live first step after 0 is a restart that
@@ -170,22 +158,22 @@ void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::s
           step, ids.empty() ? "-" : ids);
     }
   }
-  if (degraded) {
+  if (run.degraded()) {
     degraded_ = true;
-    runtime_.setDegraded("step " + std::to_string(step) + " ran without " + missing);
+    runtime_.setDegraded("step " + std::to_string(step) + " ran without " + run.missing());
   } else if (degraded_ && step >= 0) {
     degraded_ = false;
     runtime_.setRunning(speech_.usable() ? "speech on" : "");
   }
   try {
-    process(step, in);
+    process(run, in);
   } catch (const std::exception& e) {
     // A bug, never input (inputs were validated when filed): say so, and still acknowledge.
     runtime_.countRejected();
     log().error("dialogue_manager: step {} failed: {}", step, e.what());
   }
   runtime_.noteLogicTime(in.utime);
-  outputs_.ack(in.utime, step);
+  run.finish();
   if (step > last_done_step_) last_done_step_ = step;
   // Speech only after everything of the step is out: it must never delay a message. Never
   // while rebuilding the state from the journal: that was said before the restart.
@@ -194,7 +182,8 @@ void DialogueManagerNode::runStep(std::int64_t step, bool degraded, const std::s
   speech_pending_.clear();
 }
 
-void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
+void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
+  const std::int64_t step = run.step();
   // 1. Where the agents are: crossed detection and presence, for every human in the scene.
   std::set<std::int32_t> crossed_now;
   if (in.agents) {
@@ -220,11 +209,11 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
   for (std::int32_t id : ids) {
     auto sit = in.situations.find(id);
     if (sit != in.situations.end()) {
-      decide(step, id, sit->second.stamp, sit->second.snapshot);
+      decide(run, id, sit->second.stamp, sit->second.snapshot);
     } else {
       // Crossed on this step's agent states, no situation for it: round 3 on the last one.
       const DialogueStamp stamp{in.agents->utime, step, id};
-      decide(step, id, stamp, humans_.at(id).last_situation);
+      decide(run, id, stamp, humans_.at(id).last_situation);
     }
   }
 
@@ -239,7 +228,7 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
       const std::string why =
           fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
       const DialogueStamp stamp{in.agents->utime, step, id};
-      emit(stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why), std::nullopt);
+      emit(run, stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why), std::nullopt);
     }
     // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
     // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
@@ -262,13 +251,13 @@ void DialogueManagerNode::process(std::int64_t step, StepInputs& in) {
   }
 }
 
-void DialogueManagerNode::decide(std::int64_t step, std::int32_t id, const DialogueStamp& stamp,
+void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
                                  const dialogue::SituationSnapshot& situation) {
   if (history_unknown_.count(id)) return;  // see joined_late_: never a round or dock on a guess
   auto hit = humans_.find(id);
   if (hit == humans_.end()) {
     hit = humans_.emplace(id, Human(decision_config_)).first;
-    log().info("dialogue_manager: human {} seen first at step {} (t_cross {})", id, step,
+    log().info("dialogue_manager: human {} seen first at step {} (t_cross {})", id, run.step(),
                formatTCross(situation.t_cross_s));
   }
   Human& h = hit->second;
@@ -280,12 +269,13 @@ void DialogueManagerNode::decide(std::int64_t step, std::int32_t id, const Dialo
   if (p != latest_path_.end()) in.path = p->second;
   auto t = tracked_.find(id);
   in.crossed = t != tracked_.end() && t->second.crossed.crossed;
-  emit(stamp, h.decision.step(in), situation.t_cross_s);
+  emit(run, stamp, h.decision.step(in), situation.t_cross_s);
 }
 
 // ---- output ----
 
-void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
+void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
+                               const dialogue::DecisionOutput& out,
                                std::optional<double> t_cross_s) {
   std::string why;
   for (const auto& r : out.rounds) {
@@ -300,20 +290,20 @@ void DialogueManagerNode::emit(const DialogueStamp& stamp, const dialogue::Decis
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
   for (const auto& u : out.utterances) {
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
-    outputs_.publish(stamp.step, channels::kUtterance, toLcm(stamp, u, t));
+    run.publish(channels::kUtterance, toLcm(stamp, u, t));
     log().info("dialogue_manager: to human {}: \"{}\" ({}, round {})", stamp.human_id, u.text,
                dialogue::toString(u.act), u.round);
     speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id,
                                                    u.round, dialogue::toString(u.act))});
   }
   for (const auto a : out.robot_actions) {
-    outputs_.publish(stamp.step, channels::kRobotAction, toLcm(stamp, a, why));
+    run.publish(channels::kRobotAction, toLcm(stamp, a, why));
     log().info("dialogue_manager: robot action {} for human {}", dialogue::toString(a),
                stamp.human_id);
   }
   for (const auto c : out.recorder_commands) {
-    outputs_.publish(stamp.step, channels::kPathAssessorControl,
-                     toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, c, why}));
+    run.publish(channels::kPathAssessorControl,
+                toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, c, why}));
     log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
                 stamp.human_id);
   }

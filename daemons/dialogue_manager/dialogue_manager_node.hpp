@@ -18,8 +18,7 @@
 #include "common/conversions_assessment.hpp"
 #include "common/conversions_dialogue.hpp"
 #include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "common/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/path_assessment_t.hpp"
@@ -92,7 +91,7 @@ class DialogueManagerNode {
 
   /// For tests: the decision of human `id`, or nullptr before its first situation.
   const dialogue::HumanDecision* decision(std::int32_t id) const;
-  std::size_t pendingSteps() const { return gate_->pending(); }
+  std::size_t pendingSteps() const { return steps_->pending(); }
   const SpeechOutput& speech() const { return speech_; }
 
  private:
@@ -134,21 +133,20 @@ class DialogueManagerNode {
   /// one already filed is not filed again (a repeat of the world's agent states re-sends our
   /// answers of the latest steps instead).
   template <class Fill>
-  void file(std::int64_t step, std::int64_t utime, const char* publisher, const char* channel,
-            const std::string& key, Fill fill);
-  void submit(std::int64_t step);
-  void runStep(std::int64_t step, bool degraded, const std::string& missing);
-  void process(std::int64_t step, StepInputs& in);
-  void decide(std::int64_t step, std::int32_t id, const DialogueStamp& stamp,
+  void fileInput(std::int64_t step, std::int64_t utime, const char* publisher,
+                 const char* channel, const std::string& key, Fill fill);
+  /// Schedules the work of `step`, whose inputs are being filed in inputs_[step].
+  void schedule(std::int64_t step);
+  void runStep(StepNode::Step& run);
+  void process(StepNode::Step& run, StepInputs& in);
+  void decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
               const dialogue::SituationSnapshot& situation);
-  void emit(const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
+  void emit(StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
             std::optional<double> t_cross_s);
 
   Config config_;
   dialogue::DecisionConfig decision_config_;
   Runtime& runtime_;
-  std::unique_ptr<StepGate> gate_;
-  StepOutputs outputs_;
   std::int64_t last_done_step_{-1};  ///< latest lockstep step acted on
   /// Joined a run after its step 0 without a journal (a restart that lost its state): the humans
   /// already there may have heard rounds this process does not know of, so it decides nothing
@@ -157,7 +155,7 @@ class DialogueManagerNode {
   bool first_step_seen_{false};
   std::set<std::int32_t> history_unknown_;
   SpeechOutput speech_;
-  std::map<std::int64_t, StepInputs> steps_;
+  std::map<std::int64_t, StepInputs> inputs_;  ///< per step: its inputs until it runs
   std::int64_t newest_step_{-1};
   std::map<std::int32_t, Human> humans_;
   std::map<std::int32_t, Tracked> tracked_;
@@ -165,6 +163,8 @@ class DialogueManagerNode {
   std::int64_t latest_agents_utime_{-1};
   std::vector<SpeechItem> speech_pending_;
   bool degraded_{false};
+  /// Last: steps still held when the node goes away are not acknowledged.
+  std::unique_ptr<StepNode> steps_;
 };
 
 }  // namespace coopnav

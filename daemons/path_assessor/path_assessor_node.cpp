@@ -13,11 +13,9 @@ PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
       runtime_(runtime),
       // Step k assesses after every recorder control of k-1 and every reference path up to k-1
       // are here (a lost one holds the step until the world publishes it again).
-      gate_(runtime, StepGateOptions{{{"dialogue_manager", -1, {channels::kPathAssessorControl}},
-                                      {"band_source", -1, {channels::kReferencePaths}, true}},
-                                     std::chrono::milliseconds(config.gate_timeout_ms),
-                                     false}),
-      outputs_(runtime) {
+      steps_(runtime, StepNodeOptions{{{"dialogue_manager", -1, {channels::kPathAssessorControl}},
+                                       {"band_source", -1, {channels::kReferencePaths}, true}},
+                                      std::chrono::milliseconds(config.gate_timeout_ms)}) {
   runtime_.setLostStateNote(
       "the CA history of the interactions in progress (their IsContributing stays unknown "
       "until the next START)");
@@ -51,38 +49,31 @@ double PathAssessorNode::seconds(std::int64_t utime) {
 }
 
 void PathAssessorNode::onReferencePaths(const reference_paths_t& msg) {
-  if (!gate_.noteReceived("band_source", channels::kReferencePaths, msg.step, "refs")) return;
-  struct Poke {
-    StepGate& g;
-    ~Poke() { g.poke(); }
-  } poke{gate_};
-  const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
-  for (auto& e : paths.paths) {
-    Human& h = human(e.agent_id);
-    if (e.path.empty()) continue;  // nothing to measure CA against; keep the previous one
-    h.references[paths.step] = e.path;
-    // The START of a step still waiting needs at most the paths of a few steps back.
-    while (h.references.size() > 16) h.references.erase(h.references.begin());
-  }
+  steps_.input("band_source", channels::kReferencePaths, msg.step, "refs", [&] {
+    const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
+    for (auto& e : paths.paths) {
+      Human& h = human(e.agent_id);
+      if (e.path.empty()) continue;  // nothing to measure CA against; keep the previous one
+      h.references[paths.step] = e.path;
+      // The START of a step still waiting needs at most the paths of a few steps back.
+      while (h.references.size() > 16) h.references.erase(h.references.begin());
+    }
+  });
 }
 
 void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
-  if (!gate_.noteReceived("dialogue_manager", channels::kPathAssessorControl, msg.step,
-                          std::to_string(msg.human_id) + "/" + std::to_string(msg.command)))
-    return;
-  struct Poke {
-    StepGate& g;
-    ~Poke() { g.poke(); }
-  } poke{gate_};
-  const RecorderControl c = fromLcm(msg);  // throws RejectedMessage on an unknown command
-  if (c.step >= 0) {
-    // Lockstep: applied at the start of step c.step + 1, in the gate's order, so that a control
-    // re-sent after a loss has the effect it would have had (docs/lockstep.md).
-    controls_.push_back(c);
-    return;
-  }
-  applyControl(c);
+  steps_.input("dialogue_manager", channels::kPathAssessorControl, msg.step,
+               std::to_string(msg.human_id) + "/" + std::to_string(msg.command), [&] {
+                 const RecorderControl c = fromLcm(msg);  // throws RejectedMessage (command)
+                 if (c.step >= 0) {
+                   // Lockstep: applied at the start of step c.step + 1, in the gate's order, so
+                   // that a control re-sent after a loss has the effect it would have had.
+                   controls_.push_back(c);
+                   return;
+                 }
+                 applyControl(c);
+               });
 }
 
 void PathAssessorNode::applyControlsBefore(std::int64_t step) {
@@ -144,35 +135,20 @@ void PathAssessorNode::applyControl(const RecorderControl& c) {
 }
 
 void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
-  if (msg.step >= 0 && msg.step <= last_states_step_) {
-    // The world published a step again: send our kept answers again, never recompute.
-    outputs_.republishRecent(msg.step);
-    runtime_.countDropped();  // not assessed again: counted as a stale input
-    return;
-  }
-  if (msg.step >= 0) last_states_step_ = msg.step;
-  AgentStatesSnapshot states;
-  try {
-    states = fromLcm(msg);
-  } catch (const RejectedMessage&) {
-    // Still acknowledged, in its turn, so that a lockstep run goes on (docs/lockstep.md).
-    const std::int64_t utime = msg.utime;
-    const std::int64_t step = msg.step;
-    gate_.submit(step,
-                 [this, utime, step](bool, const std::string&) { outputs_.ack(utime, step); });
-    throw;
-  }
-  gate_.submit(states.step, [this, states](bool degraded, const std::string& missing) {
-    if (degraded)
-      log().warn(
-          "path_assessor: step {} assessed without {}'s ack: its recorder controls may "
-          "be missing",
-          states.step, missing);
-    assess(states);
+  steps_.open("world_sim", channels::kAgentStates, msg, [&]() -> StepNode::Work {
+    const AgentStatesSnapshot states = fromLcm(msg);  // throws RejectedMessage
+    return [this, states](StepNode::Step& step) {
+      if (step.degraded())
+        log().warn(
+            "path_assessor: step {} assessed without {}'s ack: its recorder controls may "
+            "be missing",
+            states.step, step.missing());
+      assess(states, step);
+    };
   });
 }
 
-void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
+void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step& step) {
   applyControlsBefore(states.step);
   runtime_.noteLogicTime(states.utime);
   const double t_s = seconds(states.utime);
@@ -206,9 +182,8 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states) {
     rec.window_ca_m = h.recorder.windowCa();
     rec.gamma = config_.recorder.gamma;
     rec.tau_m = config_.recorder.tau_m;
-    outputs_.publish(states.step, channels::kPathAssessment, toLcm(rec));
+    step.publish(channels::kPathAssessment, toLcm(rec));
   }
-  outputs_.ack(states.utime, states.step);
 }
 
 }  // namespace coopnav

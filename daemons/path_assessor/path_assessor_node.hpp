@@ -15,8 +15,7 @@
 #include "common/conversions.hpp"
 #include "common/conversions_assessment.hpp"
 #include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "common/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
@@ -67,7 +66,7 @@ class PathAssessorNode {
   void applyControl(const RecorderControl& c);
   /// Lockstep: the controls of steps before `step`, in arrival order (each logged on failure).
   void applyControlsBefore(std::int64_t step);
-  void assess(const AgentStatesSnapshot& states);
+  void assess(const AgentStatesSnapshot& states, StepNode::Step& step);
   Human& human(std::int32_t id);
   /// [s] message time on the node's time base (utime of the first message seen), so the
   /// recorder's grid arithmetic works on small numbers whatever the clock's epoch.
@@ -75,13 +74,11 @@ class PathAssessorNode {
 
   Config config_;
   Runtime& runtime_;
-  StepGate gate_;
-  StepOutputs outputs_;
   std::vector<RecorderControl> controls_;  ///< lockstep controls not yet applied
-  std::int64_t last_states_step_{-1};      ///< highest lockstep agent-states step received
   std::map<std::int32_t, Human> humans_;
   std::optional<std::int64_t> base_utime_;
   std::map<std::int32_t, std::int64_t> last_seen_utime_;  ///< per human: forget those gone
+  StepNode steps_;  ///< last: steps still held when the node goes away are not acknowledged
 };
 
 }  // namespace coopnav

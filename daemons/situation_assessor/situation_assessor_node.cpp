@@ -40,18 +40,21 @@ SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runt
       crossing_config_(config.crossingConfig()),
       client_(runtime, "situation_assessor",
               DistanceClient::Options{std::chrono::milliseconds(config.distance_timeout_ms),
-                                      config.distance_attempts}),
-      outputs_(runtime) {
+                                      config.distance_attempts}) {
   // Lockstep: the bands of step k are assessed with every reference path published up to k (a
   // lost one holds the step until the world publishes it again). Without a band source that
   // acknowledges (a log replay), nothing is waited for.
-  StepGateOptions gate;
-  gate.requirements = {{"band_source",
-                        0,
-                        {channels::kReferencePaths, channels::kBands},
-                        /*optional_until_seen=*/true}};
-  gate.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
-  gate_ = std::make_unique<StepGate>(runtime_, gate);
+  StepNodeOptions steps;
+  steps.requirements = {{"band_source",
+                         0,
+                         {channels::kReferencePaths, channels::kBands},
+                         /*optional_until_seen=*/true}};
+  steps.timeout = std::chrono::milliseconds(config_.gate_timeout_ms);
+  // Every bands message is assessed in arrival order, an old step's too; a repeat is the same
+  // bytes for the same step (the band source re-published it because the world waits for
+  // someone downstream): the kept answers go out again, nothing is assessed twice.
+  steps.repeat = StepNodeOptions::Repeat::kSameBytes;
+  steps_ = std::make_unique<StepNode>(runtime_, steps);
   runtime_.setLostStateNote(
       "the humans' reference paths until the band source publishes them again (d_h unknown "
       "meanwhile)");
@@ -66,11 +69,11 @@ SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runt
 }
 
 void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
-  if (!gate_->noteReceived("band_source", channels::kReferencePaths, msg.step, "refs")) return;
-  struct Poke {
-    StepGate& g;
-    ~Poke() { g.poke(); }
-  } poke{*gate_};
+  steps_->input("band_source", channels::kReferencePaths, msg.step, "refs",
+                [&] { storeReferencePaths(msg); });
+}
+
+void SituationAssessorNode::storeReferencePaths(const reference_paths_t& msg) {
   const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
   for (const auto& e : paths.paths) {
     auto it = references_.find(e.agent_id);
@@ -103,57 +106,31 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
 }
 
 void SituationAssessorNode::onBands(const bands_t& msg) {
-  // A repeat is the same bytes for the same step (the band source re-published it because the
-  // world waits for someone downstream): send our kept answers again, never assess twice. Other
-  // bands of an old step (a clock or step going backwards) are assessed in arrival order.
-  std::uint64_t hash = 1469598103934665603ull;
-  if (msg.step >= 0) {
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(msg.getEncodedSize()));
-    msg.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-    for (const auto b : bytes) hash = (hash ^ b) * 1099511628211ull;
-    const auto seen = bands_hash_.find(msg.step);
-    if (seen != bands_hash_.end() && seen->second == hash) {
-      outputs_.republishRecent(msg.step);
-      runtime_.countDropped();  // not assessed again: counted as a stale input
-      return;
-    }
-    bands_hash_[msg.step] = hash;
-    while (bands_hash_.size() > 64) bands_hash_.erase(bands_hash_.begin());
-  }
-  gate_->noteReceived("band_source", channels::kBands, msg.step, "bands");
-  Job job;
-  job.utime = msg.utime;
-  job.step = msg.step;
-  bool rejected = false;
-  std::string why;
-  try {
-    job.bands = fromLcm(msg);
-  } catch (const RejectedMessage& e) {
-    // Still acknowledged, in its turn, so that a lockstep run goes on (docs/lockstep.md).
-    rejected = true;
-    why = e.what();
-  }
-  gate_->submit(job.step,
-                [this, job](bool, const std::string&) mutable { enqueue(std::move(job)); });
-  if (rejected) throw RejectedMessage(why);
+  steps_->open("band_source", channels::kBands, msg, [&]() -> StepNode::Work {
+    BandsToAssess b{{}, fromLcm(msg)};  // throws RejectedMessage
+    return [this, b](StepNode::Step& step) mutable {
+      b.step = step;
+      enqueue(std::move(b));
+    };
+  });
 }
 
-void SituationAssessorNode::enqueue(Job job) {
-  const bool free_running = job.step < 0;
-  queue_.push_back(std::move(job));
+void SituationAssessorNode::enqueue(BandsToAssess b) {
+  const bool free_running = b.step.step() < 0;
+  waiting_.push_back(std::move(b));
   if (free_running) {
     // Free-running bands supersede each other: keep the newest waiting ones only. The head is
     // never touched while its request is in flight.
     std::size_t waiting = 0;
-    for (std::size_t i = busy_ ? 1 : 0; i < queue_.size(); ++i)
-      if (queue_[i].step < 0) ++waiting;
+    for (std::size_t i = busy_ ? 1 : 0; i < waiting_.size(); ++i)
+      if (waiting_[i].step.step() < 0) ++waiting;
     for (std::size_t i = busy_ ? 1 : 0;
          waiting > static_cast<std::size_t>(config_.free_running_queue_max) &&
-         i + 1 < queue_.size();) {
-      if (queue_[i].step < 0) {
+         i + 1 < waiting_.size();) {
+      if (waiting_[i].step.step() < 0) {
         log().debug("situation_assessor: free-running bands of utime {} superseded, dropped",
-                    queue_[i].utime);
-        queue_.erase(queue_.begin() + static_cast<std::ptrdiff_t>(i));
+                    waiting_[i].step.utime());
+        waiting_.erase(waiting_.begin() + static_cast<std::ptrdiff_t>(i));
         runtime_.countDropped();
         --waiting;
       } else {
@@ -161,19 +138,14 @@ void SituationAssessorNode::enqueue(Job job) {
       }
     }
   }
-  pump();
+  assessWaiting();
 }
 
-void SituationAssessorNode::pump() {
-  while (!busy_ && !queue_.empty()) {
-    Job& job = queue_.front();
-    if (!job.bands) {
-      outputs_.ack(job.utime, job.step);
-      queue_.pop_front();
-      continue;
-    }
-    runtime_.noteLogicTime(job.utime);
-    const BandsSnapshot& bands = *job.bands;
+void SituationAssessorNode::assessWaiting() {
+  while (!busy_ && !waiting_.empty()) {
+    BandsToAssess& head = waiting_.front();
+    runtime_.noteLogicTime(head.step.utime());
+    const BandsSnapshot& bands = head.bands;
     work_.clear();
     std::vector<DistanceQuery> queries;
     for (const auto& [id, band] : bands.humans) {
@@ -213,26 +185,27 @@ void SituationAssessorNode::pump() {
       continue;
     }
     busy_ = true;
-    client_.query(queries, job.utime, [this](const DistanceClient::Outcome& o) {
+    client_.query(queries, head.step.utime(), [this](const DistanceClient::Outcome& o) {
       finish(&o);
       busy_ = false;
-      pump();
+      assessWaiting();
     });
   }
 }
 
 void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
-  const Job job = std::move(queue_.front());
-  queue_.pop_front();
+  BandsToAssess done = std::move(waiting_.front());
+  waiting_.pop_front();
   if (outcome) {
     if (!outcome->ok) {
       runtime_.setDegraded("distance server: " + outcome->error);
-      log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", job.step, outcome->error);
+      log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", done.step.step(),
+                 outcome->error);
     } else {
       runtime_.setRunning();
     }
   }
-  const BandsSnapshot& bands = *job.bands;
+  const BandsSnapshot& bands = done.bands;
   for (const HumanWork& w : work_) {
     std::optional<double> d_oh_m;
     std::optional<double> d_or_m;
@@ -265,10 +238,10 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
     // Paper §II-B: d_h, d_OH, d_OR, d_HR and the three predicates.
     rec.assessment = assessment::assessSituation(w.crossing, path, d_oh_m, d_or_m, thresholds_);
     prependReason(rec.assessment.reason, reason);
-    outputs_.publish(job.step, channels::kSituation, toLcm(rec));
+    done.step.publish(channels::kSituation, toLcm(rec));
   }
   work_.clear();
-  outputs_.ack(job.utime, job.step);
+  done.step.finish();
 }
 
 }  // namespace coopnav

@@ -19,8 +19,7 @@
 #include "common/conversions.hpp"
 #include "common/distance_client.hpp"
 #include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "common/step_node.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/situation.hpp"
 #include "coopnav/bands_t.hpp"
@@ -74,13 +73,14 @@ class SituationAssessorNode {
   SituationAssessorNode(const Config& config, Runtime& runtime);
 
   /// Bands messages received and not yet published (the head may be waiting for distances).
-  std::size_t queued() const { return queue_.size(); }
+  std::size_t queued() const { return waiting_.size(); }
 
  private:
-  struct Job {
-    std::int64_t utime{0};
-    std::int64_t step{-1};
-    std::optional<BandsSnapshot> bands;  ///< nullopt: rejected message, only acknowledged
+  /// Bands whose step's work started, waiting in arrival order for their turn at the distance
+  /// server (the head may be waiting for its answers).
+  struct BandsToAssess {
+    StepNode::Step step;
+    BandsSnapshot bands;
   };
   struct Reference {
     std::int32_t revision{0};
@@ -98,8 +98,10 @@ class SituationAssessorNode {
 
   void onBands(const bands_t& msg);
   void onReferencePaths(const reference_paths_t& msg);
-  void enqueue(Job job);
-  void pump();
+  void storeReferencePaths(const reference_paths_t& msg);
+  void enqueue(BandsToAssess bands);
+  /// Assesses the waiting bands in order until one waits for the distance server.
+  void assessWaiting();
   void finish(const DistanceClient::Outcome* outcome);
 
   Config config_;
@@ -107,13 +109,12 @@ class SituationAssessorNode {
   assessment::SituationThresholds thresholds_;
   assessment::CrossingConfig crossing_config_;
   DistanceClient client_;
-  StepOutputs outputs_;
-  std::unique_ptr<StepGate> gate_;
-  std::map<std::int64_t, std::uint64_t> bands_hash_;  ///< recent steps: hash of their bands
   std::map<std::int32_t, Reference> references_;
-  std::deque<Job> queue_;
-  bool busy_{false};  ///< the head of the queue waits for its distance answers
+  std::deque<BandsToAssess> waiting_;
+  bool busy_{false};  ///< the head of waiting_ waits for its distance answers
   std::vector<HumanWork> work_;
+  /// Last: steps still held when the node goes away are not acknowledged.
+  std::unique_ptr<StepNode> steps_;
 };
 
 }  // namespace coopnav

@@ -126,27 +126,33 @@ void WorldSimNode::onStatus(const daemon_status_t& msg) {
   if (ready_.insert(msg.name).second) checkReady();
 }
 
+template <class Store>
+void WorldSimNode::accept(const char* participant, const char* channel, std::int64_t step,
+                          const std::string& key, Store&& store) {
+  if (gate_) {
+    gate_->accept(participant, channel, step, key, std::forward<Store>(store));
+  } else {
+    store();
+  }
+}
+
 void WorldSimNode::onCommand(const velocity_command_t& msg) {
-  if (gate_ && !gate_->noteReceived("band_source", channels::kRobotCmd, msg.step, "cmd")) return;
-  VelocityCommand c = fromLcm(msg);  // throws RejectedMessage on a non-finite command
-  // A late repeat of an older step's command never replaces a newer one.
-  if (!command_ || c.step < 0 || c.step >= command_->step) command_ = c;
-  if (gate_) gate_->poke();
+  accept("band_source", channels::kRobotCmd, msg.step, "cmd", [&] {
+    VelocityCommand c = fromLcm(msg);  // throws RejectedMessage on a non-finite command
+    // A late repeat of an older step's command never replaces a newer one.
+    if (!command_ || c.step < 0 || c.step >= command_->step) command_ = c;
+  });
 }
 
 void WorldSimNode::onUtterance(const utterance_t& msg) {
   // A repeat (the step re-published) is heard once.
-  if (gate_ &&
-      !gate_->noteReceived("dialogue_manager", channels::kUtterance, msg.step,
-                           std::to_string(msg.human_id) + "/" + std::to_string(msg.speech_act) +
-                               "/" + std::to_string(msg.round)))
-    return;
-  struct Poke {
-    StepGate* g;
-    ~Poke() {
-      if (g) g->poke();
-    }
-  } poke{gate_.get()};
+  accept("dialogue_manager", channels::kUtterance, msg.step,
+         std::to_string(msg.human_id) + "/" + std::to_string(msg.speech_act) + "/" +
+             std::to_string(msg.round),
+         [&] { hear(msg); });
+}
+
+void WorldSimNode::hear(const utterance_t& msg) {
   if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION || msg.speech_act > utterance_t::ACT_THANK)
     throw RejectedMessage("utterance with unknown speech_act " + std::to_string(msg.speech_act));
   if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
@@ -178,13 +184,10 @@ void WorldSimNode::onUtterance(const utterance_t& msg) {
 }
 
 void WorldSimNode::onBands(const bands_t& msg) {
-  if (gate_ && !gate_->noteReceived("band_source", channels::kBands, msg.step, "bands")) return;
-  struct Poke {
-    StepGate* g;
-    ~Poke() {
-      if (g) g->poke();
-    }
-  } poke{gate_.get()};
+  accept("band_source", channels::kBands, msg.step, "bands", [&] { storeBands(msg); });
+}
+
+void WorldSimNode::storeBands(const bands_t& msg) {
   if (msg.step >= 0 && msg.step < band_step_) return;  // a late repeat of an older step
   BandsSnapshot b = fromLcm(msg);                      // throws RejectedMessage
   // A failed cycle tells nothing about where the robot goes: humans keep the last good band.

@@ -94,6 +94,13 @@ class WorldSimNode {
   void onCommand(const velocity_command_t& msg);
   void onUtterance(const utterance_t& msg);
   void onBands(const bands_t& msg);
+  /// An input the step gate counts (StepGate::accept); stored directly when free-running.
+  template <class Store>
+  void accept(const char* participant, const char* channel, std::int64_t step,
+              const std::string& key, Store&& store);
+  /// A simulated human hears an utterance (only a request to move changes it).
+  void hear(const utterance_t& msg);
+  void storeBands(const bands_t& msg);
 
   void checkReady();
   void start();

@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# Architecture rules (ctest arch_rules, label unit). Fails, printing file:line and the rule, when
+#  - a file under lib/ includes LCM (lcm/...), an lcmtype (coopnav/<type>_t.hpp or
+#    coopnav/channels.hpp), or spdlog, or reads a clock (system_clock, steady_clock,
+#    high_resolution_clock, time(nullptr), gettimeofday, clock_gettime; full comment lines are
+#    skipped): lib/ is pure, the daemons do I/O, logging and time and hand lib/ plain values;
+#  - a file under daemons/common includes a header of one daemon (daemons/<name>/, by path or by
+#    a file name only that daemon has): common code is shared by all daemons and knows none.
+# Usage: test/arch_rules.sh [SOURCE_DIR]   (default: the repository holding this script)
+#        test/arch_rules.sh --self-test    plants one violation of each rule in a scratch tree and
+#                                          checks that every one is reported (ctest arch_rules_self_test)
+set -uo pipefail
+
+# check_tree ROOT: prints each violation, returns 1 if any.
+check_tree() {
+  local root=$1 violations=0 hits
+  local src_glob=(--include='*.h' --include='*.hh' --include='*.hpp' --include='*.hxx'
+                  --include='*.c' --include='*.cc' --include='*.cpp' --include='*.cxx'
+                  --include='*.ipp' --include='*.inl' --include='*.tpp')
+  local inc='^[[:space:]]*#[[:space:]]*include[[:space:]]*[<"]'
+  # rule name | extended regex
+  local rules=(
+    "lib/ includes LCM|${inc}lcm/"
+    "lib/ includes an lcmtype|${inc}coopnav/([A-Za-z0-9_]+_t|channels)\.hpp[>\"]"
+    "lib/ includes spdlog|${inc}spdlog/"
+    "lib/ reads a clock|(system_clock|steady_clock|high_resolution_clock|gettimeofday|clock_gettime|(^|[^A-Za-z0-9_.>])time[[:space:]]*\([[:space:]]*(nullptr|NULL|0)[[:space:]]*\))"
+  )
+  if [ -d "$root/lib" ]; then
+    local rule name re
+    for rule in "${rules[@]}"; do
+      name=${rule%%|*}
+      re=${rule#*|}
+      # -H -n: file:line:text. Full comment lines (//, /*, *) do not count.
+      hits=$(cd "$root" && grep -rHnE "${src_glob[@]}" -e "$re" lib |
+             grep -vE '^[^:]+:[0-9]+:[[:space:]]*(//|/\*|\*)')
+      if [ -n "$hits" ]; then
+        violations=1
+        while IFS= read -r h; do echo "ARCH RULE VIOLATED ($name): $h"; done <<<"$hits"
+      fi
+    done
+  fi
+  if [ -d "$root/daemons/common" ]; then
+    local d name common_headers own_headers h hre
+    common_headers=$(cd "$root/daemons/common" && find . -type f \( -name '*.h' -o -name '*.hpp' \) \
+                       -printf '%f\n' | sort -u)
+    for d in "$root"/daemons/*/; do
+      name=$(basename "$d")
+      [ "$name" = common ] && continue
+      # By path: "band_source/x.hpp", "../band_source/x.hpp", "daemons/band_source/x.hpp".
+      hre="${inc}((\.\./)+|daemons/)?${name}/"
+      # By a file name only this daemon has: "band_source_node.hpp".
+      own_headers=$(cd "$d" && find . -type f \( -name '*.h' -o -name '*.hpp' \) -printf '%f\n' |
+                    sort -u | comm -23 - <(printf '%s\n' "$common_headers"))
+      for h in $own_headers; do
+        hre="$hre|${inc}${h//./\\.}[>\"]"
+      done
+      hits=$(cd "$root" && grep -rHnE "${src_glob[@]}" -e "$hre" daemons/common)
+      if [ -n "$hits" ]; then
+        violations=1
+        while IFS= read -r h; do
+          echo "ARCH RULE VIOLATED (daemons/common includes a header of daemon $name): $h"
+        done <<<"$hits"
+      fi
+    done
+  fi
+  return "$violations"
+}
+
+self_test() {
+  local tmp out rc=0
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' RETURN
+  mkdir -p "$tmp/lib/src/a" "$tmp/lib/include/coopnav/a" "$tmp/daemons/common" "$tmp/daemons/foo"
+  # A clean tree passes (includes of lib headers, <chrono> durations, clocks named in comments).
+  cat >"$tmp/lib/src/a/clean.cpp" <<'EOF'
+#include "coopnav/a/clean.hpp"
+#include "coopnav/geometry/types.hpp"
+#include <chrono>
+// The daemon reads steady_clock and passes the time in; lib never calls time(nullptr).
+/* system_clock: not here either */
+double f(double runtime) { return runtime * 2.0; }
+EOF
+  printf '#include "common/log.hpp"\n#include "coopnav/bands_t.hpp"\n' >"$tmp/daemons/common/c.cpp"
+  : >"$tmp/daemons/common/log.hpp"
+  : >"$tmp/daemons/foo/foo_node.hpp"
+  : >"$tmp/daemons/foo/log.hpp"  # same name as a common header: not a daemon-only header
+  if ! out=$(check_tree "$tmp"); then
+    echo "self-test: a clean tree was refused:"; echo "$out"; return 1
+  fi
+  # One violation of each kind.
+  printf '#include <lcm/lcm-cpp.hpp>\n' >"$tmp/lib/src/a/v_lcm.cpp"
+  printf '  #  include "coopnav/agent_states_t.hpp"\n' >"$tmp/lib/include/coopnav/a/v_type.hpp"
+  printf '#include "coopnav/channels.hpp"\n' >"$tmp/lib/src/a/v_channels.cpp"
+  printf '#include <spdlog/spdlog.h>\n' >"$tmp/lib/src/a/v_spdlog.cpp"
+  printf 'auto t = std::chrono::steady_clock::now();\n' >"$tmp/lib/src/a/v_steady.cpp"
+  printf 'auto t = std::chrono::system_clock::now();\n' >"$tmp/lib/src/a/v_system.cpp"
+  printf 'auto t = std::chrono::high_resolution_clock::now();\n' >"$tmp/lib/src/a/v_hrc.cpp"
+  printf 'long t = time(nullptr);\n' >"$tmp/lib/src/a/v_time.cpp"
+  printf 'timeval tv; gettimeofday(&tv, nullptr);\n' >"$tmp/lib/src/a/v_gtod.cpp"
+  printf 'timespec ts; clock_gettime(CLOCK_MONOTONIC, &ts);\n' >"$tmp/lib/src/a/v_cgt.cpp"
+  printf '#include "foo/foo_node.hpp"\n' >"$tmp/daemons/common/v_path.cpp"
+  printf '#include "../foo/foo_node.hpp"\n' >"$tmp/daemons/common/v_rel.hpp"
+  printf '#include "foo_node.hpp"\n' >"$tmp/daemons/common/v_name.cpp"
+  out=$(check_tree "$tmp") && { echo "self-test: violations were not reported"; return 1; }
+  echo "$out"
+  local f
+  for f in v_lcm.cpp v_type.hpp v_channels.cpp v_spdlog.cpp v_steady.cpp v_system.cpp v_hrc.cpp \
+           v_time.cpp v_gtod.cpp v_cgt.cpp v_path.cpp v_rel.hpp v_name.cpp; do
+    if ! grep -q "/$f:1:" <<<"$out"; then
+      echo "self-test: the violation in $f was not reported"; rc=1
+    fi
+  done
+  if grep -qE '/(clean\.cpp|c\.cpp):' <<<"$out"; then
+    echo "self-test: a clean file was reported"; rc=1
+  fi
+  [ "$rc" = 0 ] && echo "self-test: every rule fires, clean files pass"
+  return "$rc"
+}
+
+if [ "${1:-}" = --self-test ]; then
+  self_test
+  exit $?
+fi
+root=${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}
+if check_tree "$root"; then
+  echo "arch rules: lib/ has no LCM, lcmtype, spdlog or clock; daemons/common includes no daemon's header"
+else
+  echo "arch rules violated (test/arch_rules.sh: lib/ is pure; daemons/common knows no daemon)"
+  exit 1
+fi

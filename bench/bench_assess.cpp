@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "common/conversions.hpp"
+#include "wire/conversions.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/situation_t.hpp"
 

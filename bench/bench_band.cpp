@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "band_source/band_source_node.hpp"
-#include "common/config.hpp"
-#include "common/map_loader.hpp"
+#include "config/config.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/simulation.hpp"

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "common/conversions.hpp"
-#include "common/map_loader.hpp"
+#include "wire/conversions.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance/octree_conversion.hpp"

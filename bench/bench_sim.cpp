@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "common/conversions.hpp"
-#include "common/map_loader.hpp"
+#include "wire/conversions.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/channels.hpp"

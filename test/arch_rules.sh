@@ -80,8 +80,8 @@ self_test() {
 /* system_clock: not here either */
 double f(double runtime) { return runtime * 2.0; }
 EOF
-  printf '#include "common/log.hpp"\n#include "coopnav/bands_t.hpp"\n' >"$tmp/daemons/common/c.cpp"
-  : >"$tmp/daemons/common/log.hpp"
+  printf '#include "runtime/log.hpp"\n#include "coopnav/bands_t.hpp"\n' >"$tmp/daemons/common/c.cpp"
+  : >"$tmp/daemons/common/runtime/log.hpp"
   : >"$tmp/daemons/foo/foo_node.hpp"
   : >"$tmp/daemons/foo/log.hpp"  # same name as a common header: not a daemon-only header
   if ! out=$(check_tree "$tmp"); then

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <limits>
 
-#include "common/daemon_main.hpp"
-#include "common/log.hpp"
-#include "common/map_loader.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"

@@ -13,13 +13,13 @@
 #include <string>
 #include <vector>
 
-#include "common/band_config_yaml.hpp"
-#include "common/config.hpp"
-#include "common/conversions.hpp"
-#include "common/conversions_dialogue.hpp"
-#include "common/map_source.hpp"
-#include "common/runtime.hpp"
-#include "common/step_node.hpp"
+#include "config/band_config_yaml.hpp"
+#include "config/config.hpp"
+#include "wire/conversions.hpp"
+#include "wire/dialogue.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"

@@ -1,5 +1,5 @@
 #include "band_source_node.hpp"
-#include "common/daemon_main.hpp"
+#include "runtime/daemon_main.hpp"
 
 int main(int argc, char** argv) {
   return coopnav::runDaemon<coopnav::BandSourceNode>(

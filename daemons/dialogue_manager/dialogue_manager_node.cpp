@@ -3,8 +3,8 @@
 #include <cmath>
 #include <set>
 
-#include "common/daemon_main.hpp"
-#include "common/log.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/utterance_t.hpp"

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "common/config.hpp"
-#include "common/conversions.hpp"
-#include "common/conversions_assessment.hpp"
-#include "common/conversions_dialogue.hpp"
-#include "common/runtime.hpp"
-#include "common/step_node.hpp"
+#include "config/config.hpp"
+#include "wire/conversions.hpp"
+#include "wire/assessment.hpp"
+#include "wire/dialogue.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/path_assessment_t.hpp"

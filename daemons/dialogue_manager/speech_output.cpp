@@ -12,8 +12,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "common/config.hpp"
-#include "common/log.hpp"
+#include "config/config.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/config.hpp"
+#include "config/config.hpp"
 
 namespace coopnav {
 

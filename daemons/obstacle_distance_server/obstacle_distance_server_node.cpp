@@ -2,10 +2,10 @@
 
 #include <algorithm>
 
-#include "common/conversions.hpp"
-#include "common/daemon_main.hpp"
-#include "common/log.hpp"
-#include "common/map_loader.hpp"
+#include "wire/conversions.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/distance_reply_t.hpp"
 
 namespace coopnav {

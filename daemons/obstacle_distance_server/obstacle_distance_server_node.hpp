@@ -5,9 +5,9 @@
 #include <memory>
 #include <string>
 
-#include "common/config.hpp"
-#include "common/map_source.hpp"
-#include "common/runtime.hpp"
+#include "config/config.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_request_t.hpp"
 

@@ -2,8 +2,8 @@
 
 #include <utility>
 
-#include "common/conversions_assessment.hpp"
-#include "common/log.hpp"
+#include "wire/assessment.hpp"
+#include "runtime/log.hpp"
 #include "coopnav/path_assessment_t.hpp"
 
 namespace coopnav {

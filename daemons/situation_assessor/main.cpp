@@ -1,4 +1,4 @@
-#include "common/daemon_main.hpp"
+#include "runtime/daemon_main.hpp"
 #include "situation_assessor_node.hpp"
 
 int main(int argc, char** argv) {

@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "common/config.hpp"
-#include "common/conversions.hpp"
-#include "common/distance_client.hpp"
-#include "common/runtime.hpp"
-#include "common/step_node.hpp"
+#include "config/config.hpp"
+#include "wire/conversions.hpp"
+#include "distance_client/distance_client.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/situation.hpp"
 #include "coopnav/bands_t.hpp"

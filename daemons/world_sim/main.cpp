@@ -1,4 +1,4 @@
-#include "common/daemon_main.hpp"
+#include "runtime/daemon_main.hpp"
 #include "world_sim_node.hpp"
 
 int main(int argc, char** argv) {

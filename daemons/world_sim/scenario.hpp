@@ -1,19 +1,34 @@
 #pragma once
 /// @file Scenario files of the world simulator (format: docs/scenario-format.md): YAML -> a
 /// validated Scenario struct -> a sim::WorldSpec. In-class initialisers here and in lib/sim are
-/// the only defaults. Every problem of a file is reported at once, each naming the file, the key,
-/// the value and what is allowed.
+/// the only defaults. Every key is declared once, with its range, in a visit() below (or, for the
+/// lib/sim parameter structs, in theirs), read by the daemons' config reader (config/config.hpp,
+/// ConfigReader). Every problem of a file is reported at once, each naming the file, the key, the
+/// value and what is allowed.
 
+#include <cmath>
 #include <cstdint>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include "common/map_loader.hpp"
+#include "config/config.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/sim/simulation.hpp"
 
 namespace coopnav::world_sim {
+
+/// Bound of every coordinate of a scenario [m]: far beyond any map, finite.
+inline constexpr double kMaxCoordinate_m = 1e6;
+
+/// A number as messages print it (ostream defaults: 1.5, 1e+15).
+inline std::string scenarioNumber(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
 
 /// A scenario that cannot be run; what() lists every problem found, one per line.
 class ScenarioError : public std::runtime_error {
@@ -25,11 +40,30 @@ class ScenarioError : public std::runtime_error {
 struct WallSegment {
   double x0_m{0.0}, y0_m{0.0}, x1_m{0.0}, y1_m{0.0};
   double thickness_m{0.2};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("x0_m", x0_m, xy, Required{});
+    v("y0_m", y0_m, xy, Required{});
+    v("x1_m", x1_m, xy, Required{});
+    v("y1_m", y1_m, xy, Required{});
+    v("thickness_m", thickness_m, Range{0.01, 10.0});
+  }
 };
 
 /// An axis-aligned solid box of a synthetic map.
 struct BoxObstacle {
   double min_x_m{0.0}, min_y_m{0.0}, max_x_m{0.0}, max_y_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("min_x_m", min_x_m, xy, Required{});
+    v("min_y_m", min_y_m, xy, Required{});
+    v("max_x_m", max_x_m, xy, Required{});
+    v("max_y_m", max_y_m, xy, Required{});
+    v.require(max_x_m > min_x_m && max_y_m > min_y_m, "",
+              "must have max_x_m > min_x_m and max_y_m > min_y_m");
+  }
 };
 
 /// Exactly one of file or (walls and/or boxes).
@@ -38,18 +72,188 @@ struct MapSpec {
   std::vector<WallSegment> walls;
   std::vector<BoxObstacle> boxes;
   double resolution_m{0.05};  ///< grid resolution for a synthetic map
+  template <class V>
+  void visit(V& v) {
+    v("file", file);
+    v("walls", walls);
+    v("boxes", boxes);
+    v("resolution_m", resolution_m, Range{0.01, 1.0});
+    const bool synthetic = !walls.empty() || !boxes.empty();
+    v.require(file.empty() == synthetic, "", "needs exactly one of 'file' or 'walls'/'boxes'");
+  }
 };
 
 struct RatesSpec {
   double physics_hz{20.0};       ///< >= 20 Hz (issue 4); an integer multiple of publish_hz
   double publish_hz{10.0};       ///< agent-state publication = one lockstep tick
   double real_time_factor{1.0};  ///< real-time mode only: sim seconds per wall second
+  template <class V>
+  void visit(V& v) {
+    v("physics_hz", physics_hz, Range{20.0, 2000.0});
+    v("publish_hz", publish_hz, Range{0.1, 1000.0});
+    v("real_time_factor", real_time_factor, Range{0.01, 1000.0});
+    const double ratio = physics_hz / publish_hz;
+    if (ratio < 1.0 - 1e-9 || std::abs(ratio - std::round(ratio)) > 1e-9)
+      v.require(false, "physics_hz",
+                "= " + scenarioNumber(physics_hz) +
+                    " must be an integer multiple of publish_hz = " + scenarioNumber(publish_hz));
+  }
 };
 
 struct LockstepSpec {
   bool enabled{true};
   std::vector<std::string> participants;  ///< daemon names that must finish each tick
   double step_timeout_s{10.0};  ///< wall time to wait for a participant before failing the run
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled);
+    v("participants", participants);
+    for (std::size_t i = 0; i < participants.size(); ++i)
+      v.require(!participants[i].empty(), "participants[" + std::to_string(i) + "]",
+                "must be a daemon name");
+    v("step_timeout_s", step_timeout_s, Range{0.01, 3600.0});
+  }
+};
+
+// ---- YAML views of the lib/sim structs (lib/ knows no file format), as config/band_config_yaml.hpp
+// does for the band planner's: they visit the lib structs' own fields, whose initialisers stay the
+// only defaults.
+
+/// A lib/sim parameter struct, whose visit() speaks v.number(key, field, min, max),
+/// v.choice(key, field, {allowed...}) and v.nested(key, sub), seen as a config struct.
+template <class Params>
+struct SimParamsYaml {
+  Params* params{nullptr};
+  template <class V>
+  struct Adapter {
+    V& v;
+    void number(const char* key, double& field, double min, double max) {
+      v(key, field, Range{min, max});
+    }
+    void choice(const char* key, std::string& field, const std::vector<std::string>& allowed) {
+      v(key, field, OneOf{allowed});
+    }
+    template <class Sub>
+    void nested(const char* key, Sub& sub) {
+      SimParamsYaml<Sub> yaml{&sub};
+      v(key, yaml);
+    }
+  };
+  template <class V>
+  void visit(V& v) {
+    Adapter<V> a{v};
+    params->visit(a);
+  }
+};
+
+/// A pose {x_m, y_m, theta_rad}; theta_rad may be left out.
+struct PoseYaml {
+  Pose2* pose{nullptr};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("x_m", pose->x_m, xy, Required{});
+    v("y_m", pose->y_m, xy, Required{});
+    v("theta_rad", pose->theta_rad, Range{-2.0 * M_PI, 2.0 * M_PI});
+  }
+};
+
+/// A via point {x_m, y_m} of a human's reference path.
+struct ViaPointYaml {
+  double x_m{0.0}, y_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("x_m", x_m, xy, Required{});
+    v("y_m", y_m, xy, Required{});
+  }
+};
+
+struct RobotSpecYaml {
+  sim::RobotSpec* robot{nullptr};
+  template <class V>
+  void visit(V& v) {
+    PoseYaml start{&robot->start};
+    PoseYaml goal{&robot->goal};
+    v("start", start, Required{});
+    v("goal", goal, Required{});
+    v("radius_m", robot->radius_m, Range{0.05, 2.0});
+    std::string kinematics =
+        robot->kinematics == sim::Kinematics::kHolonomic ? "holonomic" : "differential";
+    v("kinematics", kinematics, OneOf{{"differential", "holonomic"}});
+    robot->kinematics = kinematics == "holonomic" ? sim::Kinematics::kHolonomic
+                                                  : sim::Kinematics::kDifferential;
+    SimParamsYaml<sim::RobotLimits> limits{&robot->limits};
+    v("limits", limits);
+    v("goal_tolerance_m", robot->goal_tolerance_m, Range{0.01, 5.0});
+  }
+};
+
+/// One item of `humans`. Owns its spec (list items are built by the reader); the id is read as a
+/// number and the behaviour as its name, both checked here.
+struct HumanSpecYaml {
+  sim::HumanSpec spec;
+  double id{0.0};         ///< as read: must be an integer >= 1 (0: not read)
+  std::string behaviour;  ///< as read: empty until read, then one of behaviourTypeNames()
+
+  static HumanSpecYaml of(const sim::HumanSpec& h) {
+    return {h, static_cast<double>(h.id), sim::toString(h.behaviour.type)};
+  }
+
+  template <class V>
+  void visit(V& v) {
+    v("id", id, Range{1.0, 2147483647.0}, Required{});
+    if (id != std::floor(id))
+      v.require(false, "id", "= " + scenarioNumber(id) + " must be an integer >= 1");
+    spec.id = static_cast<std::int32_t>(id);
+    PoseYaml start{&spec.start};
+    PoseYaml goal{&spec.goal};
+    v("start", start, Required{});
+    v("goal", goal, Required{});
+    std::vector<ViaPointYaml> via;
+    for (const auto& p : spec.via) via.push_back({p.x(), p.y()});
+    v("via", via);
+    spec.via.clear();
+    for (const auto& p : via) spec.via.emplace_back(p.x_m, p.y_m);
+    v("behaviour", behaviour, OneOf{sim::behaviourTypeNames()}, Required{});
+    const bool known = sim::parseBehaviourType(behaviour, spec.behaviour.type);
+    v("speed_m_s", spec.speed_m_s, Range{0.0, 3.0});
+    v("speed_stddev_m_s", spec.speed_stddev_m_s, Range{0.0, 1.0});
+    v("velocity_noise_m_s", spec.velocity_noise_m_s, Range{0.0, 1.0});
+    v("radius_m", spec.radius_m, Range{0.05, 1.0});
+    v("max_acc_m_s2", spec.max_acc_m_s2, Range{0.1, 10.0});
+    v("goal_tolerance_m", spec.goal_tolerance_m, Range{0.01, 5.0});
+    if (known) {
+      visitParams(v);
+    } else {
+      v.skip("params");  // reported through 'behaviour'; not also unknown
+    }
+  }
+
+ private:
+  template <class Params, class V>
+  static void params(V& v, Params& p) {
+    SimParamsYaml<Params> yaml{&p};
+    v("params", yaml);
+  }
+  template <class V>
+  void visitParams(V& v) {
+    sim::BehaviourConfig& b = spec.behaviour;
+    switch (b.type) {
+      case sim::BehaviourType::kMinimal:
+        return params(v, b.minimal);
+      case sim::BehaviourType::kOblivious:
+        return params(v, b.oblivious);
+      case sim::BehaviourType::kSocialForce:
+        return params(v, b.social_force);
+      case sim::BehaviourType::kLateFacilitating:
+        return params(v, b.late_facilitating);
+      case sim::BehaviourType::kResponsive:
+        return params(v, b.responsive);
+      case sim::BehaviourType::kFacilitating:
+        return params(v, b.facilitating);
+    }
+  }
 };
 
 struct Scenario {
@@ -62,6 +266,41 @@ struct Scenario {
   sim::RobotSpec robot;
   std::vector<sim::HumanSpec> humans;
   std::string source;  ///< file the scenario came from (for messages)
+
+  /// Every key of a scenario file (format: docs/scenario-format.md). map.file is read as written;
+  /// parseScenario() resolves it against the scenario's folder and checks that it exists.
+  template <class V>
+  void visit(V& v) {
+    v("name", name, Required{});
+    // Read as a number: seeds up to 2^53, so that every value is exact in YAML's double reading.
+    double seed_value = static_cast<double>(seed);
+    v("seed", seed_value, Range{0.0, 9007199254740992.0}, Required{});
+    if (seed_value != std::floor(seed_value))
+      v.require(false, "seed", "= " + scenarioNumber(seed_value) + " must be an integer >= 0");
+    seed = static_cast<std::uint64_t>(seed_value);
+    v("time_limit_s", time_limit_s, Range{0.1, 86400.0}, Required{});
+    v("map", map, Required{});
+    v("rates", rates);
+    v("lockstep", lockstep);
+    RobotSpecYaml robot_yaml{&robot};
+    v("robot", robot_yaml, Required{});
+    std::vector<HumanSpecYaml> items;
+    for (const auto& h : humans) items.push_back(HumanSpecYaml::of(h));
+    v("humans", items);
+    humans.clear();
+    for (const auto& item : items) humans.push_back(item.spec);
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (!(items[i].id >= 1.0)) continue;  // not read (reported)
+      for (std::size_t j = 0; j < i; ++j) {
+        if (items[j].id >= 1.0 && items[j].spec.id == items[i].spec.id) {
+          v.require(false, "humans[" + std::to_string(i) + "].id",
+                    "= " + scenarioNumber(items[i].id) + " duplicates humans[" +
+                        std::to_string(j) + "].id");
+          break;
+        }
+      }
+    }
+  }
 };
 
 /// Reads and validates a scenario file. Throws ScenarioError.

@@ -4,9 +4,9 @@
 #include <limits>
 #include <sstream>
 
-#include "common/daemon_main.hpp"
-#include "common/log.hpp"
-#include "common/map_loader.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/geometry/geometry.hpp"
 #include "coopnav/goals_t.hpp"

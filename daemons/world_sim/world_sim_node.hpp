@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "common/band_config_yaml.hpp"
-#include "common/config.hpp"
-#include "common/conversions.hpp"
-#include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "config/band_config_yaml.hpp"
+#include "config/config.hpp"
+#include "wire/conversions.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_gate.hpp"
+#include "runtime/step_outputs.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "band_source_node.hpp"
-#include "common/config.hpp"
-#include "common/daemon_main.hpp"
+#include "config/config.hpp"
+#include "runtime/daemon_main.hpp"
 #include "dialogue_manager_node.hpp"
 #include "fuzz_util.hpp"
 #include "obstacle_distance_server_node.hpp"

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "common/map_loader.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "lcm_paths.hpp"
 #include "obstacle_distance_server_node.hpp"

@@ -6,7 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "common/map_loader.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/band_human_adapter.hpp"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/map_loader.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "common/log.hpp"
-#include "common/runtime.hpp"
+#include "runtime/log.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav::fuzz {
 

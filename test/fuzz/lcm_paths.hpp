@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <string>
 
-#include "common/conversions.hpp"
-#include "common/conversions_assessment.hpp"
-#include "common/conversions_dialogue.hpp"
+#include "wire/conversions.hpp"
+#include "wire/assessment.hpp"
+#include "wire/dialogue.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "fuzz_util.hpp"

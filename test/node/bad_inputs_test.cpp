@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/bands_t.hpp"

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "common/conversions.hpp"
-#include "common/runtime.hpp"
+#include "wire/conversions.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"

@@ -8,10 +8,10 @@
 #include <fstream>
 #include <limits>
 
-#include "common/conversions.hpp"
-#include "common/distance_client.hpp"
-#include "common/map_loader.hpp"
-#include "common/runtime.hpp"
+#include "wire/conversions.hpp"
+#include "distance_client/distance_client.hpp"
+#include "maps/map_loader.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_reply_t.hpp"

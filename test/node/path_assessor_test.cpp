@@ -8,8 +8,8 @@
 #include <cmath>
 #include <memory>
 
-#include "common/conversions.hpp"
-#include "common/conversions_assessment.hpp"
+#include "wire/conversions.hpp"
+#include "wire/assessment.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"

@@ -1,10 +1,10 @@
 // The shared daemon runtime over an isolated udpm port: safe decoding with counters, status,
 // step acks, timers, the distance client's timeout when no server answers.
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 
 #include <gtest/gtest.h>
 
-#include "common/distance_client.hpp"
+#include "distance_client/distance_client.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"

@@ -12,9 +12,9 @@
 #include <memory>
 #include <optional>
 
-#include "common/conversions.hpp"
-#include "common/distance_client.hpp"
-#include "common/map_loader.hpp"
+#include "wire/conversions.hpp"
+#include "distance_client/distance_client.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/situation_t.hpp"

@@ -1,7 +1,7 @@
-// StepGate (daemons/common/step_gate.hpp): the lockstep ordering every pipeline daemon relies on.
+// StepGate (daemons/common/runtime/step_gate.hpp): the lockstep ordering every pipeline daemon relies on.
 // Acks are fed with onAck and timeouts driven with checkTimeouts(fake now), except one test that
 // goes through a real step_ack_t on this executable's udpm port.
-#include "common/step_gate.hpp"
+#include "runtime/step_gate.hpp"
 
 #include <gtest/gtest.h>
 

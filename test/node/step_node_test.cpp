@@ -1,8 +1,8 @@
-// StepNode (daemons/common/step_node.hpp): the one lockstep harness. Every path through a node
+// StepNode (daemons/common/runtime/step_node.hpp): the one lockstep harness. Every path through a node
 // acknowledges its step, in order; a repeat is answered from the kept outputs and never computed
 // again; an input is stored once. In-process over LCM's memq:// (no multicast route needed): the
 // node and the probe share one runtime, whose own publications come back to it as on udpm.
-#include "common/step_node.hpp"
+#include "runtime/step_node.hpp"
 
 #include <gtest/gtest.h>
 

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "common/conversions.hpp"
-#include "common/journal.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "wire/conversions.hpp"
+#include "runtime/journal.hpp"
+#include "runtime/step_gate.hpp"
+#include "runtime/step_outputs.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"

@@ -52,7 +52,7 @@ class Harness {
   }
 
   /// Through LCM's subscribeFunction, not its member-function overload, which GCC 12's UBSan
-  /// reports at every message (a compiler bug; Runtime::Subscription in common/runtime.hpp).
+  /// reports at every message (a compiler bug; Runtime::Subscription in runtime/runtime.hpp).
   template <void (Harness::*Method)(const lcm::ReceiveBuffer*, const std::string&)>
   void listen(const std::string& channel) {
     lcm_.subscribeFunction(

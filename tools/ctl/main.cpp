@@ -10,9 +10,9 @@
 #include <iostream>
 #include <set>
 
-#include "common/distance_client.hpp"
-#include "common/log.hpp"
-#include "common/runtime.hpp"
+#include "distance_client/distance_client.hpp"
+#include "runtime/log.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "ctl_commands.hpp"

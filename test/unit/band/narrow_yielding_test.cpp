@@ -15,7 +15,7 @@
 #include <string>
 
 #include "band_test_util.hpp"
-#include "common/map_loader.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 

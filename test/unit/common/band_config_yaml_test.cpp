@@ -1,13 +1,13 @@
 // YAML views of the planner and dock configs: the lib structs' defaults stay the only defaults,
 // nested keys override one field each, the planner's validate() reports under dotted YAML keys.
-#include "common/band_config_yaml.hpp"
+#include "config/band_config_yaml.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "common/config.hpp"
+#include "config/config.hpp"
 
 namespace coopnav {
 namespace {

@@ -1,5 +1,5 @@
 // The config loader: defaults only in the struct, errors that name key, value and range.
-#include "common/config.hpp"
+#include "config/config.hpp"
 
 #include <gtest/gtest.h>
 

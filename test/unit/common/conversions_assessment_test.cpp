@@ -1,6 +1,6 @@
 // situation_t / path_assessment_t / path_assessor_control_t <-> lib types: round trips, the
 // wire encodings of unknown (NaN, PRED_UNKNOWN), validation of garbage, and cmForGamma.
-#include "common/conversions_assessment.hpp"
+#include "wire/assessment.hpp"
 
 #include <gtest/gtest.h>
 

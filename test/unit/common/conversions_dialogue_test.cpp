@@ -1,5 +1,5 @@
 // conversions_dialogue: utterance_t / robot_action_t <-> lib/dialogue, and the DIR / PRED codes.
-#include "common/conversions_dialogue.hpp"
+#include "wire/dialogue.hpp"
 
 #include <gtest/gtest.h>
 

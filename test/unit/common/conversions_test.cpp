@@ -1,5 +1,5 @@
 // Round trips and rejections of the lcmtypes <-> lib conversions (daemons/common/conversions).
-#include "common/conversions.hpp"
+#include "wire/conversions.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/distance_request_t.hpp"
 #include "coopnav/robot_action_t.hpp"
 

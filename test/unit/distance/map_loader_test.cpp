@@ -1,6 +1,6 @@
 // Map loaders: ROS map_server YAML + PGM (open.pgm corridor widths), .bt round trip, walls maps,
 // and every bad input giving a MapLoadError that names what is wrong.
-#include "common/map_loader.hpp"
+#include "maps/map_loader.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -11,8 +11,8 @@
 #include <random>
 #include <sstream>
 
-#include "common/daemon_main.hpp"
-#include "common/map_source.hpp"
+#include "runtime/daemon_main.hpp"
+#include "maps/map_source.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance/octree_conversion.hpp"
 

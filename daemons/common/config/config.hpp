@@ -1,7 +1,8 @@
 #pragma once
-/// @file Loading a daemon's YAML config into its struct. The struct's in-class initialisers are
-/// the only defaults; each struct lists its keys once, in `template <class V> void visit(V&)`,
-/// which serves loading, range validation and printing alike.
+/// @file Loading YAML into structs: a daemon's config, and world_sim's scenario files
+/// (daemons/world_sim/scenario.hpp). The struct's in-class initialisers are the only defaults;
+/// each struct lists its keys once, in `template <class V> void visit(V&)`, which serves loading,
+/// range validation and printing alike.
 ///
 ///   struct FooConfig {
 ///     double speed_m_s{0.7};
@@ -39,6 +40,10 @@ struct OneOf {
   std::vector<std::string> values;
 };
 
+/// Marks a key that must be given (the struct's value is no default): "is missing (required)"
+/// when the mapping lacks it or gives it no value.
+struct Required {};
+
 /// Why a config string would not survive `--print-config` and loading again, or empty when it
 /// is text: not UTF-8, a control character (C0, DEL, C1) or a character YAML reads as a line
 /// break (U+2028, U+2029) or a byte order mark. yaml-cpp prints such a string as it is, and a
@@ -53,7 +58,7 @@ std::string notOneOfMessage(const std::string& value, const std::vector<std::str
 /// no name ("[a, b]: 1", "{x: 1}: 2") is reported with an empty key and its line: as<std::string>()
 /// on it throws YAML::TypedBadConversion, which once took every daemon past its config loader
 /// (found by fuzz_config) and world_sim past its scenario reader (fuzz_scenario) in two copies of
-/// this loop. The config and the scenario readers share it since.
+/// this loop, when the scenario had a reader of its own; ConfigReader reads both since.
 template <class Report>
 void reportUnknownKeys(const YAML::Node& node, const std::set<std::string>& known,
                        Report&& report) {
@@ -80,35 +85,72 @@ template <class T>
 struct HasVisit<T, std::void_t<decltype(&T::template visit<int>)>> : std::true_type {};
 }  // namespace detail
 
-/// Reads a YAML mapping into a struct through its visit(); collects every error.
+/// Reads a YAML mapping into a struct through its visit(); collects every error, each naming the
+/// source, the dotted key path (list items as "humans[0].") and the value. The one YAML reader of
+/// the project: the daemons' configs and world_sim's scenario files.
+///
+/// A visit() calls v(key, field, options...) once per key, options among Range (numeric fields),
+/// OneOf (strings) and Required. A key the mapping lacks, or gives no value ("key:", "key: ~"),
+/// keeps the struct's value (an error for a Required key). A value that is out of its Range, not
+/// one of its OneOf, or of the wrong type is reported and not stored. A field with a visit() is a
+/// nested mapping; a std::vector a YAML list (of scalars, or of mappings when the element type
+/// has a visit()).
 class ConfigReader {
  public:
   ConfigReader(const YAML::Node& node, std::string where, std::string prefix = "")
       : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
-    if (node_ && !node_.IsNull() && !node_.IsMap()) error("", "is not a mapping");
+    if (node_ && !node_.IsNull() && !node_.IsMap()) error("", "must be a mapping");
   }
 
-  template <class T>
-  void operator()(const char* key, T& field) {
+  template <class T, class... Options>
+  void operator()(const char* key, T& field, const Options&... options) {
+    static_assert(((std::is_same_v<Options, Range> || std::is_same_v<Options, OneOf> ||
+                    std::is_same_v<Options, Required>) &&
+                   ...),
+                  "options of a key: Range, OneOf, Required");
+    static_assert(!(std::is_same_v<Options, Range> || ...) || std::is_arithmetic_v<T>,
+                  "a Range is for a number");
+    static_assert(!(std::is_same_v<Options, OneOf> || ...) || std::is_same_v<T, std::string>,
+                  "a OneOf is for a string");
+    constexpr bool required = (std::is_same_v<Options, Required> || ...);
+    const Range* range = nullptr;
+    const OneOf* one_of = nullptr;
+    (pick(options, range, one_of), ...);
     seen_.insert(key);
-    if (!node_ || node_.IsNull() || !node_.IsMap()) return;
-    const YAML::Node v = node_[key];
-    if (!v) return;  // keep the in-class default
-    readValue(key, v, field);
+    const bool is_map = node_ && node_.IsMap();
+    const YAML::Node v = is_map ? node_[key] : YAML::Node(YAML::NodeType::Undefined);
+    if (!v || v.IsNull()) {
+      if (required && is_map) {
+        error(key, "is missing (required)");
+        return;
+      }
+      // The struct's own value stands; it must meet the key's constraints too (validateConfig).
+      if constexpr (std::is_arithmetic_v<T>) {
+        if (range) checkRange(key, static_cast<double>(field), *range, nullptr);
+      }
+      if constexpr (std::is_same_v<T, std::string>) {
+        if (one_of) checkOneOf(key, field, *one_of);
+      }
+      return;
+    }
+    if constexpr (detail::HasVisit<T>::value || detail::IsVector<T>::value) {
+      readValue(key, v, field);
+    } else {
+      T value = field;
+      if (!readValue(key, v, value)) return;
+      if constexpr (std::is_arithmetic_v<T>) {
+        if (range && !checkRange(key, static_cast<double>(value), *range, &v)) return;
+      }
+      if constexpr (std::is_same_v<T, std::string>) {
+        if (one_of && !checkOneOf(key, value, *one_of)) return;
+      }
+      field = std::move(value);
+    }
   }
 
-  template <class T>
-  void operator()(const char* key, T& field, Range r) {
-    (*this)(key, field);
-    checkRange(key, static_cast<double>(field), r);
-  }
-
-  void operator()(const char* key, std::string& field, const OneOf& allowed) {
-    (*this)(key, field);
-    for (const auto& a : allowed.values)
-      if (a == field) return;
-    error(key, notOneOfMessage(field, allowed.values));
-  }
+  /// A key the mapping may have that this visit() does not read (e.g. the parameters of a
+  /// behaviour that is itself reported unknown): not reported as unknown.
+  void skip(const char* key) { seen_.insert(key); }
 
   /// Extra cross-field check from a config's visit(): adds an error when !ok.
   void require(bool ok, const std::string& key, const std::string& message) {
@@ -124,71 +166,116 @@ class ConfigReader {
   const std::vector<std::string>& errors() const { return errors_; }
 
  private:
+  static void pick(const Range& r, const Range*& range, const OneOf*&) { range = &r; }
+  static void pick(const OneOf& o, const Range*&, const OneOf*& one_of) { one_of = &o; }
+  static void pick(const Required&, const Range*&, const OneOf*&) {}
+
   void error(const std::string& key, const std::string& msg) {
+    const std::string path = prefix_ + key;
     std::ostringstream s;
     s << where_ << ": ";
-    if (!key.empty()) s << "key '" << prefix_ << key << "' ";
+    if (!path.empty()) s << "key '" << path << "' ";
     s << msg;
     errors_.push_back(s.str());
   }
 
-  void checkRange(const char* key, double value, Range r) {
-    if (!(value >= r.min && value <= r.max)) {
-      std::ostringstream s;
-      s << "= " << value << " is outside the allowed range [" << r.min << ", " << r.max << "]";
-      error(key, s.str());
+  static std::string lineOf(const YAML::Node& v) {
+    return "(line " + std::to_string(v.Mark().line + 1) + ")";
+  }
+
+  /// `v`: the value's node, whose text the message quotes as written; nullptr: the struct's value.
+  bool checkRange(const std::string& key, double value, Range r, const YAML::Node* v) {
+    if (value >= r.min && value <= r.max) return true;
+    std::ostringstream s;
+    s << "= ";
+    if (v) {
+      s << v->Scalar();
+    } else {
+      s << value;
     }
+    s << " is outside the allowed range [" << r.min << ", " << r.max << "]";
+    error(key, s.str());
+    return false;
+  }
+
+  bool checkOneOf(const std::string& key, const std::string& value, const OneOf& allowed) {
+    for (const auto& a : allowed.values)
+      if (a == value) return true;
+    error(key, notOneOfMessage(value, allowed.values));
+    return false;
   }
 
   template <class T>
-  void readValue(const char* key, const YAML::Node& v, T& field) {
+  static const char* typeName() {
+    if constexpr (std::is_same_v<T, bool>) {
+      return "true or false";
+    } else if constexpr (std::is_floating_point_v<T>) {
+      return "a number";
+    } else if constexpr (std::is_integral_v<T>) {
+      return "an integer";
+    } else if constexpr (std::is_same_v<T, std::string>) {
+      return "a string";
+    } else {
+      return "a value";
+    }
+  }
+
+  /// Reads `v` into `field`; false (and an error) when it cannot.
+  template <class T>
+  bool readValue(const std::string& key, const YAML::Node& v, T& field) {
     if constexpr (detail::HasVisit<T>::value) {
       ConfigReader sub(v, where_, prefix_ + key + ".");
-      field.visit(sub);
-      sub.rejectUnknownKeys();
+      if (v.IsMap()) {
+        field.visit(sub);
+        sub.rejectUnknownKeys();
+      } else if (v.IsNull()) {
+        sub.error("", "must be a mapping");  // a list item "- ~" (a key's null is absent)
+      }  // else the constructor said it: nothing in it can be read
       errors_.insert(errors_.end(), sub.errors_.begin(), sub.errors_.end());
+      return sub.errors_.empty();
     } else if constexpr (detail::IsVector<T>::value) {
       if (!v.IsSequence()) {
         error(key, "must be a list");
-        return;
+        return false;
       }
       T out;
+      bool ok = true;
       for (std::size_t i = 0; i < v.size(); ++i) {
         typename T::value_type item{};
-        const std::string item_key = std::string(key) + "[" + std::to_string(i) + "]";
-        readValue(item_key.c_str(), v[i], item);
-        out.push_back(item);
+        ok = readValue(key + "[" + std::to_string(i) + "]", v[i], item) && ok;
+        out.push_back(std::move(item));
       }
-      field = out;
+      field = std::move(out);
+      return ok;
     } else {
+      if (!v.IsScalar()) {
+        error(key, std::string("must be ") + typeName<T>());
+        return false;
+      }
       try {
-        if (!v.IsScalar()) {
-          error(key, "must be a scalar");
-          return;
-        }
-        if constexpr (std::is_same_v<T, bool>) {
-          field = v.as<bool>();
-        } else if constexpr (std::is_floating_point_v<T>) {
+        if constexpr (std::is_floating_point_v<T>) {
           const T x = v.as<T>();
           if (!std::isfinite(x)) {
             error(key, "= " + v.Scalar() + " is not a finite number");
-            return;
+            return false;
           }
           field = x;
         } else if constexpr (std::is_same_v<T, std::string>) {
           const std::string text = v.as<std::string>();
           const std::string why = notConfigText(text);
           if (!why.empty()) {
-            error(key, "(line " + std::to_string(v.Mark().line + 1) + ") " + why);
-            return;
+            error(key, lineOf(v) + " " + why);
+            return false;
           }
           field = text;
         } else {
           field = v.as<T>();
         }
+        return true;
       } catch (const YAML::Exception&) {
-        error(key, "= '" + v.Scalar() + "' has the wrong type (line " +
-                       std::to_string(v.Mark().line + 1) + ")");
+        error(key, "= '" + v.Scalar() + "' has the wrong type: expected " + typeName<T>() + " " +
+                       lineOf(v));
+        return false;
       }
     }
   }
@@ -254,6 +341,7 @@ class ConfigPrinter {
     emit(field);
   }
   void require(bool, const std::string&, const std::string&) {}
+  void skip(const char*) {}
 
  private:
   template <class T>

@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/robot_action_t.hpp"

@@ -1,4 +1,4 @@
-#include "common/conversions.hpp"
+#include "wire/conversions.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 
 #include <fcntl.h>
 #include <poll.h>
@@ -9,7 +9,7 @@
 #include <csignal>
 #include <cstring>
 
-#include "common/log.hpp"
+#include "runtime/log.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 

@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "common/config.hpp"
+#include "config/config.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/planning/dock.hpp"
 

@@ -1,8 +1,8 @@
-#include "common/step_gate.hpp"
+#include "runtime/step_gate.hpp"
 
 #include <algorithm>
 
-#include "common/log.hpp"
+#include "runtime/log.hpp"
 #include "coopnav/step_ack_t.hpp"
 
 namespace coopnav {

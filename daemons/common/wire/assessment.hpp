@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/assessment/situation.hpp"

@@ -25,9 +25,9 @@
 #include <utility>
 #include <vector>
 
-#include "common/runtime.hpp"
-#include "common/step_gate.hpp"
-#include "common/step_outputs.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_gate.hpp"
+#include "runtime/step_outputs.hpp"
 
 namespace coopnav {
 

@@ -1,4 +1,4 @@
-#include "common/journal.hpp"
+#include "runtime/journal.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "common/log.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 namespace {

@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "common/config.hpp"
-#include "common/map_loader.hpp"
+#include "config/config.hpp"
+#include "maps/map_loader.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 
 namespace coopnav {

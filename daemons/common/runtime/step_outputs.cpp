@@ -1,6 +1,6 @@
-#include "common/step_outputs.hpp"
+#include "runtime/step_outputs.hpp"
 
-#include "common/log.hpp"
+#include "runtime/log.hpp"
 #include "coopnav/step_ack_t.hpp"
 
 namespace coopnav {

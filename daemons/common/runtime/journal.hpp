@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

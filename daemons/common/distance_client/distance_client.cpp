@@ -1,8 +1,8 @@
-#include "common/distance_client.hpp"
+#include "distance_client/distance_client.hpp"
 
 #include <unistd.h>
 
-#include "common/log.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 

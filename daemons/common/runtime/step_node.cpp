@@ -1,4 +1,4 @@
-#include "common/step_node.hpp"
+#include "runtime/step_node.hpp"
 
 namespace coopnav {
 

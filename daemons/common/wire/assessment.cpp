@@ -1,4 +1,4 @@
-#include "common/conversions_assessment.hpp"
+#include "wire/assessment.hpp"
 
 #include <algorithm>
 #include <cmath>

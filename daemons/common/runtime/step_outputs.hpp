@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

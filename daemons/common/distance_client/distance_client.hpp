@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "common/conversions.hpp"
-#include "common/runtime.hpp"
+#include "wire/conversions.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

@@ -1,6 +1,6 @@
-#include "common/map_source.hpp"
+#include "maps/map_source.hpp"
 
-#include "common/daemon_main.hpp"
+#include "runtime/daemon_main.hpp"
 
 namespace coopnav {
 

@@ -1,4 +1,4 @@
-#include "common/config.hpp"
+#include "config/config.hpp"
 
 #include <cstdint>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "common/daemon_main.hpp"
+#include "runtime/daemon_main.hpp"
 
 #include <filesystem>
 

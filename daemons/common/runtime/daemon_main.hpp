@@ -13,10 +13,10 @@
 #include <utility>
 #include <vector>
 
-#include "common/config.hpp"
-#include "common/journal.hpp"
-#include "common/log.hpp"
-#include "common/runtime.hpp"
+#include "config/config.hpp"
+#include "runtime/journal.hpp"
+#include "runtime/log.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

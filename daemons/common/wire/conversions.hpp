@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/runtime.hpp"
+#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/distance/distance_map.hpp"

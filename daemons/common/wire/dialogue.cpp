@@ -1,4 +1,4 @@
-#include "common/conversions_dialogue.hpp"
+#include "wire/dialogue.hpp"
 
 #include <cmath>
 #include <limits>

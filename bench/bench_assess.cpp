@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "wire/conversions.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/situation_t.hpp"
+#include "wire/conversions.hpp"
 
 namespace {
 

@@ -23,10 +23,10 @@
 
 #include "band_source/band_source_node.hpp"
 #include "config/config.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/simulation.hpp"
+#include "maps/map_loader.hpp"
 
 namespace {
 

@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "bench_util.hpp"
-#include "wire/conversions.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance/octree_conversion.hpp"
+#include "maps/map_loader.hpp"
+#include "wire/conversions.hpp"
 
 #ifdef COOPNAV_HAVE_DYNAMICEDT3D
 #include <dynamicEDT3D/dynamicEDTOctomap.h>

@@ -21,8 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "wire/conversions.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/channels.hpp"
@@ -31,6 +29,8 @@
 #include "coopnav/sim_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "maps/map_loader.hpp"
+#include "wire/conversions.hpp"
 
 extern char** environ;
 

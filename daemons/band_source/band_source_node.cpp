@@ -5,12 +5,12 @@
 #include <cmath>
 #include <limits>
 
-#include "runtime/daemon_main.hpp"
-#include "runtime/log.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "maps/map_loader.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 namespace {
@@ -164,8 +164,8 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     if (s.step < 0) {
       // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
       const double period_us = 1e6 / config_.control_hz;
-      if (last_cycle_utime_ && utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 <
-                                   period_us * (1.0 - kThrottleSlack))
+      if (last_cycle_utime_ &&
+          utimeDiffSeconds(s.utime, *last_cycle_utime_) * 1e6 < period_us * (1.0 - kThrottleSlack))
         return nullptr;
       last_cycle_utime_ = s.utime;
       // A state stream: when inputs come faster than cycles run, only the newest is planned (the

@@ -15,17 +15,17 @@
 
 #include "config/band_config_yaml.hpp"
 #include "config/config.hpp"
-#include "wire/conversions.hpp"
-#include "wire/dialogue.hpp"
-#include "maps/map_source.hpp"
-#include "runtime/runtime.hpp"
-#include "runtime/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/planning/dock.hpp"
 #include "coopnav/robot_action_t.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
+#include "wire/conversions.hpp"
+#include "wire/dialogue.hpp"
 
 namespace coopnav {
 

@@ -3,11 +3,11 @@
 #include <cmath>
 #include <set>
 
-#include "runtime/daemon_main.hpp"
-#include "runtime/log.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/utterance_t.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 namespace {
@@ -100,21 +100,22 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
 }
 
 void DialogueManagerNode::onSituation(const situation_t& msg) {
-  fileInput(msg.step, msg.utime, kSituationAssessor, channels::kSituation, std::to_string(msg.human_id),
-       [&](StepInputs& b) {
-         b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
-                                       situationSnapshotFromLcm(msg)};
-       });
+  fileInput(msg.step, msg.utime, kSituationAssessor, channels::kSituation,
+            std::to_string(msg.human_id), [&](StepInputs& b) {
+              b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
+                                            situationSnapshotFromLcm(msg)};
+            });
 }
 
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
-  fileInput(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment, std::to_string(msg.human_id),
-       [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
+  fileInput(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment,
+            std::to_string(msg.human_id),
+            [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
   fileInput(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
-       [&](StepInputs& b) { b.agents = fromLcm(msg); });
+            [&](StepInputs& b) { b.agents = fromLcm(msg); });
 }
 
 void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
@@ -228,7 +229,8 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
       const std::string why =
           fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
       const DialogueStamp stamp{in.agents->utime, step, id};
-      emit(run, stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why), std::nullopt);
+      emit(run, stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why),
+           std::nullopt);
     }
     // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
     // thousands of tracker ids, and a tracker that reuses an id after a minute means someone

@@ -14,17 +14,17 @@
 #include <vector>
 
 #include "config/config.hpp"
-#include "wire/conversions.hpp"
-#include "wire/assessment.hpp"
-#include "wire/dialogue.hpp"
-#include "runtime/runtime.hpp"
-#include "runtime/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
 #include "speech_output.hpp"
+#include "wire/assessment.hpp"
+#include "wire/conversions.hpp"
+#include "wire/dialogue.hpp"
 
 namespace coopnav {
 
@@ -133,8 +133,8 @@ class DialogueManagerNode {
   /// one already filed is not filed again (a repeat of the world's agent states re-sends our
   /// answers of the latest steps instead).
   template <class Fill>
-  void fileInput(std::int64_t step, std::int64_t utime, const char* publisher,
-                 const char* channel, const std::string& key, Fill fill);
+  void fileInput(std::int64_t step, std::int64_t utime, const char* publisher, const char* channel,
+                 const std::string& key, Fill fill);
   /// Schedules the work of `step`, whose inputs are being filed in inputs_[step].
   void schedule(std::int64_t step);
   void runStep(StepNode::Step& run);

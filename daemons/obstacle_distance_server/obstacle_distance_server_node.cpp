@@ -2,11 +2,11 @@
 
 #include <algorithm>
 
-#include "wire/conversions.hpp"
+#include "coopnav/distance_reply_t.hpp"
+#include "maps/map_loader.hpp"
 #include "runtime/daemon_main.hpp"
 #include "runtime/log.hpp"
-#include "maps/map_loader.hpp"
-#include "coopnav/distance_reply_t.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 

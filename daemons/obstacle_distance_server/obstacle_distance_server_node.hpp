@@ -6,10 +6,10 @@
 #include <string>
 
 #include "config/config.hpp"
-#include "maps/map_source.hpp"
-#include "runtime/runtime.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_request_t.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

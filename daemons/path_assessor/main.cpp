@@ -1,5 +1,5 @@
-#include "runtime/daemon_main.hpp"
 #include "path_assessor_node.hpp"
+#include "runtime/daemon_main.hpp"
 
 int main(int argc, char** argv) {
   return coopnav::runDaemon<coopnav::PathAssessorNode>(

@@ -2,9 +2,9 @@
 
 #include <utility>
 
-#include "wire/assessment.hpp"
-#include "runtime/log.hpp"
 #include "coopnav/path_assessment_t.hpp"
+#include "runtime/log.hpp"
+#include "wire/assessment.hpp"
 
 namespace coopnav {
 

@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "config/config.hpp"
-#include "wire/conversions.hpp"
-#include "wire/assessment.hpp"
-#include "runtime/runtime.hpp"
-#include "runtime/step_node.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
+#include "wire/assessment.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 

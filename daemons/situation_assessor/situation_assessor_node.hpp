@@ -16,14 +16,14 @@
 #include <vector>
 
 #include "config/config.hpp"
-#include "wire/conversions.hpp"
-#include "distance_client/distance_client.hpp"
-#include "runtime/runtime.hpp"
-#include "runtime/step_node.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/situation.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
+#include "distance_client/distance_client.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_node.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 

@@ -34,9 +34,9 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
     // Not the throwing overload: a name the system refuses (ENAMETOOLONG) is a missing file.
     std::error_code ec;
     if (!std::filesystem::is_regular_file(p, ec))
-      r.require(false, "map.file",
-                "= '" + map.file + "' does not exist" +
-                    (ec ? " (" + ec.message() + ")" : std::string()));
+      r.require(
+          false, "map.file",
+          "= '" + map.file + "' does not exist" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
   r.rejectUnknownKeys();
   if (!r.errors().empty()) {

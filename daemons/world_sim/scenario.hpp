@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "config/config.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/sim/simulation.hpp"
+#include "maps/map_loader.hpp"
 
 namespace coopnav::world_sim {
 
@@ -115,9 +115,9 @@ struct LockstepSpec {
   }
 };
 
-// ---- YAML views of the lib/sim structs (lib/ knows no file format), as config/band_config_yaml.hpp
-// does for the band planner's: they visit the lib structs' own fields, whose initialisers stay the
-// only defaults.
+// ---- YAML views of the lib/sim structs (lib/ knows no file format), as
+// config/band_config_yaml.hpp does for the band planner's: they visit the lib structs' own fields,
+// whose initialisers stay the only defaults.
 
 /// A lib/sim parameter struct, whose visit() speaks v.number(key, field, min, max),
 /// v.choice(key, field, {allowed...}) and v.nested(key, sub), seen as a config struct.
@@ -181,8 +181,8 @@ struct RobotSpecYaml {
     std::string kinematics =
         robot->kinematics == sim::Kinematics::kHolonomic ? "holonomic" : "differential";
     v("kinematics", kinematics, OneOf{{"differential", "holonomic"}});
-    robot->kinematics = kinematics == "holonomic" ? sim::Kinematics::kHolonomic
-                                                  : sim::Kinematics::kDifferential;
+    robot->kinematics =
+        kinematics == "holonomic" ? sim::Kinematics::kHolonomic : sim::Kinematics::kDifferential;
     SimParamsYaml<sim::RobotLimits> limits{&robot->limits};
     v("limits", limits);
     v("goal_tolerance_m", robot->goal_tolerance_m, Range{0.01, 5.0});
@@ -294,8 +294,8 @@ struct Scenario {
       for (std::size_t j = 0; j < i; ++j) {
         if (items[j].id >= 1.0 && items[j].spec.id == items[i].spec.id) {
           v.require(false, "humans[" + std::to_string(i) + "].id",
-                    "= " + scenarioNumber(items[i].id) + " duplicates humans[" +
-                        std::to_string(j) + "].id");
+                    "= " + scenarioNumber(items[i].id) + " duplicates humans[" + std::to_string(j) +
+                        "].id");
           break;
         }
       }

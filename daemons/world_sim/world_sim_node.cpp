@@ -4,9 +4,6 @@
 #include <limits>
 #include <sstream>
 
-#include "runtime/daemon_main.hpp"
-#include "runtime/log.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/geometry/geometry.hpp"
 #include "coopnav/goals_t.hpp"
@@ -14,6 +11,9 @@
 #include "coopnav/sim_status_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "maps/map_loader.hpp"
+#include "runtime/daemon_main.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 

@@ -15,17 +15,17 @@
 
 #include "config/band_config_yaml.hpp"
 #include "config/config.hpp"
-#include "wire/conversions.hpp"
-#include "runtime/runtime.hpp"
-#include "runtime/step_gate.hpp"
-#include "runtime/step_outputs.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "runtime/runtime.hpp"
+#include "runtime/step_gate.hpp"
+#include "runtime/step_outputs.hpp"
 #include "scenario.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 

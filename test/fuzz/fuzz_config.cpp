@@ -6,11 +6,11 @@
 
 #include "band_source_node.hpp"
 #include "config/config.hpp"
-#include "runtime/daemon_main.hpp"
 #include "dialogue_manager_node.hpp"
 #include "fuzz_util.hpp"
 #include "obstacle_distance_server_node.hpp"
 #include "path_assessor_node.hpp"
+#include "runtime/daemon_main.hpp"
 #include "situation_assessor_node.hpp"
 #include "world_sim_node.hpp"
 

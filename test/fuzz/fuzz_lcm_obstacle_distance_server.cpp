@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <memory>
 
-#include "maps/map_loader.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "lcm_paths.hpp"
+#include "maps/map_loader.hpp"
 #include "obstacle_distance_server_node.hpp"
 
 namespace {

@@ -1,9 +1,9 @@
 // An OctoMap binary tree (.bt) as a daemon's map_file: OctoMap's reader, the projection of the
 // height band to the 2-D grid and the distance field (MapSource -> loadDistanceField). Expected
 // refusal: StartupError (exit 3), nothing else.
-#include "runtime/daemon_main.hpp"
-#include "maps/map_source.hpp"
 #include "fuzz_util.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/daemon_main.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace coopnav;

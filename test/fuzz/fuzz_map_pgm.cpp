@@ -1,8 +1,8 @@
 // readPgm on its own: P2 (ASCII) and P5 (8 / 16 bit binary) images with comments, as a ROS map
 // YAML's `image:` names them. Expected refusal: MapLoadError. An accepted image must hold
 // width * height values within maxval.
-#include "maps/map_loader.hpp"
 #include "fuzz_util.hpp"
+#include "maps/map_loader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace coopnav;

@@ -3,9 +3,9 @@
 // boxes YAML, or a scenario file whose `map:` section is a file or walls. The input is the YAML,
 // optionally followed by "\n--8<--\n" and the bytes of map.pgm (the image the YAML may name); both
 // are written to a scratch folder. Expected refusal: StartupError (exit 3), nothing else.
-#include "runtime/daemon_main.hpp"
-#include "maps/map_source.hpp"
 #include "fuzz_util.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/daemon_main.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace coopnav;

@@ -6,12 +6,12 @@
 #include <memory>
 #include <stdexcept>
 
-#include "maps/map_loader.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/band_human_adapter.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "fuzz_util.hpp"
+#include "maps/map_loader.hpp"
 #include "scenario.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

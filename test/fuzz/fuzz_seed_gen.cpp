@@ -2,18 +2,16 @@
 // daemon's channels (first byte = the target's channel selector), a small log of them, small
 // PGM / walls / scenario maps and a .bt tree. Hand-written and copied seeds (configs, scenarios)
 // are added by scripts/fuzz.sh --seed. Usage: fuzz_seed_gen <corpus dir>
-#include <lcm/lcm-cpp.hpp>
-
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <lcm/lcm-cpp.hpp>
 #include <limits>
 #include <string>
 #include <vector>
 
-#include "maps/map_loader.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"
@@ -30,6 +28,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "maps/map_loader.hpp"
 
 namespace {
 
@@ -52,7 +51,8 @@ void writeFile(const std::string& target, const std::string& name,
   const fs::path dir = g_root / target;
   fs::create_directories(dir);
   std::ofstream out(dir / name, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
 }
 
 void writeText(const std::string& target, const std::string& name, const std::string& text) {
@@ -61,8 +61,7 @@ void writeText(const std::string& target, const std::string& name, const std::st
 
 /// A seed of a channel-selecting target: selector byte, then the encoded message.
 template <class Msg>
-void seed(const std::string& target, const std::string& name, std::uint8_t channel,
-          const Msg& m) {
+void seed(const std::string& target, const std::string& name, std::uint8_t channel, const Msg& m) {
   std::vector<std::uint8_t> bytes{channel};
   const auto payload = encoded(m);
   bytes.insert(bytes.end(), payload.begin(), payload.end());
@@ -297,9 +296,8 @@ distance_request_t distanceRequest() {
   m.utime = 1200000;
   m.request_id = (std::int64_t{4242} << 32) + 1;
   m.reply_channel = std::string(channels::kDistanceReplyPrefix) + "situation_assessor_4242";
-  const double kinds[3][5] = {{5.0, 1.5, 0.0, 0.0, 10.0},
-                              {5.0, 1.5, 0.0, 1.0, 10.0},
-                              {5.0, 1.5, 0.0, -1.0, 10.0}};
+  const double kinds[3][5] = {
+      {5.0, 1.5, 0.0, 0.0, 10.0}, {5.0, 1.5, 0.0, 1.0, 10.0}, {5.0, 1.5, 0.0, -1.0, 10.0}};
   for (int k = 0; k < 3; ++k) {
     distance_query_t q{};
     q.kind = static_cast<std::int8_t>(k);

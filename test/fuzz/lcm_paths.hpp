@@ -8,12 +8,12 @@
 #include <cstdint>
 #include <string>
 
-#include "wire/conversions.hpp"
-#include "wire/assessment.hpp"
-#include "wire/dialogue.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "fuzz_util.hpp"
+#include "wire/assessment.hpp"
+#include "wire/conversions.hpp"
+#include "wire/dialogue.hpp"
 
 namespace coopnav::fuzz {
 
@@ -90,9 +90,7 @@ inline void bands(const ChannelInput& in) {
 inline void referencePaths(const ChannelInput& in) { convertAndRoundTrip<reference_paths_t>(in); }
 
 // velocity_command_t (world_sim).
-inline void velocityCommand(const ChannelInput& in) {
-  convertAndRoundTrip<velocity_command_t>(in);
-}
+inline void velocityCommand(const ChannelInput& in) { convertAndRoundTrip<velocity_command_t>(in); }
 
 // path_assessor_control_t (path_assessor).
 inline void pathAssessorControl(const ChannelInput& in) {

@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/bands_t.hpp"
@@ -38,6 +37,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "runtime/runtime.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {

@@ -13,8 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "wire/conversions.hpp"
-#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
@@ -23,7 +21,9 @@
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "runtime/runtime.hpp"
 #include "test_util.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 namespace {

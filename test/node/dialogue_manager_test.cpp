@@ -13,7 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
@@ -22,6 +21,7 @@
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
+#include "runtime/runtime.hpp"
 #include "speech_output.hpp"
 #include "test_util.hpp"
 

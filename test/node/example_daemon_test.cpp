@@ -48,8 +48,9 @@ TEST(ExampleDaemon, LimitsTheCommandOfEachStepNearAHumanAndAcknowledgesIt) {
   example::SpeedLimiterNode node(example::SpeedLimiterConfig{}, rt);
   std::vector<velocity_command_t> out;
   std::vector<std::int64_t> acks;
-  rt.subscribe<velocity_command_t>(example::SpeedLimiterNode::kOutput,
-                                   [&](const velocity_command_t& m, std::int64_t) { out.push_back(m); });
+  rt.subscribe<velocity_command_t>(
+      example::SpeedLimiterNode::kOutput,
+      [&](const velocity_command_t& m, std::int64_t) { out.push_back(m); });
   rt.subscribe<step_ack_t>(channels::kStepAck, [&](const step_ack_t& a, std::int64_t) {
     if (a.participant == "speed_limiter") acks.push_back(a.step);
   });

@@ -8,15 +8,15 @@
 #include <fstream>
 #include <limits>
 
-#include "wire/conversions.hpp"
-#include "distance_client/distance_client.hpp"
-#include "maps/map_loader.hpp"
-#include "runtime/runtime.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_reply_t.hpp"
 #include "coopnav/distance_request_t.hpp"
+#include "distance_client/distance_client.hpp"
+#include "maps/map_loader.hpp"
+#include "runtime/runtime.hpp"
 #include "test_util.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 namespace {

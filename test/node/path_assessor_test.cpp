@@ -8,13 +8,13 @@
 #include <cmath>
 #include <memory>
 
-#include "wire/conversions.hpp"
-#include "wire/assessment.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "path_assessor_node.hpp"
 #include "test_util.hpp"
+#include "wire/assessment.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 namespace {

@@ -1,13 +1,13 @@
-// The shared daemon runtime over an isolated udpm port: safe decoding with counters, status,
-// step acks, timers, the distance client's timeout when no server answers.
+// The shared daemon runtime, in-process over memq:// (test/CMakeLists.txt): safe decoding with
+// counters, status, step acks, timers, the distance client's timeout when no server answers.
 #include "runtime/runtime.hpp"
 
 #include <gtest/gtest.h>
 
-#include "distance_client/distance_client.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "distance_client/distance_client.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {

@@ -12,15 +12,15 @@
 #include <memory>
 #include <optional>
 
-#include "wire/conversions.hpp"
-#include "distance_client/distance_client.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "distance_client/distance_client.hpp"
+#include "maps/map_loader.hpp"
 #include "situation_assessor_node.hpp"
 #include "test_util.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 namespace {

@@ -1,6 +1,6 @@
-// StepGate (daemons/common/runtime/step_gate.hpp): the lockstep ordering every pipeline daemon relies on.
-// Acks are fed with onAck and timeouts driven with checkTimeouts(fake now), except one test that
-// goes through a real step_ack_t on this executable's udpm port.
+// StepGate (daemons/common/runtime/step_gate.hpp): the lockstep ordering every pipeline daemon
+// relies on. Acks are fed with onAck and timeouts driven with checkTimeouts(fake now), except one
+// test that goes through a real step_ack_t on the in-process bus.
 #include "runtime/step_gate.hpp"
 
 #include <gtest/gtest.h>

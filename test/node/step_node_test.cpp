@@ -1,7 +1,8 @@
-// StepNode (daemons/common/runtime/step_node.hpp): the one lockstep harness. Every path through a node
-// acknowledges its step, in order; a repeat is answered from the kept outputs and never computed
-// again; an input is stored once. In-process over LCM's memq:// (no multicast route needed): the
-// node and the probe share one runtime, whose own publications come back to it as on udpm.
+// StepNode (daemons/common/runtime/step_node.hpp): the one lockstep harness. Every path through a
+// node acknowledges its step, in order; a repeat is answered from the kept outputs and never
+// computed again; an input is stored once. In-process over LCM's memq:// (no multicast route
+// needed): the node and the probe share one runtime, whose own publications come back to it as on
+// udpm.
 #include "runtime/step_node.hpp"
 
 #include <gtest/gtest.h>
@@ -81,9 +82,9 @@ TEST_F(StepNodeTest, EveryPathAcknowledgesItsStep) {
     };
   });
   // Rejected on conversion: acknowledged all the same, the exception goes on to be counted.
-  EXPECT_THROW(node.open("world", "IN", msg(1),
-                         [&]() -> StepNode::Work { throw RejectedMessage("bad"); }),
-               RejectedMessage);
+  EXPECT_THROW(
+      node.open("world", "IN", msg(1), [&]() -> StepNode::Work { throw RejectedMessage("bad"); }),
+      RejectedMessage);
   // Nothing to compute.
   node.open("world", "IN", msg(2), [&]() -> StepNode::Work { return nullptr; });
   // The work throws half-way: the step is still acknowledged with what it published.
@@ -112,9 +113,9 @@ TEST_F(StepNodeTest, AcksGoOutInStepOrderWhateverFinishesFirst) {
   node.open("world", "IN", msg(1), [&]() -> StepNode::Work {
     return [&](StepNode::Step& s) { s.publish("TEST_OUT", out(1)); };
   });
-  EXPECT_THROW(node.open("world", "IN", msg(2),
-                         [&]() -> StepNode::Work { throw DroppedMessage("stale"); }),
-               DroppedMessage);
+  EXPECT_THROW(
+      node.open("world", "IN", msg(2), [&]() -> StepNode::Work { throw DroppedMessage("stale"); }),
+      DroppedMessage);
   spin();
   EXPECT_TRUE(acks_.empty()) << "step 0 is still being answered";
   held.front().publish("TEST_OUT", out(0));
@@ -150,9 +151,7 @@ TEST_F(StepNodeTest, SameBytesRepeatsAllowAnOldStepWithOtherContent) {
   o.repeat = StepNodeOptions::Repeat::kSameBytes;
   StepNode node(rt_, o);
   int computed = 0;
-  auto prepare = [&]() -> StepNode::Work {
-    return [&](StepNode::Step&) { ++computed; };
-  };
+  auto prepare = [&]() -> StepNode::Work { return [&](StepNode::Step&) { ++computed; }; };
   node.open("world", "IN", msg(5), prepare);
   node.open("world", "IN", msg(5), prepare);  // the same bytes: a repeat
   FakeMsg other = msg(3);

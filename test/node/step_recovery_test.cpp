@@ -10,15 +10,15 @@
 #include <string>
 #include <vector>
 
-#include "wire/conversions.hpp"
-#include "runtime/journal.hpp"
-#include "runtime/step_gate.hpp"
-#include "runtime/step_outputs.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "path_assessor_node.hpp"
+#include "runtime/journal.hpp"
+#include "runtime/step_gate.hpp"
+#include "runtime/step_outputs.hpp"
 #include "test_util.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 namespace {

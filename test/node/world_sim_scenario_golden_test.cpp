@@ -184,8 +184,7 @@ TEST(ScenarioGolden, EveryScenarioLoadsToTheValuesItLoadedToBefore) {
     std::string la, lb;
     while (std::getline(a, la) && std::getline(b, lb) && la == lb) {
     }
-    ADD_FAILURE() << "loads differently: before '" << la << "', now '" << lb << "'\nnow:\n"
-                  << now;
+    ADD_FAILURE() << "loads differently: before '" << la << "', now '" << lb << "'\nnow:\n" << now;
   }
 }
 

@@ -10,13 +10,13 @@
 #include <iostream>
 #include <set>
 
-#include "distance_client/distance_client.hpp"
-#include "runtime/log.hpp"
-#include "runtime/runtime.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "ctl_commands.hpp"
+#include "distance_client/distance_client.hpp"
 #include "log_reader.hpp"
+#include "runtime/log.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 namespace {

@@ -4,7 +4,7 @@
 /// Layout: {"format": "coopnav-summary/1", "scenarios": [<scenario>, ...]}, one entry per
 /// scenario name. Per human it reports both CMs the path assessor publishes: the window CM (since
 /// the last reset, what round 2 decides on) and the interaction CM (since round 1, no reset,
-/// what Table I reports; clarifications "CM windows"), and the CM recomputed for several γ with
+/// what Table I reports; design-readings "CM windows"), and the CM recomputed for several γ with
 /// coopnav::assessment::discountedMean from the logged CA.
 
 #include <string>

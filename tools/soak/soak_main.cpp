@@ -29,10 +29,10 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/goals_t.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 namespace {

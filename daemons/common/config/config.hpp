@@ -105,8 +105,7 @@ class ConfigReader {
   template <class T, class... Options>
   void operator()(const char* key, T& field, const Options&... options) {
     static_assert(((std::is_same_v<Options, Range> || std::is_same_v<Options, OneOf> ||
-                    std::is_same_v<Options, Required>) &&
-                   ...),
+                    std::is_same_v<Options, Required>)&&...),
                   "options of a key: Range, OneOf, Required");
     static_assert(!(std::is_same_v<Options, Range> || ...) || std::is_arithmetic_v<T>,
                   "a Range is for a number");

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "wire/conversions.hpp"
 #include "runtime/runtime.hpp"
+#include "wire/conversions.hpp"
 
 namespace coopnav {
 

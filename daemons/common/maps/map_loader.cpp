@@ -535,7 +535,7 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
   const Eigen::Vector2d size = extent.sizes() + Eigen::Vector2d::Constant(2.0 * margin_m);
   // The 1e-9 keeps an extent that is an exact multiple of res from gaining a column. At least one
   // cell each way: an extent far below res would otherwise give 0 x huge cells, which passed the
-  // size check and overflowed the int cast (fuzz_map_yaml, 2026-12-02).
+  // size check and overflowed the int cast (found by fuzz_map_yaml).
   const double w = std::max(1.0, std::ceil(size.x() / res - 1e-9));
   const double h = std::max(1.0, std::ceil(size.y() / res - 1e-9));
   if (w * h > static_cast<double>(max_cells)) {

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "config/config.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "maps/map_loader.hpp"
 
 namespace coopnav {
 

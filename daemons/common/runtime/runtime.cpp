@@ -9,9 +9,9 @@
 #include <csignal>
 #include <cstring>
 
-#include "runtime/log.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 namespace {
@@ -56,8 +56,24 @@ void Runtime::installSignalHandlers() {
   std::signal(SIGPIPE, SIG_IGN);
 }
 
+namespace {
+
+std::shared_ptr<lcm::LCM> openLcm(const std::string& url) {
+  if (url.rfind("memq://", 0) != 0) return std::make_shared<lcm::LCM>(url);
+  // One in-process bus per process: runtimes come and go, the bus lives while any uses it.
+  static std::weak_ptr<lcm::LCM> shared;
+  std::shared_ptr<lcm::LCM> bus = shared.lock();
+  if (!bus) {
+    bus = std::make_shared<lcm::LCM>(url);
+    shared = bus;
+  }
+  return bus;
+}
+
+}  // namespace
+
 Runtime::Runtime(std::string name, const std::string& lcm_url) : name_(std::move(name)) {
-  lcm_ = std::make_unique<lcm::LCM>(lcm_url);
+  lcm_ = openLcm(lcm_url);
   // LCM 1.3.1 ignores a failed provider/self-test until handleTimeout aborts on fd -1.
   if (!lcm_->good() || lcm_->getFileno() < 0) {
     throw LcmUnavailable("LCM provider '" + (lcm_url.empty() ? std::string("default") : lcm_url) +

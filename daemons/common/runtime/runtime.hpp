@@ -60,6 +60,9 @@ class Runtime {
  public:
   /// Opens LCM at `lcm_url` ("" = $LCM_DEFAULT_URL or LCM's default) and checks the provider:
   /// Debian's LCM 1.3.1 otherwise aborts later inside handleTimeout. Throws LcmUnavailable.
+  /// Every runtime of a process opened on "memq://" shares one in-process bus (LCM's memq delivers
+  /// only within one instance): nodes and probes of an in-process test talk as over udpm, and
+  /// any one of them spinning handles the messages of all.
   Runtime(std::string name, const std::string& lcm_url);
   ~Runtime();
   Runtime(const Runtime&) = delete;
@@ -160,7 +163,7 @@ class Runtime {
   int msUntilNextTimer() const;
 
   std::string name_;
-  std::unique_ptr<lcm::LCM> lcm_;
+  std::shared_ptr<lcm::LCM> lcm_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<Timer> timers_;
   RuntimeCounters counters_;

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "runtime/log.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 

@@ -5,8 +5,8 @@ namespace coopnav {
 StepNode::StepNode(Runtime& runtime, StepNodeOptions options)
     : runtime_(runtime),
       options_(std::move(options)),
-      gate_(runtime, StepGateOptions{options_.requirements, options_.timeout,
-                                     options_.wait_for_unseen}),
+      gate_(runtime,
+            StepGateOptions{options_.requirements, options_.timeout, options_.wait_for_unseen}),
       outputs_(runtime) {}
 
 bool StepNode::repeated(std::int64_t step, const std::vector<std::uint8_t>& bytes) {

@@ -153,7 +153,7 @@ class StepNode {
   StepOutputs outputs_;
   std::int64_t last_opened_{-1};
   std::map<std::int64_t, std::uint64_t> opened_hash_;  ///< kSameBytes: per step, its bytes' hash
-  std::deque<Unacked> unacked_;   ///< lockstep steps started and not yet acknowledged, in order
+  std::deque<Unacked> unacked_;    ///< lockstep steps started and not yet acknowledged, in order
   std::uint64_t first_serial_{0};  ///< serial of unacked_.front()
   std::shared_ptr<int> alive_{std::make_shared<int>(0)};  ///< Steps outliving the node see it
 };
@@ -164,8 +164,7 @@ template <class Msg, class Prepare>
 void StepNode::open(const std::string& participant, const std::string& channel, const Msg& msg,
                     Prepare&& prepare) {
   const std::int64_t step = msg.step;
-  if (step < -1)
-    throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
+  if (step < -1) throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
   if (step >= 0) {
     std::vector<std::uint8_t> bytes;
     if (options_.repeat == StepNodeOptions::Repeat::kSameBytes) {
@@ -189,11 +188,9 @@ void StepNode::open(const std::string& participant, const std::string& channel, 
 }
 
 template <class Store>
-void StepNode::input(const std::string& participant, const std::string& channel,
-                     std::int64_t step, const std::string& key, Store&& store,
-                     bool answer_repeat) {
-  if (step < -1)
-    throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
+void StepNode::input(const std::string& participant, const std::string& channel, std::int64_t step,
+                     const std::string& key, Store&& store, bool answer_repeat) {
+  if (step < -1) throw RejectedMessage("step " + std::to_string(step) + " is neither -1 nor >= 0");
   if (gate_.accept(participant, channel, step, key, std::forward<Store>(store))) return;
   if (answer_repeat) {
     answerRepeat(step);

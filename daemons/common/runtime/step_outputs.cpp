@@ -1,7 +1,7 @@
 #include "runtime/step_outputs.hpp"
 
-#include "runtime/log.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "runtime/log.hpp"
 
 namespace coopnav {
 

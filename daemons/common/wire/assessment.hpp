@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/assessment/situation.hpp"
@@ -17,6 +16,7 @@
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/situation_t.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

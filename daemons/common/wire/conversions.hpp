@@ -8,7 +8,6 @@
 #include <utility>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/distance/distance_map.hpp"
@@ -18,6 +17,7 @@
 #include "coopnav/goals_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

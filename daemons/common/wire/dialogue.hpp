@@ -8,12 +8,12 @@
 #include <optional>
 #include <string>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/utterance_t.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

@@ -13,9 +13,9 @@
 
 #include "analytic_map.hpp"
 #include "band_test_util.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "maps/map_loader.hpp"
 
 namespace coopnav {
 namespace {
@@ -207,7 +207,7 @@ TEST(ClosedLoopTest, OpenCorridorHeadOnHumanAlongAnticipatedBand) {
   expectCohanLikePass(log);
 }
 
-// The bug this reproduced (band_source README, "Known problem", fixed 2026-12-03): cold-started
+// What this guards against (band_source README, "The problem": why bands start cold): cold-started
 // every cycle, as band_source runs, the band was laid on the path from a robot already beside it,
 // so its first segment (the command) pointed back at the path, the optimiser slowed the band to
 // keep that segment within the limits, and the robot crept towards the human (0.31 m/s on average

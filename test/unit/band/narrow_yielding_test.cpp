@@ -15,9 +15,9 @@
 #include <string>
 
 #include "band_test_util.hpp"
-#include "maps/map_loader.hpp"
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "maps/map_loader.hpp"
 
 namespace coopnav {
 namespace {
@@ -200,8 +200,8 @@ TEST(NarrowYieldingTest, ColdStartedBandsProgressAndStayBounded) {
 }
 
 // Disabled: reproduces the open bugs. Warm-started (the lib default), the bands drift into the
-// "wait" minimum (robot_behind / robot_long / human_behind, 2026-12-02: 74 cycles too long, 17
-// with the human band behind). Cold-started, t_CROSS on the bands still jumps by more than 0.5 s
+// "wait" minimum (robot_behind / robot_long / human_behind: 74 cycles too long, 17 with the
+// human band behind). Cold-started, t_CROSS on the bands still jumps by more than 0.5 s
 // from one cycle to the next in 16 of 134 cycles (worst 1.14 s): it rises while the human steps
 // aside (t 3-4.5 s) and while the robot slows for it. Run with --gtest_also_run_disabled_tests.
 TEST(NarrowYieldingTest, DISABLED_WarmStartedBandsProgressAndStayBounded) {

@@ -55,7 +55,8 @@ struct KeyInfo {
 /// default-constructed struct).
 class KeyLister {
  public:
-  KeyLister(std::vector<KeyInfo>& out, std::string prefix) : out_(out), prefix_(std::move(prefix)) {}
+  KeyLister(std::vector<KeyInfo>& out, std::string prefix)
+      : out_(out), prefix_(std::move(prefix)) {}
 
   template <class T, class... Options>
   void operator()(const char* key, T& field, const Options&... options) {
@@ -208,7 +209,8 @@ std::vector<ReadmeRow> readmeTable(const std::string& path, std::vector<std::str
       continue;
     }
     if (line.rfind("|", 0) != 0) break;
-    if (line.find("---") != std::string::npos && line.find_first_not_of("|-: ") == std::string::npos)
+    if (line.find("---") != std::string::npos &&
+        line.find_first_not_of("|-: ") == std::string::npos)
       continue;  // the separator
     const auto cells = splitCells(line);
     if (cells.size() < 4) {
@@ -380,8 +382,8 @@ std::vector<std::string> problemsOf(const std::string& daemon, const std::string
   // README table
   const std::string readme = "daemons/" + daemon + "/README.md";
   const auto rows = readmeTable(root + "/" + readme, problems);
-  std::map<std::string, int> listed;       // key -> rows listing it
-  std::set<std::string> optional_keys;     // keys whose row says "optional"
+  std::map<std::string, int> listed;    // key -> rows listing it
+  std::set<std::string> optional_keys;  // keys whose row says "optional"
   for (const auto& row : rows) {
     const std::string where = readme + ":" + std::to_string(row.line);
     const bool optional = lower(row.default_cell).find("optional") != std::string::npos;
@@ -411,8 +413,9 @@ std::vector<std::string> problemsOf(const std::string& daemon, const std::string
   for (const auto& k : keys) {
     const int n = listed.count(k.key) ? listed.at(k.key) : 0;
     if (n == 0) problems.push_back(readme + ": key '" + k.key + "' is missing from the table");
-    if (n > 1) problems.push_back(readme + ": key '" + k.key + "' is listed " +
-                                  std::to_string(n) + " times");
+    if (n > 1)
+      problems.push_back(readme + ": key '" + k.key + "' is listed " + std::to_string(n) +
+                         " times");
   }
 
   // config/<daemon>.yaml
@@ -529,7 +532,8 @@ TEST(ConfigKeysTest, TheCheckFindsEveryKindOfMismatch) {
       "| `mode` | `a` | `a`, `b` | x |\n"
       "| `inner.depth`, `inner.words` | 3, hello | [1, 10] | x |\n";
   const std::string good_yaml =
-      "# Rate [Hz] (0.01..100).\nrate_hz: 0.1\n# Tolerance (0..1).\ntolerance: 1e-6\nfast: true\nmode: a\n"
+      "# Rate [Hz] (0.01..100).\nrate_hz: 0.1\n# Tolerance (0..1).\ntolerance: 1e-6\nfast: "
+      "true\nmode: a\n"
       "inner:\n  # Depth (1..10).\n  depth: 3\n  words: hello\n";
   {
     const auto p = problemsOf<SampleConfig>("sample", writeSample(good_rows, good_yaml));

@@ -107,7 +107,8 @@ TEST(ConfigReaderTest, AValueOutOfItsRangeIsReportedAsWrittenAndNotStored) {
 
 TEST(ConfigReaderTest, MessagesNameTheTypeTheLineAndTheNestedKey) {
   Sample s;
-  const std::string e = read("name: n\nkind: a\nlow: seven\nhigh: [1]\ninner: 5\nnotes: {x: 1}\n", s);
+  const std::string e =
+      read("name: n\nkind: a\nlow: seven\nhigh: [1]\ninner: 5\nnotes: {x: 1}\n", s);
   EXPECT_TRUE(has(e, "key 'low' = 'seven' has the wrong type: expected a number (line 3)")) << e;
   EXPECT_TRUE(has(e, "key 'high' must be a number")) << e;
   // Nothing of a nested key that is no mapping is read, so nothing more is said of it.

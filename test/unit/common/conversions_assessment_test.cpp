@@ -1,11 +1,11 @@
 // situation_t / path_assessment_t / path_assessor_control_t <-> lib types: round trips, the
 // wire encodings of unknown (NaN, PRED_UNKNOWN), validation of garbage, and cmForGamma.
-#include "wire/assessment.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "wire/assessment.hpp"
 
 namespace coopnav {
 namespace {

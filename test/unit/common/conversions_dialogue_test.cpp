@@ -1,10 +1,10 @@
 // conversions_dialogue: utterance_t / robot_action_t <-> lib/dialogue, and the DIR / PRED codes.
-#include "wire/dialogue.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "wire/dialogue.hpp"
 
 namespace coopnav {
 namespace {

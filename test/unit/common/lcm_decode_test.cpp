@@ -8,9 +8,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "runtime/runtime.hpp"
 #include "coopnav/distance_request_t.hpp"
 #include "coopnav/robot_action_t.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 namespace {

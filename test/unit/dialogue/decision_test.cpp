@@ -1,4 +1,4 @@
-// Decision logic of paper §II-D (clarifications, "Decision pipeline"): every flowchart branch is a
+// Decision logic of paper §II-D (design-readings, "Decision pipeline"): every flowchart branch is a
 // row of a table; once-firing under t_CROSS jitter; the precautionary dock of round 2 on an
 // unknown (and none without it); crossed detection.
 #include "coopnav/dialogue/decision.hpp"

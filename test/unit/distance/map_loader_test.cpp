@@ -11,10 +11,10 @@
 #include <random>
 #include <sstream>
 
-#include "runtime/daemon_main.hpp"
-#include "maps/map_source.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance/octree_conversion.hpp"
+#include "maps/map_source.hpp"
+#include "runtime/daemon_main.hpp"
 
 namespace coopnav {
 namespace {
@@ -514,7 +514,7 @@ TEST(MapLoaderTest, AResolutionAnOcTreeCannotHoldIsABadMap) {
   EXPECT_EQ(loadMap(big).grid.width(), 1);
 }
 
-// fuzz_map_yaml (2026-12-02, after 9.7M executions): an extent far longer one way than the cell
+// Found by fuzz_map_yaml (after 9.7M executions): an extent far longer one way than the cell
 // count allows and far shorter than one cell the other way rounded to 0 rows, so w x h passed the
 // size check as 0 and the width overflowed its int cast (undefined behaviour). Now every map has
 // at least one row and one column, and such a map is too large, with its size named.

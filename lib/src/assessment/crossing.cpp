@@ -121,7 +121,7 @@ CrossingInfo computeCrossing(const Band& robot_band, const Band& human_band,
   const std::size_t last = grid_t_s.size() - 1;
   if (i_star == last && dist_m[last] < dist_m[last - 1] - config.closing_epsilon_m) {
     // Closest at the horizon while still closing: the true crossing lies beyond the bands, so its
-    // time is unknown, not the band's last time (clarifications, "Scale and horizon").
+    // time is unknown, not the band's last time (design-readings, "Scale and horizon").
     info.status = CrossingStatus::kBeyondHorizon;
     info.reason =
         "agents still closing at the end of the common horizon (" + std::to_string(t_hi_s) + " s)";
@@ -138,7 +138,7 @@ CrossingInfo computeCrossing(const Band& robot_band, const Band& human_band,
   info.cp_r = interpolateBand(robot_band, t_star_s).position();
   info.human_heading_rad = h_star.theta_rad;
 
-  // Dir (clarifications): LEFT when cross(h, CP_r - CP_h) > 0, RIGHT when < 0, h the human's
+  // Dir (design-readings): LEFT when cross(h, CP_r - CP_h) > 0, RIGHT when < 0, h the human's
   // heading at CP_h.
   const Eigen::Vector2d h = headingVector(h_star.theta_rad);
   info.dir = sideOf(cross2(h, info.cp_r - info.cp_h), config.dir_tolerance_m);

@@ -64,7 +64,7 @@ std::optional<ContributionSample> contributionAt(const Path2& reference_path,
     if (std::abs(rel_m) > side_deadband_m) s.robot_side = rel_m > 0.0 ? Side::kLeft : Side::kRight;
   }
   // Paper §II-C / Fig. 4, CA_i: distance from the initial shortest path, signed > 0 on the side
-  // away from the robot (clarifications, "CA sign"). Left offsets are > 0, so a robot on the left
+  // away from the robot (design-readings, "CA sign"). Left offsets are > 0, so a robot on the left
   // makes right (negative) offsets positive contributions.
   if (s.robot_side == Side::kLeft) s.ca_m = -s.human_offset_m;
   if (s.robot_side == Side::kRight) s.ca_m = s.human_offset_m;

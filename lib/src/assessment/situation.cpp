@@ -33,7 +33,7 @@ std::optional<HalfPlaneQueries> halfPlaneQueries(const CrossingInfo& crossing,
   const double d_m = r_to_h.norm();
   if (d_m >= thresholds.coincident_tolerance_m) {
     // Paper §II-B, d_OH "away from the robot": normal from CP_r to CP_h; d_OR "away from the
-    // human": normal from CP_h to CP_r (clarifications, "Half-plane queries").
+    // human": normal from CP_h to CP_r (design-readings, "Half-plane queries").
     q.human.normal = r_to_h / d_m;
     q.robot.normal = -q.human.normal;
     return q;

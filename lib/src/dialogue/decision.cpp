@@ -124,7 +124,7 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
   return out;
 }
 
-// Paper §II-D, round 1 (clarifications, "Decision pipeline").
+// Paper §II-D, round 1 (design-readings, "Decision pipeline").
 void HumanDecision::round1(const DecisionInput& in, DecisionOutput& out) {
   fired_[0] = true;
   const SituationSnapshot& s = in.situation;
@@ -162,7 +162,7 @@ void HumanDecision::round1(const DecisionInput& in, DecisionOutput& out) {
     }
   } else if (s.human_needs_to_contribute == Tristate::kFalse) {
     // The paper's "if the human is not constrained" read as the else branch of
-    // HumanNeedsToContribute (clarifications).
+    // HumanNeedsToContribute (design-readings).
     if (s.robot_is_constrained == Tristate::kTrue) {
       sayDir(SpeechAct::kInformDirection, s.dir, "!needs & robot_constrained -> inform Dir");
     } else if (s.robot_is_constrained == Tristate::kFalse) {

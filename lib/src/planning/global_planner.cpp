@@ -38,7 +38,7 @@ Path2 resamplePath(const Path2& path, double spacing_m) {
   Path2 out{path.front()};
   double carry = 0.0;  // distance since the last emitted point
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    const Eigen::Vector2d a = path[i];
+    const Eigen::Vector2d& a = path[i];
     const Eigen::Vector2d d = path[i + 1] - a;
     const double len = d.norm();
     double s = spacing_m - carry;
@@ -59,7 +59,7 @@ Path2 subPath(const Path2& path, double from_m, double length_m) {
   Path2 out;
   double arc = 0.0;
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    const Eigen::Vector2d a = path[i];
+    const Eigen::Vector2d& a = path[i];
     const Eigen::Vector2d d = path[i + 1] - a;
     const double len = d.norm();
     const double a0 = arc, a1 = arc + len;

@@ -17,7 +17,7 @@ namespace coopnav::assessment {
 /// Outcome of the crossing computation; values mirror coopnav_situation_t.CROSSING_*.
 enum class CrossingStatus : std::int8_t {
   kOk = 0,             ///< i*, CP_h, CP_r, t_CROSS and Dir are meaningful
-  kBeyondHorizon = 1,  ///< still closing at the last common time: t_CROSS unknown (clarifications)
+  kBeyondHorizon = 1,  ///< still closing at the last common time: t_CROSS unknown (design-readings)
   kBadBands = 2,       ///< a band is too short, non-finite, has non-increasing times, or no overlap
 };
 
@@ -48,7 +48,7 @@ struct CrossingInfo {
   Eigen::Vector2d cp_r{Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN())};
   /// [rad] the human band's (interpolated) heading at CP_h; NaN unless status == kOk.
   double human_heading_rad{std::numeric_limits<double>::quiet_NaN()};
-  /// Side on which the robot passes the human, as the human sees it (clarifications, "Dir").
+  /// Side on which the robot passes the human, as the human sees it (design-readings, "Dir").
   Side dir{Side::kUndefined};
   /// True when Dir came from the fallback (robot band's later lateral motion), not from CP_r.
   bool dir_from_fallback{false};

@@ -2,7 +2,7 @@
 /// @file Human path assessment of paper §II-C: the signed contribution array CA, its discounted
 /// mean CM and the IsContributing predicate, for one human.
 ///
-/// CA sign (clarifications, "CA sign"; our reading, decided at EACH sample): CA_i is the distance
+/// CA sign (design-readings, "CA sign"; our reading, decided at EACH sample): CA_i is the distance
 /// of the human from its initial shortest path, positive when the human is on the side of that
 /// path away from the robot. The robot's side is the side of the path the robot is on at that
 /// sample (sign of its signed distance from the path). While the robot is within side_deadband_m

@@ -38,7 +38,7 @@ struct SituationThresholds {
   double robot_radius_m{0.47};
   double human_radius_m{0.3};
   /// [m] |CP_h - CP_r| below this: the CP_r -> CP_h direction is meaningless, so the half-plane
-  /// normals fall back to the human's heading (clarifications, "Half-plane queries").
+  /// normals fall back to the human's heading (design-readings, "Half-plane queries").
   double coincident_tolerance_m{0.05};
 };
 

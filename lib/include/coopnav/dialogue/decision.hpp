@@ -1,7 +1,7 @@
 #pragma once
 /// @file Decision logic of paper §II-D for one human: three rounds (t_CROSS ≈ 7 s, ≈ 4 s, after
-/// crossing), each firing once per interaction, read exactly as in clarifications.md "Decision
-/// pipeline". Pure: no clock (time is an input), no I/O; the daemon turns the output into
+/// crossing), each firing once per interaction, read exactly as in docs/design-readings.md
+/// "Decision pipeline". Pure: no clock (time is an input), no I/O; the daemon turns the output into
 /// utterance, robot-action and path-assessor-control messages.
 ///
 /// Unknown handling: a branch that needs an UNKNOWN predicate (or an undefined Dir where a side
@@ -71,7 +71,7 @@ struct DecisionConfig {
   /// distance server is down) while nothing known rules a dock out (the robot is not known to be
   /// free, the human not known to have moved enough nor to be moving aside): dock as a precaution
   /// and mark the round degraded. Not in the paper, whose flowchart stays silent on an unknown
-  /// (clarifications.md "unknown never leads to a dock"): silent, a robot with its assessment
+  /// (design-readings "unknown never leads to a dock"): silent, a robot with its assessment
   /// half blind drives on towards a person who does not yield, and waiting at the wall for a
   /// few seconds is the safe side of that choice. false: the paper's silent reading.
   bool precautionary_dock{true};
@@ -172,7 +172,7 @@ class HumanDecision {
   bool ended_{false};
 };
 
-/// Crossed detection state for one human (clarifications: the robot is behind the human along
+/// Crossed detection state for one human (design-readings: the robot is behind the human along
 /// the human's heading, having been ahead).
 struct CrossedTracker {
   bool seen_ahead{false};

@@ -1,5 +1,5 @@
 #pragma once
-/// @file Docking (paper §II-D, clarifications "Decision pipeline"): when the human cannot make
+/// @file Docking (paper §II-D, design-readings "Decision pipeline"): when the human cannot make
 /// room, the robot moves to the nearest wall on the side away from the human, waits until the
 /// human has passed, then resumes to its goal. Pure logic; time comes from the inputs.
 

@@ -6,14 +6,15 @@ COOPNAV_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:-$COOPNAV_ROOT/build}"
 
 # Debian 12 packages: toolchain, LCM (C/C++, tools, Java for lcm-spy), libraries, test tools,
-# clang with its libFuzzer / sanitizer runtimes (scripts/fuzz.sh).
+# clang with its libFuzzer / sanitizer runtimes (scripts/fuzz.sh), clang-format and clang-tidy
+# (scripts/lint.sh).
 COOPNAV_DEBS=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless libjchart2d-java
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev
   iproute2 procps python3
-  clang-14 libclang-rt-14-dev
+  clang-14 libclang-rt-14-dev clang-format clang-tidy
 )
 
 coopnav_sudo() {

@@ -10,6 +10,12 @@ coopnav_install_deps
 coopnav_build
 coopnav_ensure_multicast
 (cd "$COOPNAV_BUILD_DIR" && ctest --output-on-failure --timeout 900 -j"$(nproc)" "$@")
+# Without extra arguments (CI) the lint step also runs (scripts/lint.sh: clang-format check of
+# every C++ file, clang-tidy on the set chosen there, ~3 min on 2 cores); any finding fails the
+# run. COOPNAV_LINT=0 skips it.
+if [ "$#" -eq 0 ] && [ "${COOPNAV_LINT:-1}" != 0 ]; then
+  bash "$COOPNAV_ROOT/scripts/lint.sh"
+fi
 # Without extra arguments (CI) every libFuzzer target also runs briefly (build-fuzz, clang;
 # test/fuzz/README.md); a finding fails the run. COOPNAV_FUZZ=0 skips it.
 if [ "$#" -eq 0 ] && [ "${COOPNAV_FUZZ:-1}" != 0 ]; then

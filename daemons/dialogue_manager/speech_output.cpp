@@ -27,7 +27,7 @@ std::string findExecutable(const std::string& program) {
   while (start <= dirs.size()) {
     const std::size_t end = std::min(dirs.find(':', start), dirs.size());
     const std::string dir = dirs.substr(start, end - start);
-    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+    std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
     struct stat st {};
     if (::stat(candidate.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
         ::access(candidate.c_str(), X_OK) == 0)
@@ -59,10 +59,9 @@ SpeechOutput::SpeechOutput(const SpeechConfig& config) : config_(config) {
              config_.rate_wpm, config_.wav_dir.empty() ? "" : ", WAV files in " + config_.wav_dir);
 }
 
-SpeechOutput::~SpeechOutput() {
-  // Not waited for: a stopping daemon must exit within a second; a finishing espeak-ng child is
-  // re-parented and reaped by init.
-}
+// Children are not waited for: a stopping daemon must exit within a second; a finishing espeak-ng
+// child is re-parented and reaped by init.
+SpeechOutput::~SpeechOutput() = default;
 
 void SpeechOutput::disable(const std::string& why) {
   if (usable_ || !why.empty()) log().warn("dialogue_manager: speech: {}", why);

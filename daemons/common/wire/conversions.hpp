@@ -78,7 +78,7 @@ struct ReferencePaths {
 };
 
 ReferencePaths fromLcm(const reference_paths_t& msg);
-reference_paths_t toLcm(const ReferencePaths& p);
+reference_paths_t toLcm(const ReferencePaths& r);
 
 /// Goals (coopnav_goals_t).
 struct Goal {

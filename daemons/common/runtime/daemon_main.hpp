@@ -58,6 +58,8 @@ std::string resolvePath(const std::string& base_dir, const std::string& path);
 
 template <class Node>
 int runDaemon(int argc, char** argv, const std::string& name, const std::string& description) {
+  // A stop signal at any time from here on is answered within a second (runtime.hpp).
+  Runtime::beginStartup();
   CLI::App app{description, "coopnav_" + name};
   CommonOptions opts;
   addCommonOptions(app, opts);
@@ -86,9 +88,9 @@ int runDaemon(int argc, char** argv, const std::string& name, const std::string&
     std::cout << configToYaml(config) << std::endl;
     return kExitOk;
   }
-  Runtime::installSignalHandlers();
   try {
     Runtime runtime(name, opts.lcm_url);
+    runtime.setLimits(config.limits);
     Node node(config, runtime);
     // After the node subscribed (its handlers rebuild the state), before the loop (no live
     // message is handled before the recorded ones).

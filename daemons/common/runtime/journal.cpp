@@ -18,6 +18,8 @@ constexpr std::size_t kHeader = 4 + 4 + 4 + 8;
 /// A record claiming more is corrupt (LCM messages are < 2^28 bytes, channels < 64).
 constexpr std::uint32_t kMaxData = 1u << 28;
 constexpr std::uint32_t kMaxChannel = 256;
+/// The channel of the record that ends a full journal (no LCM channel of ours starts with '#').
+constexpr char kFullChannel[] = "#journal-full";
 
 void putU32(std::vector<std::uint8_t>& b, std::uint32_t v) {
   for (int i = 3; i >= 0; --i) b.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
@@ -57,12 +59,20 @@ Journal::Journal(Runtime& runtime, const std::string& state_dir) : runtime_(runt
     if (clen > kMaxChannel || dlen > kMaxData || pos + kHeader + clen + dlen > all.size()) break;
     Record r;
     r.channel.assign(reinterpret_cast<const char*>(p + kHeader), clen);
+    if (r.channel == kFullChannel) {
+      full_ = true;
+      pos += kHeader + clen + dlen;
+      break;
+    }
     r.data.assign(p + kHeader + clen, p + kHeader + clen + dlen);
     r.recv_utime = recv;
     records_.push_back(std::move(r));
     pos += kHeader + clen + dlen;
   }
-  if (pos != all.size()) {
+  size_bytes_ = pos;
+  if (full_) {
+    records_.clear();
+  } else if (pos != all.size()) {
     // The process was killed in the middle of a write: drop the cut-off tail, so that the next
     // record starts on a record boundary.
     log().warn("{}: journal {}: ignoring {} bytes of a cut-off last record", runtime_.name(), path_,
@@ -77,6 +87,11 @@ Journal::~Journal() {
 }
 
 std::size_t Journal::replayAndRecord() {
+  if (full_) {
+    // What it holds stops at the cap: a replay would rebuild a state that is not the one lost.
+    runtime_.setRestarted(false, "its journal " + path_ + " had reached limits.journal_max_mib");
+    return 0;
+  }
   const std::size_t n = records_.size();
   if (n > 0) {
     log().warn("{}: restarted: replaying {} journaled messages from {}", runtime_.name(), n, path_);
@@ -102,7 +117,22 @@ std::size_t Journal::replayAndRecord() {
 
 void Journal::append(const std::string& channel, const void* data, std::size_t size,
                      std::int64_t recv_utime) {
-  if (write_failed_) return;
+  if (write_failed_ || full_) return;
+  const std::uint64_t cap_bytes =
+      static_cast<std::uint64_t>(runtime_.limits().journal_max_mib) * 1024u * 1024u;
+  if (size_bytes_ + kHeader + channel.size() + size > cap_bytes) {
+    full_ = true;
+    writeRecord(kFullChannel, nullptr, 0, recv_utime);
+    runtime_.setDegraded("journal " + path_ + " reached limits.journal_max_mib (" +
+                         std::to_string(runtime_.limits().journal_max_mib) +
+                         " MiB): a restart from now on loses the state");
+    return;
+  }
+  writeRecord(channel, data, size, recv_utime);
+}
+
+void Journal::writeRecord(const std::string& channel, const void* data, std::size_t size,
+                          std::int64_t recv_utime) {
   std::vector<std::uint8_t> b;
   b.reserve(kHeader + channel.size() + size);
   b.insert(b.end(), kMagic, kMagic + 4);
@@ -111,10 +141,11 @@ void Journal::append(const std::string& channel, const void* data, std::size_t s
   putI64(b, recv_utime);
   b.insert(b.end(), channel.begin(), channel.end());
   const auto* d = static_cast<const std::uint8_t*>(data);
-  b.insert(b.end(), d, d + size);
+  if (size > 0) b.insert(b.end(), d, d + size);
   // One write of the whole record (O_APPEND): a kill -9 cannot interleave half records; the page
   // cache keeps what was written when only the process dies.
   const ssize_t w = ::write(fd_, b.data(), b.size());
+  if (w > 0) size_bytes_ += static_cast<std::uint64_t>(w);
   if (w != static_cast<ssize_t>(b.size())) {
     write_failed_ = true;
     log().error("{}: journal {}: write failed ({}); a restart will not recover the state",

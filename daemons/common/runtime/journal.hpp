@@ -10,6 +10,10 @@
 /// One journal per run: the launching script gives every run a fresh state dir. A write is one
 /// write(2) of a whole record, so a kill leaves at most a cut-off last record, which is ignored.
 /// Record: "CNJ1" | u32 channel length | u32 data length | i64 recv_utime | channel | data.
+///
+/// The journal is capped (limits.journal_max_mib): at the cap it ends with a "full" record and
+/// grows no more; the daemon says so (DEGRADED), and a restart from it knows that its state is
+/// lost rather than rebuilding a partial one.
 
 #include <cstdint>
 #include <string>
@@ -41,14 +45,19 @@ class Journal {
     std::vector<std::uint8_t> data;
     std::int64_t recv_utime{0};
   };
+  /// Records one received message, or ends the journal when it would pass the cap.
   void append(const std::string& channel, const void* data, std::size_t size,
               std::int64_t recv_utime);
+  void writeRecord(const std::string& channel, const void* data, std::size_t size,
+                   std::int64_t recv_utime);
 
   Runtime& runtime_;
   std::string path_;
   int fd_{-1};
   std::vector<Record> records_;
   bool write_failed_{false};
+  bool full_{false};           ///< ends with the "full" record: no replay, no more records
+  std::uint64_t size_bytes_{0};
 };
 
 }  // namespace coopnav

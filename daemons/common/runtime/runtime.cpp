@@ -16,11 +16,20 @@
 namespace coopnav {
 namespace {
 
-// One self-pipe per process: a signal handler may only write(2).
+// One self-pipe per process: a signal handler may only write(2) and set lock-free atomics.
 int g_signal_pipe[2] = {-1, -1};
+std::atomic<bool> g_signalled{false};
+std::atomic<bool> g_starting{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "a signal handler may set it");
 
 void onSignal(int) {
   const int saved = errno;
+  if (g_starting.load()) {
+    static const char kLine[] = "coopnav: stop signal during start-up: exiting\n";
+    [[maybe_unused]] auto w = ::write(STDERR_FILENO, kLine, sizeof kLine - 1);
+    ::_exit(0);
+  }
+  g_signalled.store(true);
   const char c = 's';
   if (g_signal_pipe[1] >= 0) [[maybe_unused]]
     auto n = ::write(g_signal_pipe[1], &c, 1);
@@ -51,9 +60,22 @@ void Runtime::installSignalHandlers() {
   sa.sa_handler = onSignal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = 0;  // no SA_RESTART: poll() returns EINTR and we look at the pipe at once
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // SIGHUP (the terminal went away, or "reload" by habit) and the user signals stop cleanly too:
+  // their default would kill the daemon without its final status.
+  for (const int sig : {SIGINT, SIGTERM, SIGHUP, SIGUSR1, SIGUSR2}) sigaction(sig, &sa, nullptr);
   std::signal(SIGPIPE, SIG_IGN);
+}
+
+void Runtime::beginStartup() {
+  installSignalHandlers();
+  g_starting.store(true);
+}
+
+bool Runtime::stopSignalled() { return g_signalled.load(); }
+
+void Runtime::setLimits(const InputLimits& limits) {
+  limits_ = limits;
+  setLogCaps(static_cast<std::size_t>(limits.max_text_bytes), limits.log_lines_per_s);
 }
 
 namespace {
@@ -82,9 +104,46 @@ Runtime::Runtime(std::string name, const std::string& lcm_url) : name_(std::move
   }
   makePipe(stop_pipe_);
   state_ = daemon_status_t::STATE_STARTING;
+  // Not through subscribe(): peers' status is no input of the daemon (not counted, journaled
+  // or rejected), only a check that this name runs once on the bus.
+  status_sub_ = lcm_->subscribeFunction(
+      channels::kStatus,
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, Runtime* self) {
+        self->onPeerStatus(rbuf->data, rbuf->data_size);
+      },
+      this);
+}
+
+void Runtime::onPeerStatus(const void* data, std::size_t size) {
+  daemon_status_t s;
+  try {
+    decodeOrReject(data, size, s);
+  } catch (const RejectedMessage&) {
+    return;  // somebody else's problem: the daemons that consume status count it
+  }
+  if (s.name != name_ || s.pid == static_cast<std::int32_t>(::getpid()) ||
+      s.state == daemon_status_t::STATE_STOPPING)
+    return;
+  duplicate_heard_ = std::chrono::steady_clock::now();
+  if (duplicate_pid_ == s.pid) return;
+  duplicate_pid_ = s.pid;
+  // Both go on: stopping either would leave the run without it if the other is the one that
+  // dies next; the operator sees it in both statuses and logs.
+  duplicate_detail_ = "another " + name_ + " runs on this bus (pid " + std::to_string(s.pid) +
+                      "): every input is handled twice";
+  setDegraded(duplicate_detail_);
+}
+
+void Runtime::checkDuplicate() {
+  if (duplicate_pid_ == 0) return;
+  if (std::chrono::steady_clock::now() - duplicate_heard_ < std::chrono::seconds(3)) return;
+  log().info("{}: pid {} of the same name is no longer heard", name_, duplicate_pid_);
+  duplicate_pid_ = 0;
+  if (state_ == daemon_status_t::STATE_DEGRADED && detail_ == duplicate_detail_) setRunning();
 }
 
 Runtime::~Runtime() {
+  if (status_sub_) lcm_->unsubscribe(status_sub_);
   for (auto& s : subscriptions_)
     if (s->handle) lcm_->unsubscribe(s->handle);
   for (int fd : stop_pipe_)
@@ -270,14 +329,19 @@ void Runtime::requestStop() {
 int Runtime::run() {
   installSignalHandlers();
   if (state_ == daemon_status_t::STATE_STARTING) state_ = daemon_status_t::STATE_RUNNING;
-  addTimer(std::chrono::milliseconds(1000), [this] { publishStatus(); });
+  addTimer(std::chrono::milliseconds(1000), [this] {
+    checkDuplicate();
+    flushLogSuppressions();
+    publishStatus();
+  });
+  g_starting.store(false);
   publishStatus();
   log().info("{}: ready (pid {})", name_, ::getpid());
   pollfd fds[3];
   fds[0] = {lcm_->getFileno(), POLLIN, 0};
   fds[1] = {g_signal_pipe[0], POLLIN, 0};
   fds[2] = {stop_pipe_[0], POLLIN, 0};
-  while (!stop_) {
+  while (!stop_ && !g_signalled.load()) {
     runDueTimers();
     const int n = ::poll(fds, 3, msUntilNextTimer());
     if (n < 0) {
@@ -285,19 +349,19 @@ int Runtime::run() {
       log().error("{}: poll failed: {}", name_, std::strerror(errno));
       return kExitRuntime;
     }
-    if (fds[1].revents & POLLIN) {
-      log().info("{}: signal received, stopping", name_);
-      break;
-    }
-    if (fds[2].revents & POLLIN) break;
+    if ((fds[1].revents & POLLIN) || (fds[2].revents & POLLIN)) break;
     if (fds[0].revents & POLLIN) {
       // Drain what is queued without blocking, so a burst does not starve the status timer.
       // How many were waiting is the daemon's backlog (a queue that grows when it cannot keep up).
+      // A stop is looked at between any two messages: a backlog never delays it by more than
+      // the one message in hand.
       int handled = 0;
-      while (handled < 1000 && lcm_->handleTimeout(0) > 0) ++handled;
+      while (handled < 1000 && !stop_ && !g_signalled.load() && lcm_->handleTimeout(0) > 0)
+        ++handled;
       max_backlog_ = std::max(max_backlog_, handled - 1);
     }
   }
+  if (g_signalled.load()) log().info("{}: signal received, stopping", name_);
   state_ = daemon_status_t::STATE_STOPPING;
   publishStatus();
   return kExitOk;

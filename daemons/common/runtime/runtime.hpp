@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "coopnav/channels.hpp"
+#include "runtime/limits.hpp"
 
 namespace coopnav {
 
@@ -69,6 +70,11 @@ class Runtime {
   Runtime& operator=(const Runtime&) = delete;
 
   const std::string& name() const { return name_; }
+
+  /// The caps of this daemon (its config's `limits`; the defaults until set).
+  const InputLimits& limits() const { return limits_; }
+  /// Sets the caps, the log's included (log.hpp).
+  void setLimits(const InputLimits& limits);
   lcm::LCM& lcm() { return *lcm_; }
 
   /// Subscribes with safe decoding: a message that fails to decode (wrong type on the channel,
@@ -147,8 +153,15 @@ class Runtime {
   void countDropped() { ++counters_.dropped; }
   void countRejected() { ++counters_.rejected; }
 
-  /// Installs SIGINT/SIGTERM handlers writing to a process-wide self-pipe (idempotent).
+  /// Installs the stop handlers (SIGINT, SIGTERM, SIGHUP, SIGUSR1, SIGUSR2: each a clean stop)
+  /// writing to a process-wide self-pipe (idempotent).
   static void installSignalHandlers();
+  /// From now until the first run(), a stop signal ends the process at once with exit 0 and a
+  /// line on stderr: start-up (reading a map, replaying a journal) holds no state worth saving,
+  /// and a stop must be answered within a second whatever it is doing.
+  static void beginStartup();
+  /// True once a stop signal arrived (async-signal-safe flag, read between messages).
+  static bool stopSignalled();
 
  private:
   struct Subscription;
@@ -158,11 +171,15 @@ class Runtime {
     std::function<void()> fn;
   };
   void dispatch(const std::function<void()>& body, const std::string& channel);
+  /// Another process of this daemon's name on the bus (its status messages): DEGRADED while heard.
+  void onPeerStatus(const void* data, std::size_t size);
+  void checkDuplicate();
   void publishStatus();
   void runDueTimers();
   int msUntilNextTimer() const;
 
   std::string name_;
+  InputLimits limits_;
   std::shared_ptr<lcm::LCM> lcm_;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<Timer> timers_;
@@ -184,6 +201,10 @@ class Runtime {
   std::int64_t first_world_ack_step_{-1};
   std::string restart_note_;
   std::string lost_state_note_{"its state"};
+  lcm::Subscription* status_sub_{nullptr};
+  std::int32_t duplicate_pid_{0};  ///< 0: no other process of this name heard
+  std::chrono::steady_clock::time_point duplicate_heard_{};
+  std::string duplicate_detail_;
 };
 
 /// Decodes one received payload as Msg the way every subscription does: a payload that does not

@@ -57,7 +57,26 @@ bool StepGate::noteReceived(const std::string& participant, const std::string& c
   if (it == peers_.end()) return true;
   Peer& p = it->second;
   if (step < p.last_ack - kKeepSteps) return false;  // long done: a late repeat
-  return p.received[step][channel].insert(key).second;
+  // A run advances one step at a time: inputs far ahead of what the peer acknowledged, or of
+  // more future steps than a run can have in flight, are no run's (limits.max_pending_steps).
+  const std::int64_t max_ahead = runtime_.limits().max_pending_steps;
+  if (p.last_ack >= 0 && step > p.last_ack + max_ahead)
+    throw RejectedMessage("step " + std::to_string(step) + " of " + participant + " is more than " +
+                          std::to_string(max_ahead) + " steps after its last ack " +
+                          std::to_string(p.last_ack) + " (limits.max_pending_steps)");
+  auto step_it = p.received.find(step);
+  if (step_it == p.received.end()) {
+    if (static_cast<std::int64_t>(p.received.size()) >= max_ahead + kKeepSteps)
+      throw RejectedMessage("inputs of " + std::to_string(p.received.size()) + " steps of " +
+                            participant + " are held already (limits.max_pending_steps)");
+    step_it = p.received.emplace(step, std::map<std::string, std::set<std::string>>{}).first;
+  }
+  auto& keys = step_it->second[channel];
+  if (keys.count(key)) return false;
+  // A step's messages are one per key (human) and channel: the wire bounds the keys.
+  if (keys.size() >= 4096) throw RejectedMessage("more than 4096 inputs on " + channel);
+  keys.insert(key);
+  return true;
 }
 
 void StepGate::onAck(const std::string& participant, std::int64_t step,

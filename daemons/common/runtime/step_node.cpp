@@ -1,5 +1,7 @@
 #include "runtime/step_node.hpp"
 
+#include "runtime/log.hpp"
+
 namespace coopnav {
 
 StepNode::StepNode(Runtime& runtime, StepNodeOptions options)
@@ -7,11 +9,29 @@ StepNode::StepNode(Runtime& runtime, StepNodeOptions options)
       options_(std::move(options)),
       gate_(runtime,
             StepGateOptions{options_.requirements, options_.timeout, options_.wait_for_unseen}),
-      outputs_(runtime) {}
+      outputs_(runtime),
+      step_guard_(runtime.limits().max_pending_steps, runtime.limits().time_resync_messages) {}
 
 bool StepNode::repeated(std::int64_t step, const std::vector<std::uint8_t>& bytes) {
   if (options_.repeat == StepNodeOptions::Repeat::kStepNumber) {
-    if (step <= last_opened_) return true;
+    const bool same = step == last_opened_;
+    switch (step_guard_.offer(step)) {
+      case JumpGuard::Verdict::kJump:
+        throw RejectedMessage("step " + std::to_string(step) + " is more than " +
+                              std::to_string(runtime_.limits().max_pending_steps) +
+                              " steps from the last opened " + std::to_string(last_opened_) +
+                              " (limits.max_pending_steps)");
+      case JumpGuard::Verdict::kBackwards:
+        return true;
+      case JumpGuard::Verdict::kResynced:
+        log().warn("{}: steps go on from {} (last opened {}): a new run", runtime_.name(), step,
+                   last_opened_);
+        last_opened_ = step;
+        return false;
+      case JumpGuard::Verdict::kAccepted:
+        break;
+    }
+    if (same) return true;
     last_opened_ = step;
     return false;
   }

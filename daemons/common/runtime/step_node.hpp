@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_gate.hpp"
 #include "runtime/step_outputs.hpp"
@@ -152,6 +153,9 @@ class StepNode {
   StepGate gate_;
   StepOutputs outputs_;
   std::int64_t last_opened_{-1};
+  /// kStepNumber: the opened steps' sequence; a step far from it is refused, not taken as the
+  /// newest (one message of step 2^62 would make every later step a repeat).
+  JumpGuard step_guard_;
   std::map<std::int64_t, std::uint64_t> opened_hash_;  ///< kSameBytes: per step, its bytes' hash
   std::deque<Unacked> unacked_;    ///< lockstep steps started and not yet acknowledged, in order
   std::uint64_t first_serial_{0};  ///< serial of unacked_.front()
@@ -175,6 +179,10 @@ void StepNode::open(const std::string& participant, const std::string& channel, 
       answerRepeat(step);
       return;
     }
+    // A run has one step in flight, a few when a peer is slow: a queue beyond the cap is a flood.
+    if (static_cast<std::int64_t>(gate_.pending()) >= runtime_.limits().max_pending_steps)
+      throw RejectedMessage(std::to_string(gate_.pending()) +
+                            " steps wait already (limits.max_pending_steps)");
     gate_.noteReceived(participant, channel, step, "open");
   }
   Work work;

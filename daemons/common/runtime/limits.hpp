@@ -1,0 +1,57 @@
+#pragma once
+/// @file The caps every daemon puts on what a bus peer can make it hold or do: one struct, read
+/// under the key `limits` of every daemon's config, its in-class values the only defaults. The
+/// table of these keys, their defaults and what each bounds is in docs/bad-inputs.md ("Caps").
+///
+/// Why caps at all: a peer on the bus is not trusted to be well-behaved (a broken tracker, a
+/// stale log replayed into a live run, a hostile publisher). Every message's work and every
+/// piece of state a message can create is bounded here, so that a daemon's memory and time stay
+/// within what the robot's computer has whatever it is sent.
+
+#include <cstdint>
+
+#include "config/config.hpp"
+
+namespace coopnav {
+
+struct InputLimits {
+  /// [s] A message stamped more than this after the time the daemon has from earlier messages is
+  /// rejected and does not move that time (a clock pinned at INT64_MAX would drop everything
+  /// after it). 60 s: far beyond any pause of a live run or a lockstep step (0.1 s).
+  double max_time_jump_s{60.0};
+  /// Consecutive messages that agree with each other but not with the daemon's time (a jump
+  /// over max_time_jump_s either way) after which the daemon takes their time as its own: a new
+  /// run, a restarted simulator, or a clock that one bad message had set.
+  int time_resync_messages{3};
+  /// Per-id state (humans, reference paths, dialogue threads) kept at most for this many ids;
+  /// beyond it the least recently heard id is forgotten first. 256 = 4x the wire's 64 humans.
+  int max_ids{256};
+  /// [s] Per-id state not refreshed for this long (message time) is forgotten.
+  double forget_after_s{60.0};
+  /// Lockstep steps ahead of the last completed one that a step gate keeps inputs for; a
+  /// message for a step further ahead is rejected (a run advances one step at a time).
+  int max_pending_steps{256};
+  /// [bytes] Longest text from a message (a reason, a name) a daemon keeps or logs; longer text
+  /// is cut with "...". Logged text is escaped (control characters as \xNN) in any case.
+  int max_text_bytes{1024};
+  /// Log lines per second one line's pattern (its text with digits removed) may write; the rest
+  /// are counted and reported once a second as "suppressed N lines like: ...".
+  int log_lines_per_s{20};
+  /// [MiB] Restart journal (--state-dir) size beyond which the journal stops growing: the daemon
+  /// says so (DEGRADED) and a restart after that point loses its state, never the disk.
+  int journal_max_mib{256};
+
+  template <class V>
+  void visit(V& v) {
+    v("max_time_jump_s", max_time_jump_s, Range{0.001, 1e6});
+    v("time_resync_messages", time_resync_messages, Range{2, 1000});
+    v("max_ids", max_ids, Range{1, 100000});
+    v("forget_after_s", forget_after_s, Range{0.1, 1e6});
+    v("max_pending_steps", max_pending_steps, Range{1, 100000});
+    v("max_text_bytes", max_text_bytes, Range{16, 1 << 20});
+    v("log_lines_per_s", log_lines_per_s, Range{1, 100000});
+    v("journal_max_mib", journal_max_mib, Range{1, 1 << 20});
+  }
+};
+
+}  // namespace coopnav

@@ -10,6 +10,7 @@
 #include "coopnav/distance_request_t.hpp"
 #include "maps/map_source.hpp"
 #include "runtime/runtime.hpp"
+#include "runtime/limits.hpp"
 
 namespace coopnav {
 
@@ -21,11 +22,15 @@ struct ObstacleDistanceServerConfig {
   /// Queries asking for more range than this are clamped to it [m].
   double max_range_cap_m{50.0};
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     map.visit(v);  // its keys at the top level of this YAML
     v("write_bt_path", write_bt_path);
     v("max_range_cap_m", max_range_cap_m, Range{0.1, 1000.0});
+    v("limits", limits);
   }
   void resolvePaths(const std::string& base_dir);
 };

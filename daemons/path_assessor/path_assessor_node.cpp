@@ -1,5 +1,7 @@
 #include "path_assessor_node.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "coopnav/path_assessment_t.hpp"
@@ -7,10 +9,25 @@
 #include "wire/assessment.hpp"
 
 namespace coopnav {
+namespace {
+
+/// Text from a message cut to `max_bytes` (at a UTF-8 character boundary) plus "...": what this
+/// daemon keeps of a peer's text (limits.max_text_bytes).
+std::string cutText(std::string text, int max_bytes) {
+  const auto max = static_cast<std::size_t>(std::max(max_bytes, 0));
+  if (text.size() <= max) return text;
+  std::size_t end = max;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0u) == 0x80u) --end;
+  text.resize(end);
+  return text + "...";
+}
+
+}  // namespace
 
 PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),
+      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       // Step k assesses after every recorder control of k-1 and every reference path up to k-1
       // are here (a lost one holds the step until the world publishes it again).
       steps_(runtime, StepNodeOptions{{{"dialogue_manager", -1, {channels::kPathAssessorControl}},
@@ -35,12 +52,82 @@ const assessment::PathRecorder* PathAssessorNode::recorder(std::int32_t human_id
   return it == humans_.end() || !it->second.seen_in_states ? nullptr : &it->second.recorder;
 }
 
+std::size_t PathAssessorNode::referencePathsKept() const {
+  std::size_t n = 0;
+  for (const auto& [id, h] : humans_) n += h.references.size();
+  return n;
+}
+
 PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
-  if (it == humans_.end())
-    it = humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, false})
-             .first;
+  if (it == humans_.end()) {
+    Human h{assessment::PathRecorder(config_.recorderConfig()), {}, false};
+    h.recency = recency_.insert(recency_.end(), id);
+    h.heard_utime = clock_.now().value_or(0);
+    it = humans_.emplace(id, std::move(h)).first;
+  }
   return it->second;
+}
+
+void PathAssessorNode::hear(Human& h) {
+  h.heard_utime = clock_.now().value_or(0);
+  recency_.splice(recency_.end(), recency_, h.recency);
+}
+
+void PathAssessorNode::offerTime(std::int64_t utime, const char* what) {
+  switch (clock_.offer(utime)) {
+    case MessageClock::Verdict::kJump:
+      // One message stamped INT64_MAX must not become the time base (every later observation
+      // would be "before" it and ignored) nor age every human out.
+      throw RejectedMessage(std::string(what) + ": " + clock_.describe(utime) +
+                            " (over limits.max_time_jump_s)");
+    case MessageClock::Verdict::kResynced:
+      // A new time line (a new run, a restarted simulator, or a clock one bad first message had
+      // set): the recorders' times are on the old one and cannot be compared with it.
+      log().info(
+          "path_assessor: message time resynced to {}: forgetting the {} humans of the previous "
+          "time",
+          utime, humans_.size());
+      humans_.clear();
+      recency_.clear();
+      base_utime_ = utime;
+      ++time_line_;
+      break;
+    case MessageClock::Verdict::kAccepted:
+      if (!base_utime_) base_utime_ = utime;
+      break;
+    case MessageClock::Verdict::kBackwards:  // as before: each recorder ignores what is not new
+      break;
+  }
+}
+
+void PathAssessorNode::forgetHumans() {
+  if (!clock_.now()) return;
+  // A human not heard of for limits.forget_after_s (a minute) of message time has left (the
+  // dialogue manager ended its interaction long before), and ids beyond limits.max_ids are a
+  // flood: kept, recorders and paths grew with every id ever sent (docs/soak.md).
+  const InputLimits& limits = runtime_.limits();
+  const std::int64_t now_utime = *clock_.now();
+  std::size_t aged = 0;
+  std::size_t over = 0;
+  while (!recency_.empty()) {
+    const auto it = humans_.find(recency_.front());
+    if (utimeDiffSeconds(now_utime, it->second.heard_utime) <= limits.forget_after_s) break;
+    humans_.erase(it);
+    recency_.pop_front();
+    ++aged;
+  }
+  const auto max_ids = static_cast<std::size_t>(std::max(limits.max_ids, 1));
+  while (humans_.size() > max_ids) {
+    humans_.erase(recency_.front());
+    recency_.pop_front();
+    ++over;
+  }
+  if (aged + over > 0)
+    log().info(
+        "path_assessor: forgot {} humans ({} not heard of for {} s, {} beyond limits.max_ids = "
+        "{})",
+        aged + over, aged, limits.forget_after_s, over, max_ids);
 }
 
 double PathAssessorNode::seconds(std::int64_t utime) {
@@ -51,29 +138,40 @@ double PathAssessorNode::seconds(std::int64_t utime) {
 void PathAssessorNode::onReferencePaths(const reference_paths_t& msg) {
   steps_.input("band_source", channels::kReferencePaths, msg.step, "refs", [&] {
     const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
+    offerTime(paths.utime, "reference paths");  // throws RejectedMessage on a jump
     for (auto& e : paths.paths) {
       Human& h = human(e.agent_id);
+      // Only a human not (yet) in the agent states is kept alive by its paths: one the tracker
+      // lost is forgotten a minute later even if the band source still names it.
+      if (!h.seen_in_states) hear(h);
       if (e.path.empty()) continue;  // nothing to measure CA against; keep the previous one
       h.references[paths.step] = e.path;
-      // The START of a step still waiting needs at most the paths of a few steps back.
-      while (h.references.size() > 16) h.references.erase(h.references.begin());
+      while (h.references.size() > kReferencesPerHuman) h.references.erase(h.references.begin());
     }
+    forgetHumans();
   });
 }
 
 void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
-  steps_.input("dialogue_manager", channels::kPathAssessorControl, msg.step,
-               std::to_string(msg.human_id) + "/" + std::to_string(msg.command), [&] {
-                 const RecorderControl c = fromLcm(msg);  // throws RejectedMessage (command)
-                 if (c.step >= 0) {
-                   // Lockstep: applied at the start of step c.step + 1, in the gate's order, so
-                   // that a control re-sent after a loss has the effect it would have had.
-                   controls_.push_back(c);
-                   return;
-                 }
-                 applyControl(c);
-               });
+  steps_.input(
+      "dialogue_manager", channels::kPathAssessorControl, msg.step,
+      std::to_string(msg.human_id) + "/" + std::to_string(msg.command), [&] {
+        RecorderControl c = fromLcm(msg);  // throws RejectedMessage (command)
+        c.reason = cutText(std::move(c.reason), runtime_.limits().max_text_bytes);
+        if (c.step >= 0) {
+          // A dialogue manager sends at most a few controls per human and step, and
+          // they wait one step: more than limits.max_ids waiting is a flood.
+          if (controls_.size() >= static_cast<std::size_t>(std::max(runtime_.limits().max_ids, 1)))
+            throw RejectedMessage(std::to_string(controls_.size()) +
+                                  " recorder controls wait already (limits.max_ids)");
+          // Lockstep: applied at the start of step c.step + 1, in the gate's order, so
+          // that a control re-sent after a loss has the effect it would have had.
+          controls_.push_back(std::move(c));
+          return;
+        }
+        applyControl(c);
+      });
 }
 
 void PathAssessorNode::applyControlsBefore(std::int64_t step) {
@@ -98,8 +196,13 @@ void PathAssessorNode::applyControlsBefore(std::int64_t step) {
 
 void PathAssessorNode::applyControl(const RecorderControl& c) {
   const auto it = humans_.find(c.human_id);
-  if (it == humans_.end() || !it->second.seen_in_states || !base_utime_)
+  if (it == humans_.end() || !it->second.seen_in_states || !base_utime_ || !clock_.now())
     throw DroppedMessage("control for unknown human id " + std::to_string(c.human_id));
+  // Stamped far off the agent states' time, it would start or stop a recorder at a time its
+  // observations never reach (a START at INT64_MAX: no sample ever after).
+  if (std::fabs(utimeDiffSeconds(c.utime, *clock_.now())) > runtime_.limits().max_time_jump_s)
+    throw RejectedMessage("control for human " + std::to_string(c.human_id) + ": " +
+                          clock_.describe(c.utime) + " (over limits.max_time_jump_s)");
   Human& h = it->second;
   const double t_s = seconds(c.utime);
   switch (c.command) {
@@ -137,7 +240,16 @@ void PathAssessorNode::applyControl(const RecorderControl& c) {
 void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
   steps_.open("world_sim", channels::kAgentStates, msg, [&]() -> StepNode::Work {
     const AgentStatesSnapshot states = fromLcm(msg);  // throws RejectedMessage
-    return [this, states](StepNode::Step& step) {
+    offerTime(states.utime, "agent states");          // throws RejectedMessage on a jump
+    return [this, states, time_line = time_line_](StepNode::Step& step) {
+      if (time_line != time_line_) {
+        // Accepted on a time line abandoned since (a resync while this step waited): its
+        // observations would pin the new recorders to the old time.
+        runtime_.countDropped();
+        log().info("path_assessor: step {} dropped: its time {} is from before a time resync",
+                   states.step, states.utime);
+        return;
+      }
       if (step.degraded())
         log().warn(
             "path_assessor: step {} assessed without {}'s ack: its recorder controls may "
@@ -152,21 +264,10 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
   applyControlsBefore(states.step);
   runtime_.noteLogicTime(states.utime);
   const double t_s = seconds(states.utime);
-  // A human absent for a minute of message time has left (the dialogue manager ended its
-  // interaction long before): its recorder is forgotten, so that memory does not grow with
-  // every person the robot ever met (docs/soak.md).
-  for (const AgentState& a : states.humans) last_seen_utime_[a.id] = states.utime;
-  for (auto it = last_seen_utime_.begin(); it != last_seen_utime_.end();) {
-    if (utimeDiffSeconds(states.utime, it->second) > kForgetHumanAfter_s) {
-      humans_.erase(it->first);
-      it = last_seen_utime_.erase(it);
-    } else {
-      ++it;
-    }
-  }
   const Eigen::Vector2d robot_m = states.robot.pose.position();
   for (const AgentState& a : states.humans) {
     Human& h = human(a.id);
+    hear(h);
     h.seen_in_states = true;
     // Paper §II-C: one observation; the recorder samples CA on its fixed grid from these.
     if (!h.recorder.observe(t_s, a.pose.position(), robot_m))
@@ -184,6 +285,8 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
     rec.tau_m = config_.recorder.tau_m;
     step.publish(channels::kPathAssessment, toLcm(rec));
   }
+  // After the step's humans are heard: those absent for a minute are forgotten now.
+  forgetHumans();
 }
 
 }  // namespace coopnav

@@ -6,6 +6,7 @@
 /// step k-1, so the controls it issued at k-1 are applied first (docs/lockstep.md).
 
 #include <cstdint>
+#include <list>
 #include <map>
 #include <optional>
 #include <string>
@@ -16,6 +17,8 @@
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
+#include "runtime/limits.hpp"
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_node.hpp"
 #include "wire/assessment.hpp"
@@ -29,6 +32,9 @@ struct PathAssessorNodeConfig {
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     v("sample_period_s", recorder.sample_period_s, Range{1e-3, 10.0});
@@ -37,6 +43,7 @@ struct PathAssessorNodeConfig {
     v("side_deadband_m", recorder.side_deadband_m, Range{0.0, 5.0});
     v("history_s", recorder.history_s, Range{0.0, 60.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
+    v("limits", limits);
   }
 
   const assessment::PathAssessorConfig& recorderConfig() const { return recorder; }
@@ -49,6 +56,12 @@ class PathAssessorNode {
 
   /// The recorder of a human, nullptr if that human was never seen (tests, diagnostics).
   const assessment::PathRecorder* recorder(std::int32_t human_id) const;
+  /// Humans with state kept (seen in agent states or named by a reference path; at most
+  /// limits.max_ids between messages), and their reference paths in all (tests, diagnostics).
+  std::size_t humansKept() const { return humans_.size(); }
+  std::size_t referencePathsKept() const;
+  /// Lockstep recorder controls waiting for their step (at most limits.max_ids).
+  std::size_t controlsWaiting() const { return controls_.size(); }
 
  private:
   struct Human {
@@ -57,7 +70,14 @@ class PathAssessorNode {
     /// uses the latest one published at or before j, whatever arrived since.
     std::map<std::int64_t, Path2> references;
     bool seen_in_states{false};
+    /// [utime] the clock when last heard of: in agent states, or (never seen there yet) in a
+    /// reference path. Ages the human out (limits.forget_after_s).
+    std::int64_t heard_utime{0};
+    std::list<std::int32_t>::iterator recency{};  ///< its place in recency_
   };
+  /// Reference paths kept per human, by step: the START of a step still waiting needs at most
+  /// the paths of a few steps back (the gate holds a step for one step of the dialogue manager).
+  static constexpr std::size_t kReferencesPerHuman = 16;
 
   void onAgentStates(const agent_states_t& msg);
   void onReferencePaths(const reference_paths_t& msg);
@@ -67,17 +87,31 @@ class PathAssessorNode {
   /// Lockstep: the controls of steps before `step`, in arrival order (each logged on failure).
   void applyControlsBefore(std::int64_t step);
   void assess(const AgentStatesSnapshot& states, StepNode::Step& step);
+  /// The state of human `id`, created if new; marked heard now (most recently heard last).
   Human& human(std::int32_t id);
-  /// [s] message time on the node's time base (utime of the first message seen), so the
+  void hear(Human& h);
+  /// Offers a message's utime to the clock: throws RejectedMessage on a jump, starts a new time
+  /// line on a resync (forgetting every human: their recorders' times are on the old one).
+  void offerTime(std::int64_t utime, const char* what);
+  /// Forgets humans not heard of for limits.forget_after_s of message time, then the least
+  /// recently heard beyond limits.max_ids; one log line for the lot. Only the forgotten are
+  /// visited (recency_ is in hearing order), so a message costs O(its humans + forgotten).
+  void forgetHumans();
+  /// [s] message time on the node's time base (the clock's first or resynced utime), so the
   /// recorder's grid arithmetic works on small numbers whatever the clock's epoch.
   double seconds(std::int64_t utime);
 
   Config config_;
   Runtime& runtime_;
   std::vector<RecorderControl> controls_;  ///< lockstep controls not yet applied
+  /// The time of agent states and reference paths (one time line: the band source stamps its
+  /// paths with the agent states' utime); messages stamped far off it are rejected.
+  MessageClock clock_;
   std::map<std::int32_t, Human> humans_;
+  std::list<std::int32_t> recency_;  ///< ids of humans_, least recently heard first
   std::optional<std::int64_t> base_utime_;
-  std::map<std::int32_t, std::int64_t> last_seen_utime_;  ///< per human: forget those gone
+  /// Time lines started (resyncs): work prepared on an earlier one is not run on this one.
+  std::uint64_t time_line_{0};
   StepNode steps_;  ///< last: steps still held when the node goes away are not acknowledged
 };
 

@@ -1,5 +1,6 @@
 #include "situation_assessor_node.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "coopnav/situation_t.hpp"
@@ -31,6 +32,17 @@ void prependReason(std::string& reason, const std::string& what) {
   reason = reason.empty() ? what : what + "; " + reason;
 }
 
+/// Text from a message cut to `max_bytes` (at a UTF-8 character boundary) plus "...": what this
+/// daemon keeps or republishes of a peer's text (limits.max_text_bytes).
+std::string cutText(std::string text, int max_bytes) {
+  const auto max = static_cast<std::size_t>(std::max(max_bytes, 0));
+  if (text.size() <= max) return text;
+  std::size_t end = max;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0u) == 0x80u) --end;
+  text.resize(end);
+  return text + "...";
+}
+
 }  // namespace
 
 SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runtime)
@@ -40,7 +52,8 @@ SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runt
       crossing_config_(config.crossingConfig()),
       client_(runtime, "situation_assessor",
               DistanceClient::Options{std::chrono::milliseconds(config.distance_timeout_ms),
-                                      config.distance_attempts}) {
+                                      config.distance_attempts}),
+      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
   // Lockstep: the bands of step k are assessed with every reference path published up to k (a
   // lost one holds the step until the world publishes it again). Without a band source that
   // acknowledges (a log replay), nothing is waited for.
@@ -75,6 +88,27 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
 
 void SituationAssessorNode::storeReferencePaths(const reference_paths_t& msg) {
   const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
+  switch (clock_.offer(paths.utime)) {
+    case MessageClock::Verdict::kJump:
+      // One message stamped INT64_MAX must not make every later path look stale, nor keep its
+      // paths for ever (they would age against its own time).
+      throw RejectedMessage("reference paths: " + clock_.describe(paths.utime) +
+                            " (over limits.max_time_jump_s)");
+    case MessageClock::Verdict::kResynced:
+      // A new time line (a new run, a restarted band source, or a clock one bad message had
+      // set): paths stamped on the old one can be neither compared nor aged against it.
+      log().info(
+          "situation_assessor: reference paths' time resynced to {}: forgetting the {} paths "
+          "stored on the previous time",
+          paths.utime, references_.size());
+      references_.clear();
+      recency_.clear();
+      break;
+    case MessageClock::Verdict::kBackwards:  // reordered: stored, the revision check decides
+    case MessageClock::Verdict::kAccepted:
+      break;
+  }
+  const std::int64_t now_utime = *clock_.now();
   for (const auto& e : paths.paths) {
     auto it = references_.find(e.agent_id);
     if (it != references_.end() && e.revision < it->second.revision) {
@@ -91,18 +125,47 @@ void SituationAssessorNode::storeReferencePaths(const reference_paths_t& msg) {
           "{} (band source restarted?)",
           e.agent_id, it->second.revision, e.revision);
     }
-    references_[e.agent_id] = Reference{e.revision, paths.utime, e.path};
-  }
-  // The band source republishes every known human's path each second: a path not refreshed for
-  // a minute of message time belongs to someone who left. Forgetting it keeps a long-running
-  // assessor's memory bounded (it grew with every person ever met; docs/soak.md).
-  for (auto it = references_.begin(); it != references_.end();) {
-    if (utimeDiffSeconds(paths.utime, it->second.utime) > kForgetHumanAfter_s) {
-      it = references_.erase(it);
+    if (it == references_.end()) {
+      it = references_.emplace(e.agent_id, Reference{}).first;
+      it->second.recency = recency_.insert(recency_.end(), e.agent_id);
     } else {
-      ++it;
+      recency_.splice(recency_.end(), recency_, it->second.recency);
     }
+    Reference& r = it->second;
+    r.revision = e.revision;
+    r.utime = paths.utime;
+    r.path = e.path;
+    r.heard_utime = now_utime;
   }
+  forgetReferences();
+}
+
+void SituationAssessorNode::forgetReferences() {
+  // The band source republishes every known human's path each second: a path not refreshed for
+  // limits.forget_after_s (a minute) of message time belongs to someone who left, and ids beyond
+  // limits.max_ids are a flood. Kept, they grew with every id ever sent (docs/soak.md).
+  const InputLimits& limits = runtime_.limits();
+  const std::int64_t now_utime = *clock_.now();
+  std::size_t aged = 0;
+  std::size_t over = 0;
+  while (!recency_.empty()) {
+    const auto it = references_.find(recency_.front());
+    if (utimeDiffSeconds(now_utime, it->second.heard_utime) <= limits.forget_after_s) break;
+    references_.erase(it);
+    recency_.pop_front();
+    ++aged;
+  }
+  const auto max_ids = static_cast<std::size_t>(std::max(limits.max_ids, 1));
+  while (references_.size() > max_ids) {
+    references_.erase(recency_.front());
+    recency_.pop_front();
+    ++over;
+  }
+  if (aged + over > 0)
+    log().info(
+        "situation_assessor: forgot the reference paths of {} humans ({} not republished for "
+        "{} s, {} beyond limits.max_ids = {})",
+        aged + over, aged, limits.forget_after_s, over, max_ids);
 }
 
 void SituationAssessorNode::onBands(const bands_t& msg) {
@@ -198,7 +261,8 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
   waiting_.pop_front();
   if (outcome) {
     if (!outcome->ok) {
-      runtime_.setDegraded("distance server: " + outcome->error);
+      runtime_.setDegraded("distance server: " +
+                           cutText(outcome->error, runtime_.limits().max_text_bytes));
       log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", done.step.step(),
                  outcome->error);
     } else {
@@ -222,7 +286,8 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
           reason = reason.empty() ? r : reason + "; " + r;
         }
       } else {
-        prependReason(reason, "distance server: " + outcome->error);
+        prependReason(reason, "distance server: " +
+                                  cutText(outcome->error, runtime_.limits().max_text_bytes));
       }
     }
     const auto ref = references_.find(w.id);

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +22,8 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "distance_client/distance_client.hpp"
+#include "runtime/limits.hpp"
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_node.hpp"
 #include "wire/conversions.hpp"
@@ -44,6 +47,9 @@ struct SituationAssessorConfig {
   /// reference paths it published for k) before they are assessed without it (liveness only).
   int gate_timeout_ms{2000};
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     v("tau_h_m", situation.tau_h_m, Range{0.0, 10.0});
@@ -56,11 +62,14 @@ struct SituationAssessorConfig {
     v("grid_dt_s", crossing.grid_dt_s, Range{1e-3, 1.0});
     v("dir_tolerance_m", crossing.dir_tolerance_m, Range{0.0, 1.0});
     v("dir_lookahead_s", crossing.dir_lookahead_s, Range{0.0, 30.0});
+    v("max_band_span_s", crossing.max_band_span_s, Range{1.0, 86400.0});
+    v("max_grid_points", crossing.max_grid_points, Range{2, 10000000});
     v("query_range_m", query_range_m, Range{0.1, 100.0});
     v("distance_timeout_ms", distance_timeout_ms, Range{1, 5000});
     v("distance_attempts", distance_attempts, Range{1, 10});
     v("free_running_queue_max", free_running_queue_max, Range{1, 1000});
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
+    v("limits", limits);
   }
 
   const assessment::SituationThresholds& thresholds() const { return situation; }
@@ -74,6 +83,8 @@ class SituationAssessorNode {
 
   /// Bands messages received and not yet published (the head may be waiting for distances).
   std::size_t queued() const { return waiting_.size(); }
+  /// Humans whose reference path is kept (at most limits.max_ids; tests, diagnostics).
+  std::size_t referencesKept() const { return references_.size(); }
 
  private:
   /// Bands whose step's work started, waiting in arrival order for their turn at the distance
@@ -84,8 +95,11 @@ class SituationAssessorNode {
   };
   struct Reference {
     std::int32_t revision{0};
-    std::int64_t utime{0};
+    std::int64_t utime{0};  ///< of the message that brought it (the stale-revision check)
     Path2 path;
+    /// [utime] the clock when it was last stored: ages it out (limits.forget_after_s).
+    std::int64_t heard_utime{0};
+    std::list<std::int32_t>::iterator recency{};  ///< its place in recency_
   };
   /// Per human of the job at the head of the queue, between the request and the answer.
   struct HumanWork {
@@ -99,6 +113,10 @@ class SituationAssessorNode {
   void onBands(const bands_t& msg);
   void onReferencePaths(const reference_paths_t& msg);
   void storeReferencePaths(const reference_paths_t& msg);
+  /// Forgets the reference paths not stored for limits.forget_after_s of message time, then the
+  /// least recently stored beyond limits.max_ids; one log line for the lot. Only the forgotten
+  /// are visited (recency_ is in storing order), so a message costs O(its paths + forgotten).
+  void forgetReferences();
   void enqueue(BandsToAssess bands);
   /// Assesses the waiting bands in order until one waits for the distance server.
   void assessWaiting();
@@ -109,7 +127,11 @@ class SituationAssessorNode {
   assessment::SituationThresholds thresholds_;
   assessment::CrossingConfig crossing_config_;
   DistanceClient client_;
+  /// The reference paths' time (messages stamped far off it are rejected, not followed).
+  /// Bands keep no time: each is assessed on its own, whatever its stamp.
+  MessageClock clock_;
   std::map<std::int32_t, Reference> references_;
+  std::list<std::int32_t> recency_;  ///< ids of references_, least recently stored first
   std::deque<BandsToAssess> waiting_;
   bool busy_{false};  ///< the head of waiting_ waits for its distance answers
   std::vector<HumanWork> work_;

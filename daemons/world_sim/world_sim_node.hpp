@@ -26,6 +26,7 @@
 #include "runtime/step_outputs.hpp"
 #include "scenario.hpp"
 #include "wire/conversions.hpp"
+#include "runtime/limits.hpp"
 
 namespace coopnav {
 
@@ -53,6 +54,9 @@ struct WorldSimConfig {
   /// their anticipated other (defaults: lib/include/coopnav/band/band_config.hpp).
   BandPlannerConfigYaml human_planner;
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     v("scenario", scenario);
@@ -63,6 +67,7 @@ struct WorldSimConfig {
     v("retransmit_period_s", retransmit_period_s, Range{0.0, 3600.0});
     v("human_planner", human_planner);
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
+    v("limits", limits);
   }
   void resolvePaths(const std::string& base_dir);
 };

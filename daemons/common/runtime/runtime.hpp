@@ -135,6 +135,10 @@ class Runtime {
   void setDegraded(const std::string& detail);
   void setRunning(const std::string& detail = "");
 
+  /// The state and detail the next status message reports (daemon_status_t::STATE_*).
+  std::int8_t state() const { return state_; }
+  const std::string& detail() const { return detail_; }
+
   /// Records the message time of the latest input processed (reported in the status).
   void noteLogicTime(std::int64_t utime) { last_logic_utime_ = utime; }
 

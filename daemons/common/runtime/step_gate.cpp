@@ -66,9 +66,14 @@ bool StepGate::noteReceived(const std::string& participant, const std::string& c
                           std::to_string(p.last_ack) + " (limits.max_pending_steps)");
   auto step_it = p.received.find(step);
   if (step_it == p.received.end()) {
-    if (static_cast<std::int64_t>(p.received.size()) >= max_ahead + kKeepSteps)
-      throw RejectedMessage("inputs of " + std::to_string(p.received.size()) + " steps of " +
-                            participant + " are held already (limits.max_pending_steps)");
+    if (static_cast<std::int64_t>(p.received.size()) >= max_ahead + kKeepSteps) {
+      // A peer that never acknowledged (a log replay, a peer not started) prunes nothing: its
+      // oldest steps go. A peer that acks holds only its in-flight steps here: more is a flood.
+      if (p.last_ack >= 0)
+        throw RejectedMessage("inputs of " + std::to_string(p.received.size()) + " steps of " +
+                              participant + " are held already (limits.max_pending_steps)");
+      p.received.erase(p.received.begin());
+    }
     step_it = p.received.emplace(step, std::map<std::string, std::set<std::string>>{}).first;
   }
   auto& keys = step_it->second[channel];

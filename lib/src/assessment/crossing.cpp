@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "coopnav/geometry/geometry.hpp"
 
@@ -16,6 +18,22 @@ Side sideOf(double lateral_m, double tolerance_m) {
   if (lateral_m > tolerance_m) return Side::kLeft;
   if (lateral_m < -tolerance_m) return Side::kRight;
   return Side::kUndefined;
+}
+
+// A number for a reason: up to 10 digits as such, beyond in exponent form ("1e+300").
+std::string number(double x) {
+  std::ostringstream out;
+  out << std::setprecision(10) << x;
+  return out.str();
+}
+
+// "" when the band's time span is within config.max_band_span_s, else why not. Precondition:
+// validateBand(band) == "" (finite, increasing times).
+std::string checkSpan(const Band& band, const CrossingConfig& config) {
+  const double span_s = band.poses.back().t_s - band.poses.front().t_s;  // may be +inf
+  if (span_s <= config.max_band_span_s) return "";
+  return "band spans " + number(span_s) + " s, more than max_band_span_s (" +
+         number(config.max_band_span_s) + " s)";
 }
 
 }  // namespace
@@ -90,23 +108,45 @@ CrossingInfo computeCrossing(const Band& robot_band, const Band& human_band,
     info.reason = "human " + why;
     return info;
   }
+  if (std::string why = checkSpan(robot_band, config); !why.empty()) {
+    info.reason = "robot " + why;
+    return info;
+  }
+  if (std::string why = checkSpan(human_band, config); !why.empty()) {
+    info.reason = "human " + why;
+    return info;
+  }
   const double t_lo_s = std::max(robot_band.poses.front().t_s, human_band.poses.front().t_s);
   const double t_hi_s = std::min(robot_band.poses.back().t_s, human_band.poses.back().t_s);
-  if (!(t_hi_s > t_lo_s)) {
+  // An overlap within the merging tolerance would leave a grid of one point (the end alone),
+  // with no "previous point" for the closing test below.
+  if (!(t_hi_s - t_lo_s > kTimeEps_s)) {
     info.reason = "bands share no time span";
     return info;
   }
 
   // Common time grid: t_lo + k dt, closed by the overlap end itself (CoHAN pairs poses by index,
-  // which is wrong as soon as the bands' ΔT differ: band-planner.md §7).
+  // which is wrong as soon as the bands' ΔT differ: band-planner.md §7). Its size is bounded
+  // before it is allocated: first about, in double (a span of 10^300 s must not overflow an
+  // integer), then exactly while it is built.
+  const auto max_points = static_cast<std::size_t>(std::max(config.max_grid_points, 2));
+  const double about_points = std::floor((t_hi_s - kTimeEps_s - t_lo_s) / config.grid_dt_s) + 2.0;
+  const auto over_cap = [&] {
+    info.reason = "the common time grid would have " + number(about_points) +
+                  " points, more than max_grid_points (" + std::to_string(max_points) + ")";
+    return info;
+  };
+  if (!(about_points <= static_cast<double>(max_points) + 1.0)) return over_cap();
   std::vector<double> grid_t_s;
-  for (long k = 0;; ++k) {
+  grid_t_s.reserve(std::min(static_cast<std::size_t>(about_points), max_points));
+  for (std::size_t k = 0;; ++k) {
     const double t = t_lo_s + static_cast<double>(k) * config.grid_dt_s;
     if (t > t_hi_s - kTimeEps_s) break;
+    if (grid_t_s.size() + 1 >= max_points) return over_cap();  // no room left for the end point
     grid_t_s.push_back(t);
   }
   grid_t_s.push_back(t_hi_s);
-  info.grid_size = static_cast<int>(grid_t_s.size());
+  info.grid_size = static_cast<int>(grid_t_s.size());  // <= max_grid_points, an int
 
   // Paper §II-B, crossing info: i* = argmin_i ||R(t_i) - H(t_i)|| (first minimum on ties).
   std::vector<double> dist_m(grid_t_s.size());

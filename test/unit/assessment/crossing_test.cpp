@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 
 namespace coopnav::assessment {
 namespace {
@@ -141,6 +143,92 @@ TEST(Crossing, BadBandsAreRejectedWithAReason) {
   CrossingConfig bad_dt;
   bad_dt.grid_dt_s = 0.0;
   EXPECT_EQ(computeCrossing(good, good, bad_dt).status, CrossingStatus::kBadBands);
+}
+
+// Two 2-pose bands whose poses span `span_s`, crossing at mid-span.
+std::pair<Band, Band> twoPoseBands(double span_s) {
+  Band robot;
+  robot.poses.push_back({0.0, {0, 0, 0}});
+  robot.poses.push_back({span_s, {10, 0, 0}});
+  Band human;
+  human.poses.push_back({0.0, {10, 1, M_PI}});
+  human.poses.push_back({span_s, {0, 1, M_PI}});
+  return {robot, human};
+}
+
+void expectBadBandsNaming(const CrossingInfo& c, const std::string& cap) {
+  EXPECT_EQ(c.status, CrossingStatus::kBadBands);
+  EXPECT_EQ(c.grid_size, 0);
+  EXPECT_EQ(c.i_star, -1);
+  EXPECT_FALSE(c.t_cross_s.has_value());
+  EXPECT_EQ(c.dir, Side::kUndefined);
+  EXPECT_NE(c.reason.find(cap), std::string::npos) << c.reason;
+}
+
+TEST(Crossing, BandsSpanningTenMillionSecondsAreBadBandsWithoutBuildingTheGrid) {
+  // Unchecked, the common grid of these bands had 2*10^8 points (> 1.9 GB in the daemon).
+  const auto [robot, human] = twoPoseBands(1e7);
+  expectBadBandsNaming(computeCrossing(robot, human), "max_band_span_s");
+  expectBadBandsNaming(computeCrossing(human, robot), "max_band_span_s");
+  // One long band is enough, whichever it is: the other may be a normal one.
+  const Band normal = straightBand({0, 0}, {1, 0}, 0.1, 10.0);
+  const CrossingInfo c = computeCrossing(normal, human);
+  expectBadBandsNaming(c, "max_band_span_s");
+  EXPECT_NE(c.reason.find("human band spans 10000000 s"), std::string::npos) << c.reason;
+}
+
+TEST(Crossing, AGridOverMaxGridPointsIsBadBandsWhateverTheSpanCap) {
+  // The span cap lifted: the grid's own cap still holds, its size computed without an integer
+  // overflow for spans up to 10^300 s, and with the grid cap at its most too.
+  CrossingConfig no_span_cap;
+  no_span_cap.max_band_span_s = std::numeric_limits<double>::max();
+  for (const double span_s : {1e7, 1e12, 1e300}) {
+    SCOPED_TRACE(span_s);
+    const auto [robot, human] = twoPoseBands(span_s);
+    expectBadBandsNaming(computeCrossing(robot, human, no_span_cap), "max_grid_points");
+  }
+  CrossingConfig no_cap = no_span_cap;
+  no_cap.max_grid_points = std::numeric_limits<int>::max();
+  for (const double span_s : {1e12, 1e300}) {  // 2*10^13 points and more: over INT_MAX
+    SCOPED_TRACE(span_s);
+    const auto [robot, human] = twoPoseBands(span_s);
+    expectBadBandsNaming(computeCrossing(robot, human, no_cap), "max_grid_points");
+  }
+}
+
+TEST(Crossing, BandsAtTheCapsAreAssessedAndJustOverThemAreNot) {
+  // Default caps: a 600 s overlap at 0.05 s is 12001 points, assessed as any band.
+  const CrossingConfig defaults;
+  {
+    const auto [robot, human] = twoPoseBands(defaults.max_band_span_s);
+    const CrossingInfo c = computeCrossing(robot, human);
+    ASSERT_EQ(c.status, CrossingStatus::kOk) << c.reason;
+    EXPECT_EQ(c.grid_size, 12001);
+    EXPECT_NEAR(*c.t_cross_s, 300.0, 1e-6);
+    const auto [long_robot, long_human] = twoPoseBands(defaults.max_band_span_s + 0.01);
+    expectBadBandsNaming(computeCrossing(long_robot, long_human), "max_band_span_s");
+  }
+  // max_grid_points exactly the grid's size: assessed; one less: bad bands.
+  const Band robot = straightBand({0, 0}, {1, 0}, 0.1, 10.0);
+  const Band human = straightBand({10, 1}, {-1, 0}, 0.25, 10.0);
+  CrossingConfig exact;
+  exact.max_grid_points = 201;  // 10 s / 0.05 s + 1
+  EXPECT_EQ(computeCrossing(robot, human, exact).status, CrossingStatus::kOk);
+  EXPECT_EQ(computeCrossing(robot, human, exact).grid_size, 201);
+  CrossingConfig one_less = exact;
+  one_less.max_grid_points = 200;
+  expectBadBandsNaming(computeCrossing(robot, human, one_less), "max_grid_points");
+}
+
+TEST(Crossing, AnOverlapWithinTheMergingToleranceIsNoCommonSpan) {
+  // Overlap 10^-12 s: its grid would be the end point alone, with no step to judge closing on.
+  Band robot;
+  robot.poses.push_back({0.0, {0, 0, 0}});
+  robot.poses.push_back({1.0, {1, 0, 0}});
+  Band human;
+  human.poses.push_back({1.0 - 1e-12, {3, 1, M_PI}});
+  human.poses.push_back({5.0, {0, 1, M_PI}});
+  expectBadBandsNaming(computeCrossing(robot, human), "no time span");
 }
 
 TEST(Crossing, InterpolationOfHeadingTakesTheShorterArc) {

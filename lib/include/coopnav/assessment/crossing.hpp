@@ -33,6 +33,19 @@ struct CrossingConfig {
   double dir_lookahead_s{2.0};
   /// [m] decrease of distance over the last grid step that still counts as "closing".
   double closing_epsilon_m{1e-6};
+  /// [s] longest time span (last pose time - first pose time) a band may have; a longer band is
+  /// not a plan (kBadBands, reason naming this cap). Why: the common grid grows with the span
+  /// (one point per grid_dt_s), so an unchecked span is an unbounded allocation; two 2-pose
+  /// bands spanning 10^7 s asked for 2*10^8 points (> 1.9 GB). Planner bands cover a few seconds
+  /// to ~40 s (a stretched robot band); 600 s is the band planner's own limit on anticipated
+  /// horizons (other_horizon_s), so no band it may publish is refused.
+  double max_band_span_s{600.0};
+  /// Most points of the common time grid (overlap span / grid_dt_s, plus its end point); more is
+  /// kBadBands, checked before anything is allocated. Why: the grid costs 16 bytes and two band
+  /// interpolations per point, per human: 50000 points = 0.8 MB and ~6 ms a human, a bound on
+  /// what one message can cost whatever grid_dt_s is. The default grid of a 600 s overlap has
+  /// 12001 points; a 40 s band on the finest grid_dt_s (0.001 s) 40001.
+  int max_grid_points{50000};
 };
 
 /// Crossing info of one human band against the robot band.
@@ -52,7 +65,7 @@ struct CrossingInfo {
   Side dir{Side::kUndefined};
   /// True when Dir came from the fallback (robot band's later lateral motion), not from CP_r.
   bool dir_from_fallback{false};
-  /// Number of common grid points compared (0 for bad bands).
+  /// Number of common grid points compared (0 for bad bands; at most max_grid_points).
   int grid_size{0};
   /// Why the status is not kOk or Dir is undefined; "" otherwise.
   std::string reason;
@@ -69,7 +82,8 @@ Pose2 interpolateBand(const Band& band, double t_s);
 /// Computes the crossing info of one human band against the robot band (paper §II-B). Both bands
 /// are resampled on a common grid t_lo + k * grid_dt_s over their overlapping time span (plus its
 /// end point), so bands with different ΔT or pose counts are paired by time, never by index.
-/// Call once per human.
+/// A band spanning more than config.max_band_span_s, or a grid of more than
+/// config.max_grid_points, is kBadBands (checked before allocating). Call once per human.
 CrossingInfo computeCrossing(const Band& robot_band, const Band& human_band,
                              const CrossingConfig& config = {});
 

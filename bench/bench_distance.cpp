@@ -218,7 +218,7 @@ int main() {
       q.max_range_m = 5.0;
       qs.push_back(q);
     }
-    const auto req = toLcm(0, 1, "BENCH_DIST_REP", qs);
+    const auto req = toLcm(0, 1, "COOPNAV_DIST_REP_BENCH", qs);
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(req.getEncodedSize()));
     req.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
 
@@ -235,14 +235,14 @@ int main() {
     lcm::LCM lcm(kBenchUrl);
     // Warm up until both answer (the server loads its map first).
     for (int i = 0; i < 200; ++i) {
-      if (!roundTrips(lcm, channels::kDistanceRequest, "BENCH_DIST_REP", bytes, 1).empty() &&
+      if (!roundTrips(lcm, channels::kDistanceRequest, "COOPNAV_DIST_REP_BENCH", bytes, 1).empty() &&
           !roundTrips(lcm, "BENCH_ECHO_REQ", "BENCH_ECHO_REP", bytes, 1).empty())
         break;
     }
     // Interleaved rounds so load changes on this shared machine hit both alike.
     std::vector<double> server_us, echo_us;
     for (int round = 0; round < 20; ++round) {
-      auto s1 = roundTrips(lcm, channels::kDistanceRequest, "BENCH_DIST_REP", bytes, 50);
+      auto s1 = roundTrips(lcm, channels::kDistanceRequest, "COOPNAV_DIST_REP_BENCH", bytes, 50);
       auto e1 = roundTrips(lcm, "BENCH_ECHO_REQ", "BENCH_ECHO_REP", bytes, 50);
       server_us.insert(server_us.end(), s1.begin(), s1.end());
       echo_us.insert(echo_us.end(), e1.begin(), e1.end());

@@ -37,8 +37,8 @@ WORKERS="${COOPNAV_FUZZ_WORKERS:-1}"
 NICE=()
 INTERRUPTED=0
 TARGETS=(fuzz_lcm_band_source fuzz_lcm_situation_assessor fuzz_lcm_path_assessor
-  fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_run_log
-  fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
+  fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_lcm_sequence
+  fuzz_run_log fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
 
 fuzz_build() {
   command -v clang++-14 >/dev/null || {

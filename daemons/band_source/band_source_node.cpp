@@ -81,12 +81,26 @@ std::string idList(const std::set<std::int32_t>& ids) {
   return s;
 }
 
+/// `text` cut to at most `max_bytes` bytes ("..." included) at a UTF-8 character boundary: text
+/// from a message is kept only this long.
+std::string keptText(std::string text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  static constexpr char kEllipsis[] = "...";
+  std::size_t n = max_bytes >= sizeof kEllipsis - 1 ? max_bytes - (sizeof kEllipsis - 1) : 0;
+  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // a continuation
+  text.resize(n);
+  return text + kEllipsis;
+}
+
 }  // namespace
 
 void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePaths(base_dir); }
 
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
-    : config_(config), runtime_(runtime) {
+    : config_(config),
+      runtime_(runtime),
+      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
+      goals_clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
   map_ = loadDistanceField(config_.map, /*build_tree=*/false).field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
@@ -148,18 +162,38 @@ BandSourceNode::~BandSourceNode() {
       *std::max_element(all_plan_ms_.begin(), all_plan_ms_.end()));
 }
 
+const std::string& BandSourceNode::pendingActionReason() const {
+  static const std::string kNone;
+  return action_ ? action_->reason : kNone;
+}
+
 void BandSourceNode::onAgentStates(const agent_states_t& msg) {
   steps_->open("world_sim", channels::kAgentStates, msg, [&]() -> StepNode::Work {
     AgentStatesSnapshot s = fromLcm(msg);  // throws RejectedMessage
     for (const auto& h : s.humans)
       if (h.id == s.robot.id)
         throw RejectedMessage("human id " + std::to_string(h.id) + " is the robot's id");
+    switch (clock_.offer(s.utime)) {
+      case MessageClock::Verdict::kJump:
+        throw RejectedMessage("agent states " + clock_.describe(s.utime) +
+                              " (limits.max_time_jump_s)");
+      case MessageClock::Verdict::kBackwards:
+        throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
+                             std::to_string(*clock_.now()));
+      case MessageClock::Verdict::kResynced:
+        onResync(s.utime);
+        break;
+      case MessageClock::Verdict::kAccepted:
+        break;
+    }
     leaveOutFarHumans(s);
-    if (s.step >= 0) step_utime_[s.step] = s.utime;
-    if (last_utime_ && s.utime < *last_utime_)
-      throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
-                           std::to_string(*last_utime_));
-    last_utime_ = s.utime;
+    if (s.step >= 0) {
+      // Only the steps that will be planned (cycle() erases them); the harness holds at most
+      // max_pending_steps, and so does this map.
+      step_utime_[s.step] = s.utime;
+      while (step_utime_.size() > static_cast<std::size_t>(runtime_.limits().max_pending_steps))
+        step_utime_.erase(step_utime_.begin());
+    }
     runtime_.noteLogicTime(s.utime);
     if (s.step < 0) {
       // Free-running: at most control_hz by message time; the skipped ones are normal, not drops.
@@ -177,6 +211,18 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     }
     return [this, s](StepNode::Step& step) { cycle(s, step); };
   });
+}
+
+void BandSourceNode::onResync(std::int64_t utime) {
+  log().warn(
+      "band_source: agent states go on from utime {}: a new time base (throttle, "
+      "republication and planner-memory times restart from it)",
+      utime);
+  last_cycle_utime_.reset();
+  if (last_refs_utime_) last_refs_utime_ = utime;
+  if (planner_memory_check_utime_) planner_memory_check_utime_ = utime;
+  // The dock's hold timeout (dock.hold_timeout_s) is counted by the mode machine in message
+  // time: after a resync backwards a hold ends when the human passes or a RESUME comes.
 }
 
 void BandSourceNode::leaveOutFarHumans(AgentStatesSnapshot& s) const {
@@ -204,8 +250,16 @@ void BandSourceNode::planLatestFreeRunning() {
 
 void BandSourceNode::onGoals(const goals_t& msg) {
   GoalsSnapshot g = fromLcm(msg);  // throws RejectedMessage
-  // A repeat of an older step's goals never replaces newer ones.
-  if (goals_ && msg.utime < goals_->utime) return;
+  switch (goals_clock_.offer(msg.utime)) {
+    case MessageClock::Verdict::kJump:
+      throw RejectedMessage("goals " + goals_clock_.describe(msg.utime) +
+                            " (limits.max_time_jump_s)");
+    case MessageClock::Verdict::kBackwards:
+      return;  // a repeat of an older step's goals never replaces newer ones
+    case MessageClock::Verdict::kResynced:
+    case MessageClock::Verdict::kAccepted:
+      break;
+  }
   goals_ = std::move(g);  // full state: replaces the previous goals
   goal_utimes_.insert(msg.utime);
   while (goal_utimes_.size() > 64) goal_utimes_.erase(goal_utimes_.begin());
@@ -214,13 +268,17 @@ void BandSourceNode::onGoals(const goals_t& msg) {
 
 void BandSourceNode::onRobotAction(const robot_action_t& msg) {
   RobotActionMsg a = fromLcm(msg);  // throws RejectedMessage (unknown action, bad step)
+  // Kept (and logged) no longer than limits.max_text_bytes: 3000 actions with a 60 kB reason
+  // must not become 180 MB of memory or log.
+  a.reason =
+      keptText(std::move(a.reason), static_cast<std::size_t>(runtime_.limits().max_text_bytes));
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
   steps_->input(kDialogueParticipant, channels::kRobotAction, msg.step,
                 std::to_string(msg.action) + "/" + std::to_string(msg.human_id), [&] {
                   log().info("band_source: robot action {} for human {} at step {} ({})",
                              a.action == dialogue::RobotAction::kDock ? "DOCK" : "RESUME",
                              a.stamp.human_id, a.stamp.step, a.reason);
-                  actions_.push_back(std::move(a));
+                  action_ = std::move(a);
                 });
 }
 
@@ -260,12 +318,12 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   // --- the dialogue's actions since the last cycle; the latest one wins ---
   bool dock_req = false, resume_req = false;
   std::int32_t dock_for = -1;
-  for (const auto& a : actions_) {
-    dock_req = a.action == dialogue::RobotAction::kDock;
-    resume_req = a.action == dialogue::RobotAction::kResume;
-    if (dock_req) dock_for = a.stamp.human_id;
+  if (action_) {
+    dock_req = action_->action == dialogue::RobotAction::kDock;
+    resume_req = action_->action == dialogue::RobotAction::kResume;
+    if (dock_req) dock_for = action_->stamp.human_id;
   }
-  actions_.clear();
+  action_.reset();
 
   // --- mode: navigate / dock / hold / resume ---
   RobotMode mode = RobotMode::kNavigate;
@@ -368,6 +426,7 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
 
   // --- outputs, in the lockstep order: reference paths, bands, command ---
   publishReferencePaths(s, r, with_goal, step);
+  boundPlannerMemory(s, r);
 
   const bool idle = !robot_goal;
   const bool usable = r.status == PlanStatus::kOk || r.status == PlanStatus::kGoalReached;
@@ -436,6 +495,36 @@ void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const P
   }
   step.publish(channels::kReferencePaths, toLcm(out));
   last_refs_utime_ = s.utime;
+}
+
+void BandSourceNode::boundPlannerMemory(const AgentStatesSnapshot& s, const PlanResult& r) {
+  planner_ids_.insert(s.robot.id);
+  for (const auto& o : r.others) planner_ids_.insert(o.id);
+  if (!planner_memory_check_utime_) planner_memory_check_utime_ = s.utime;
+  const InputLimits& limits = runtime_.limits();
+  // The planner can only forget every id at once, and that re-plans the reference paths of the
+  // humans present from where they stand (a new d_h reference mid-interaction). So, at most once
+  // per forget_after_s of message time, ids no longer present are forgotten at the first cycle
+  // without a reference path to keep; more ids than max_ids (a flood of new ids) are forgotten
+  // at once whatever that costs.
+  std::size_t gone = 0;
+  const bool over = planner_ids_.size() > static_cast<std::size_t>(limits.max_ids);
+  if (!over) {
+    if (!refs_.empty() ||
+        utimeDiffSeconds(s.utime, *planner_memory_check_utime_) <= limits.forget_after_s)
+      return;
+    std::set<std::int32_t> here{s.robot.id};
+    for (const auto& h : s.humans) here.insert(h.id);
+    for (const auto id : planner_ids_) gone += here.count(id) ? 0 : 1;
+    planner_memory_check_utime_ = s.utime;  // checked at most once per forget_after_s
+    if (gone == 0) return;
+  }
+  log().info("band_source: planner memory of {} agents cleared ({})", planner_ids_.size(),
+             over ? "more than limits.max_ids"
+                  : std::to_string(gone) + " no longer present after limits.forget_after_s");
+  planner_->reset();
+  planner_ids_.clear();
+  planner_memory_check_utime_ = s.utime;
 }
 
 void BandSourceNode::notePlanTime(double ms) {

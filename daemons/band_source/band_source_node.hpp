@@ -22,6 +22,8 @@
 #include "coopnav/planning/dock.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "maps/map_source.hpp"
+#include "runtime/limits.hpp"
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_node.hpp"
 #include "wire/conversions.hpp"
@@ -51,6 +53,9 @@ struct BandSourceConfig {
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     map.visit(v);  // its keys at the top level of this YAML
@@ -61,6 +66,7 @@ struct BandSourceConfig {
     v("reference_paths_republish_s", reference_paths_republish_s, Range{0.0, 3600.0});
     v("dock", dock);
     v("planner", planner);
+    v("limits", limits);
   }
   void resolvePaths(const std::string& base_dir);
 };
@@ -80,6 +86,12 @@ class BandSourceNode {
 
   /// Planning cycles run so far (for tests).
   std::int64_t cycles() const { return cycles_; }
+  /// For tests: lockstep steps whose time is kept until they are planned.
+  std::size_t stepsKept() const { return step_utime_.size(); }
+  /// For tests: agent ids the planner may hold memory for (bands, paths).
+  std::size_t plannerIdsKept() const { return planner_ids_.size(); }
+  /// For tests: the reason of the robot action waiting for the next cycle ("" if none).
+  const std::string& pendingActionReason() const;
 
  private:
   struct RefPath {
@@ -88,6 +100,9 @@ class BandSourceNode {
   };
 
   void onAgentStates(const agent_states_t& msg);
+  /// The agent states' clock was resynchronised at `utime`: the times kept from the old time
+  /// base restart from it.
+  void onResync(std::int64_t utime);
   /// Free-running: plans the newest agent states received since the last cycle, if any.
   void planLatestFreeRunning();
   void onGoals(const goals_t& msg);
@@ -100,25 +115,36 @@ class BandSourceNode {
   void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
                              const std::set<std::int32_t>& with_goal, StepNode::Step& step);
   void notePlanTime(double ms);
+  /// Bounds the planner's per-agent memory (limits.max_ids, limits.forget_after_s).
+  void boundPlannerMemory(const AgentStatesSnapshot& states, const PlanResult& result);
 
   Config config_;
   Runtime& runtime_;
   std::shared_ptr<const GridDistanceField> map_;
   std::unique_ptr<DualBandPlanner> planner_;
   DockModeMachine modes_;
+  /// The agent states' time: a message stamped far from it is rejected and does not move it, so
+  /// one stamped INT64_MAX cannot make every later one "backwards" (docs/bad-inputs.md "Caps").
+  MessageClock clock_;
+  MessageClock goals_clock_;                         ///< the same for the goals
   std::map<std::int64_t, std::int64_t> step_utime_;  ///< utime of each step queued in the gate
   std::set<std::int64_t> goal_utimes_;               ///< utimes of the latest goals received
 
   std::optional<GoalsSnapshot> goals_;
-  std::vector<RobotActionMsg> actions_;        ///< robot actions not yet applied
+  /// The robot action to apply at the next cycle: of those received since the last one, the
+  /// latest wins.
+  std::optional<RobotActionMsg> action_;
   std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
-  std::optional<std::int64_t> last_utime_;     ///< latest agent-states utime accepted
   std::optional<std::int64_t> last_cycle_utime_;          ///< free-running throttle
   std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
   std::map<std::int32_t, RefPath> refs_;                  ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;
   std::set<std::int32_t> humans_unplanned_;  ///< beyond planner.max_planned_others
+  /// Agent ids planned since the planner's memory was last cleared (it keeps a band and a path
+  /// per id it ever planned), and the time of that clearing or of the last check for ids gone.
+  std::set<std::int32_t> planner_ids_;
+  std::optional<std::int64_t> planner_memory_check_utime_;
   std::string detail_;
 
   std::int64_t cycles_{0};

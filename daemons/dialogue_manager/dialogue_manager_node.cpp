@@ -1,7 +1,11 @@
 #include "dialogue_manager_node.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
+#include <functional>
 #include <set>
+#include <vector>
 
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
@@ -12,8 +16,30 @@
 namespace coopnav {
 namespace {
 
+/// Ids listed in one log line about a batch of them; the rest are counted.
+constexpr std::size_t kIdsPerLogLine = 8;
+
 std::string formatTCross(std::optional<double> t_cross_s) {
   return t_cross_s ? fmt::format("{:.2f} s", *t_cross_s) : std::string("-");
+}
+
+/// `text` cut to at most `max_bytes` bytes ("..." included) at a UTF-8 character boundary: text
+/// from a message is kept and published on (a robot action's reason) only this long.
+std::string keptText(std::string text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  static constexpr char kEllipsis[] = "...";
+  std::size_t n = max_bytes >= sizeof kEllipsis - 1 ? max_bytes - (sizeof kEllipsis - 1) : 0;
+  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // a continuation
+  text.resize(n);
+  return text + kEllipsis;
+}
+
+std::string idList(const std::vector<std::int32_t>& ids) {
+  std::string s;
+  for (std::size_t i = 0; i < ids.size() && i < kIdsPerLogLine; ++i)
+    s += (s.empty() ? "" : ",") + std::to_string(ids[i]);
+  if (ids.size() > kIdsPerLogLine) s += fmt::format(" and {} more", ids.size() - kIdsPerLogLine);
+  return s;
 }
 
 }  // namespace
@@ -37,7 +63,8 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
     : config_(config),
       decision_config_(config.decisionConfig()),
       runtime_(runtime),
-      speech_(config.speech) {
+      speech_(config.speech),
+      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
   // Step k is decided with every situation and path assessment of k and the world's agent
   // states of k (a lost one holds the step until the world publishes it again).
   StepNodeOptions steps;
@@ -68,11 +95,51 @@ const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) co
   return it == humans_.end() ? nullptr : &it->second.decision;
 }
 
+std::size_t DialogueManagerNode::longestKeptTextBytes() const {
+  std::size_t n = 0;
+  for (const auto& [id, h] : humans_) n = std::max(n, h.last_situation.reason.size());
+  for (const auto& [step, in] : inputs_)
+    for (const auto& [id, s] : in.situations) n = std::max(n, s.snapshot.reason.size());
+  return n;
+}
+
+// ---- time ----
+
+bool DialogueManagerNode::clockAccepts(std::int64_t utime) {
+  switch (clock_.offer(utime)) {
+    case MessageClock::Verdict::kJump:
+      return false;
+    case MessageClock::Verdict::kResynced:
+      // A new run, a restarted tracker, or a clock one stray first message had set: the times
+      // kept per human are of the old time base, so their ages restart from now.
+      log().warn("dialogue_manager: message time goes on from utime {}: per-human times restart",
+                 utime);
+      heard_.restamp(utime);
+      present_.restamp(utime);
+      for (auto& [id, t] : tracked_) t.last_seen_utime = utime;
+      if (latest_agents_utime_) latest_agents_utime_ = utime;
+      return true;
+    case MessageClock::Verdict::kBackwards:
+      // A little behind another input (a situation is stamped with its bands' time, older than
+      // the newest agent states): used. Lockstep order is kept by the step numbers.
+    case MessageClock::Verdict::kAccepted:
+      return true;
+  }
+  return true;
+}
+
+std::int64_t DialogueManagerNode::nearClock(std::int64_t utime) const {
+  const auto now = clock_.now();
+  if (!now) return utime;
+  const double gap_us = std::fabs(static_cast<double>(utime) - static_cast<double>(*now));
+  return gap_us <= runtime_.limits().max_time_jump_s * 1e6 ? utime : *now;
+}
+
 // ---- input ----
 
-template <class Fill>
+template <class Convert>
 void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const char* publisher,
-                                    const char* channel, const std::string& key, Fill fill) {
+                                    const char* channel, const std::string& key, Convert convert) {
   // The world's repeat of a step means someone waits: our answers go out again.
   const bool world = std::string(channel) == channels::kAgentStates;
   steps_->input(
@@ -88,34 +155,62 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
         if (is_new && step >= 0 && step < newest_step_)
           throw RejectedMessage("step " + std::to_string(step) + " goes backwards (newest " +
                                 std::to_string(newest_step_) + ")");
+        // Converted before its time is offered to the clock: a message rejected for what it
+        // holds does not move the clock.
+        Store store;
+        std::exception_ptr bad;
+        try {
+          store = convert();
+        } catch (...) {
+          bad = std::current_exception();
+        }
+        const bool on_time = !bad && clockAccepts(utime);
         StepInputs& bucket = inputs_[step];
-        if (bucket.utime < 0) bucket.utime = utime;
+        if (!bucket.has_utime) {
+          bucket.utime = on_time ? utime : nearClock(utime);
+          bucket.has_utime = true;
+        }
         if (step > newest_step_) newest_step_ = step;
-        // Scheduled before filling, so that a rejected input still has its step acknowledged; it
+        // Scheduled before storing, so that a rejected input still has its step acknowledged; it
         // runs once this input is stored.
         if (is_new) schedule(step);
-        fill(bucket);
+        if (bad) std::rethrow_exception(bad);
+        if (!on_time)
+          throw RejectedMessage(std::string(channel) + ": " + clock_.describe(utime) +
+                                " (limits.max_time_jump_s)");
+        store(bucket);
       },
       world);
 }
 
 void DialogueManagerNode::onSituation(const situation_t& msg) {
   fileInput(msg.step, msg.utime, kSituationAssessor, channels::kSituation,
-            std::to_string(msg.human_id), [&](StepInputs& b) {
-              b.situations[msg.human_id] = {{msg.utime, msg.step, msg.human_id},
-                                            situationSnapshotFromLcm(msg)};
+            std::to_string(msg.human_id), [&]() -> Store {
+              SituationIn in{{msg.utime, msg.step, msg.human_id}, situationSnapshotFromLcm(msg)};
+              in.snapshot.reason = keptText(std::move(in.snapshot.reason), maxTextBytes());
+              return [this, in = std::move(in)](StepInputs& b) {
+                const std::int32_t id = in.stamp.human_id;
+                if (!b.situations.count(id) && b.situations.size() >= maxIds())
+                  throw RejectedMessage("more than limits.max_ids situations in one step");
+                b.situations[id] = in;
+              };
             });
 }
 
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
   fileInput(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment,
-            std::to_string(msg.human_id),
-            [&](StepInputs& b) { b.paths[msg.human_id] = pathSnapshotFromLcm(msg); });
+            std::to_string(msg.human_id), [&]() -> Store {
+              return [this, id = msg.human_id, p = pathSnapshotFromLcm(msg)](StepInputs& b) {
+                if (!b.paths.count(id) && b.paths.size() >= maxIds())
+                  throw RejectedMessage("more than limits.max_ids path assessments in one step");
+                b.paths[id] = p;
+              };
+            });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
   fileInput(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
-            [&](StepInputs& b) { b.agents = fromLcm(msg); });
+            [&]() -> Store { return [a = fromLcm(msg)](StepInputs& b) { b.agents = a; }; });
 }
 
 void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
@@ -126,7 +221,9 @@ void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
       inputs_.count(ack.step))
     return;
   newest_step_ = ack.step;
-  inputs_[ack.step].utime = ack.utime;
+  StepInputs& bucket = inputs_[ack.step];
+  bucket.utime = nearClock(ack.utime);
+  bucket.has_utime = true;
   schedule(ack.step);
 }
 
@@ -185,22 +282,29 @@ void DialogueManagerNode::runStep(StepNode::Step& run) {
 
 void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
   const std::int64_t step = run.step();
+  const std::int64_t now = clockNow(in.utime);
   // 1. Where the agents are: crossed detection and presence, for every human in the scene.
   std::set<std::int32_t> crossed_now;
   if (in.agents) {
     const AgentStatesSnapshot& a = *in.agents;
-    latest_agents_utime_ = std::max(latest_agents_utime_, a.utime);
+    latest_agents_utime_ =
+        latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
     for (const auto& h : a.humans) {
       Tracked& t = tracked_[h.id];
       const bool was = t.crossed.crossed;
       t.crossed = dialogue::updateCrossed(t.crossed, h.pose, a.robot.pose.position(),
                                           config_.crossed_hysteresis_m);
       t.last_seen_utime = a.utime;
+      present_.touch(h.id, a.utime);
+      heard_.touch(h.id, now);
       if (!was && t.crossed.crossed) crossed_now.insert(h.id);
     }
   }
   // 2. The latest path assessment of each human, read before the decisions of this step.
-  for (const auto& [id, p] : in.paths) latest_path_[id] = p;
+  for (const auto& [id, p] : in.paths) {
+    latest_path_[id] = p;
+    heard_.touch(id, now);
+  }
 
   // 3. Decisions, humans in id order (deterministic output order).
   std::set<std::int32_t> ids;
@@ -219,48 +323,97 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
   }
 
   // 4. Humans that left the scene end their interaction (stop the recorder, resume a dock).
-  if (in.agents) {
-    for (auto& [id, h] : humans_) {
-      if (h.decision.ended()) continue;
-      const Tracked& t = tracked_[id];
-      const double absent_s =
-          t.last_seen_utime < 0 ? 0.0 : utimeDiffSeconds(latest_agents_utime_, t.last_seen_utime);
-      if (absent_s <= config_.human_gone_s) continue;
-      const std::string why =
-          fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
-      const DialogueStamp stamp{in.agents->utime, step, id};
-      emit(run, stamp, h.decision.endInteraction(utimeToSeconds(in.agents->utime), why),
-           std::nullopt);
-    }
-    // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
-    // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
-    // new, whose rounds start afresh.
-    for (auto it = tracked_.begin(); it != tracked_.end();) {
-      const std::int32_t id = it->first;
-      const bool gone = it->second.last_seen_utime >= 0 &&
-                        utimeDiffSeconds(latest_agents_utime_, it->second.last_seen_utime) >
-                            std::max(kForgetHumanAfter_s, config_.human_gone_s);
-      const auto h = humans_.find(id);
-      if (!gone || (h != humans_.end() && !h->second.decision.ended())) {
-        ++it;
-        continue;
-      }
-      if (h != humans_.end()) humans_.erase(h);
-      latest_path_.erase(id);
-      history_unknown_.erase(id);
-      it = tracked_.erase(it);
-    }
+  if (in.agents) endAbsent(run, *in.agents);
+  // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
+  // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
+  // new, whose rounds start afresh. Ids never seen in the agent states age the same way.
+  forgetStale(run);
+}
+
+void DialogueManagerNode::endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents) {
+  const std::int64_t latest = *latest_agents_utime_;
+  std::set<std::int32_t> gone;  // in id order: the order of the outputs
+  while (const IdRecency::Entry* e = present_.oldest()) {
+    if (utimeDiffSeconds(latest, e->utime) <= config_.human_gone_s) break;
+    gone.insert(e->id);
+    present_.erase(e->id);
   }
+  // Humans whose decision began while they were already absent (the situation assessor still
+  // reported someone the tracker had lost): judged now, as every absent human.
+  for (const std::int32_t id : judge_absence_) {
+    const auto t = tracked_.find(id);
+    if (!present_.contains(id) && t != tracked_.end() &&
+        utimeDiffSeconds(latest, t->second.last_seen_utime) > config_.human_gone_s)
+      gone.insert(id);
+  }
+  judge_absence_.clear();
+  for (const std::int32_t id : gone) {
+    const auto h = humans_.find(id);
+    if (h == humans_.end() || h->second.decision.ended()) continue;
+    const double absent_s = utimeDiffSeconds(latest, tracked_.at(id).last_seen_utime);
+    const std::string why =
+        fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
+    const DialogueStamp stamp{agents.utime, run.step(), id};
+    emit(run, stamp, h->second.decision.endInteraction(utimeToSeconds(agents.utime), why),
+         std::nullopt);
+  }
+}
+
+void DialogueManagerNode::forgetStale(StepNode::Step& run) {
+  const auto now = clock_.now();
+  if (!now) return;
+  const double max_age_s = std::max(runtime_.limits().forget_after_s, config_.human_gone_s);
+  std::vector<std::int32_t> aged, over;
+  std::vector<std::int32_t> ended;  // of these, those whose interaction was still open
+  while (const IdRecency::Entry* e = heard_.oldest()) {
+    const std::int32_t id = e->id;
+    if (utimeDiffSeconds(*now, e->utime) > max_age_s) {
+      aged.push_back(id);
+    } else if (heard_.size() > maxIds()) {
+      over.push_back(id);
+    } else {
+      break;
+    }
+    const auto h = humans_.find(id);
+    if (h != humans_.end() && !h->second.decision.ended()) {
+      // Never forgotten in the middle of it: the recorder is stopped and a dock resumed.
+      ended.push_back(id);
+      const DialogueStamp stamp{run.utime(), run.step(), id};
+      emit(run, stamp,
+           h->second.decision.endInteraction(utimeToSeconds(run.utime()),
+                                             "forgotten (limits.max_ids / forget_after_s)"),
+           std::nullopt, /*quiet=*/true);
+    }
+    forget(id);
+  }
+  if (aged.empty() && over.empty()) return;
+  log().info(
+      "dialogue_manager: forgot {} humans not heard of for {:.0f} s ({}) and {} beyond "
+      "limits.max_ids {} ({}); interactions ended: {}",
+      aged.size(), max_age_s, idList(aged), over.size(), maxIds(), idList(over),
+      ended.empty() ? "-" : idList(ended));
+}
+
+void DialogueManagerNode::forget(std::int32_t id) {
+  humans_.erase(id);
+  tracked_.erase(id);
+  latest_path_.erase(id);
+  history_unknown_.erase(id);
+  judge_absence_.erase(id);
+  present_.erase(id);
+  heard_.erase(id);
 }
 
 void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
                                  const dialogue::SituationSnapshot& situation) {
+  heard_.touch(id, clockNow(stamp.utime));
   if (history_unknown_.count(id)) return;  // see joined_late_: never a round or dock on a guess
   auto hit = humans_.find(id);
   if (hit == humans_.end()) {
     hit = humans_.emplace(id, Human(decision_config_)).first;
     log().info("dialogue_manager: human {} seen first at step {} (t_cross {})", id, run.step(),
                formatTCross(situation.t_cross_s));
+    if (tracked_.count(id) && !present_.contains(id)) judge_absence_.insert(id);
   }
   Human& h = hit->second;
   h.last_situation = situation;
@@ -277,18 +430,21 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
 // ---- output ----
 
 void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
-                               const dialogue::DecisionOutput& out,
-                               std::optional<double> t_cross_s) {
+                               const dialogue::DecisionOutput& out, std::optional<double> t_cross_s,
+                               bool quiet) {
   std::string why;
   for (const auto& r : out.rounds) {
-    log().log(r.degraded ? spdlog::level::warn : spdlog::level::info,
-              "dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
-              stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
-              r.reason.empty() ? "" : "; ", r.reason);
+    if (!quiet)
+      log().log(r.degraded ? spdlog::level::warn : spdlog::level::info,
+                "dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
+                stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
+                r.reason.empty() ? "" : "; ", r.reason);
     if (why.empty())
       why = (r.round > 0 ? "round " + std::to_string(r.round) + ": " : std::string()) + r.branch +
             (r.reason.empty() ? "" : " (" + r.reason + ")");
   }
+  // The reasons hold the situation assessor's text: published on no longer than it is kept.
+  why = keptText(std::move(why), maxTextBytes());
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
   for (const auto& u : out.utterances) {
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;

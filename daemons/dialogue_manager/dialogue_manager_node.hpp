@@ -6,6 +6,7 @@
 /// (step -1) it acts on each situation with the latest path assessment of that human.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -19,6 +20,9 @@
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
+#include "id_recency.hpp"
+#include "runtime/limits.hpp"
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_node.hpp"
 #include "speech_output.hpp"
@@ -62,6 +66,9 @@ struct DialogueManagerConfig {
   TemplatesConfig templates;
   SpeechConfig speech;
 
+  /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
+  InputLimits limits;
+
   template <class V>
   void visit(V& v) {
     v("round1_t_cross_s", round1_t_cross_s, Range{0.5, 60.0});
@@ -75,6 +82,7 @@ struct DialogueManagerConfig {
     v("speech", speech);
     v.require(round2_t_cross_s < round1_t_cross_s, "round2_t_cross_s",
               "must be less than round1_t_cross_s (round 2 comes after round 1)");
+    v("limits", limits);
   }
   dialogue::DecisionConfig decisionConfig() const;
   /// speech.wav_dir and a speech.program with a '/' are relative to the config file's folder.
@@ -93,6 +101,12 @@ class DialogueManagerNode {
   const dialogue::HumanDecision* decision(std::int32_t id) const;
   std::size_t pendingSteps() const { return steps_->pending(); }
   const SpeechOutput& speech() const { return speech_; }
+  /// For tests: ids with per-id state (a decision, a crossed tracker or a path assessment).
+  std::size_t idsKept() const { return heard_.size(); }
+  /// For tests: decisions kept (one per human).
+  std::size_t humansKept() const { return humans_.size(); }
+  /// For tests: the longest text from a message kept (a situation's reason) [bytes].
+  std::size_t longestKeptTextBytes() const;
 
  private:
   /// Everything received for one step, applied in one go when the gate lets the step run.
@@ -104,7 +118,8 @@ class DialogueManagerNode {
     std::optional<AgentStatesSnapshot> agents;
     std::map<std::int32_t, dialogue::PathSnapshot> paths;
     std::map<std::int32_t, SituationIn> situations;
-    std::int64_t utime{-1};  ///< the step's input time (first message of it)
+    std::int64_t utime{0};  ///< the step's input time (first message of it, or the clock's)
+    bool has_utime{false};
   };
   struct Human {
     explicit Human(const dialogue::DecisionConfig& c) : decision(c) {}
@@ -113,8 +128,10 @@ class DialogueManagerNode {
   };
   struct Tracked {
     dialogue::CrossedTracker crossed;
-    std::int64_t last_seen_utime{-1};
+    std::int64_t last_seen_utime{0};  ///< set when the human is first seen
   };
+  /// Files a converted input into its step's bucket (may throw RejectedMessage: over a cap).
+  using Store = std::function<void(StepInputs&)>;
   struct SpeechItem {
     std::string text;
     std::string wav_stem;
@@ -125,24 +142,45 @@ class DialogueManagerNode {
   void onAgentStates(const agent_states_t& msg);
   void onStepAck(const step_ack_t& ack);
 
-  /// Files an input of `step` under its bucket: `fill` converts (and may throw RejectedMessage);
-  /// the step's work is submitted once, after the first input is filed, also when it was
-  /// rejected, so that the step is acknowledged whatever happens. Throws RejectedMessage for a
-  /// step that goes backwards.
+  /// Files an input of `step` under its bucket: `convert` converts (and may throw
+  /// RejectedMessage) and returns the Store that files it; an input stamped too far from the
+  /// clock is rejected. The step's work is submitted once, after the first input is filed, also
+  /// when it was rejected, so that the step is acknowledged whatever happens. Throws
+  /// RejectedMessage for a step that goes backwards.
   /// `publisher`/`channel`/`key` identify the message for the step gate's counts: a repeat of
   /// one already filed is not filed again (a repeat of the world's agent states re-sends our
   /// answers of the latest steps instead).
-  template <class Fill>
+  template <class Convert>
   void fileInput(std::int64_t step, std::int64_t utime, const char* publisher, const char* channel,
-                 const std::string& key, Fill fill);
+                 const std::string& key, Convert convert);
   /// Schedules the work of `step`, whose inputs are being filed in inputs_[step].
   void schedule(std::int64_t step);
+  /// Offers a message's utime to the clock: true when the message may be used; false when it is
+  /// stamped too far from the clock (the caller rejects it). A resync re-bases the per-id times.
+  bool clockAccepts(std::int64_t utime);
+  /// `utime` if the clock has none or it is within limits.max_time_jump_s of it, else the clock's
+  /// time (an ack stamped far off never stamps a step).
+  std::int64_t nearClock(std::int64_t utime) const;
+  /// The clock's time; `fallback` before any input was accepted.
+  std::int64_t clockNow(std::int64_t fallback) const { return clock_.now().value_or(fallback); }
+  std::size_t maxIds() const { return static_cast<std::size_t>(runtime_.limits().max_ids); }
+  std::size_t maxTextBytes() const {
+    return static_cast<std::size_t>(runtime_.limits().max_text_bytes);
+  }
   void runStep(StepNode::Step& run);
   void process(StepNode::Step& run, StepInputs& in);
   void decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
               const dialogue::SituationSnapshot& situation);
+  /// Ends the interaction of every human absent from the agent states for human_gone_s.
+  void endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents);
+  /// Forgets ids not heard of for limits.forget_after_s (message time) and the least recently
+  /// heard of beyond limits.max_ids; a human whose interaction is still open has it ended first
+  /// (recorder stopped, a dock resumed). One log line per batch.
+  void forgetStale(StepNode::Step& run);
+  void forget(std::int32_t id);
+  /// `quiet`: no log line per round (an interaction ended by forgetting it: one line per batch).
   void emit(StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
-            std::optional<double> t_cross_s);
+            std::optional<double> t_cross_s, bool quiet = false);
 
   Config config_;
   dialogue::DecisionConfig decision_config_;
@@ -160,7 +198,18 @@ class DialogueManagerNode {
   std::map<std::int32_t, Human> humans_;
   std::map<std::int32_t, Tracked> tracked_;
   std::map<std::int32_t, dialogue::PathSnapshot> latest_path_;
-  std::int64_t latest_agents_utime_{-1};
+  /// The time of every input, guarded: a message stamped far from it is rejected, so one
+  /// situation stamped INT64_MAX cannot pin the times below (docs/bad-inputs.md "Caps").
+  MessageClock clock_;
+  /// Every id with per-id state (humans_, tracked_, latest_path_, history_unknown_), by when it
+  /// was last heard of on any input: the order in which ids are forgotten.
+  IdRecency heard_;
+  /// Ids seen in the agent states whose absence was not yet handled, by when last seen.
+  IdRecency present_;
+  /// Humans whose decision began while they were absent from the agent states: their absence is
+  /// judged at the next agent states (they are not in present_).
+  std::set<std::int32_t> judge_absence_;
+  std::optional<std::int64_t> latest_agents_utime_;
   std::vector<SpeechItem> speech_pending_;
   bool degraded_{false};
   /// Last: steps still held when the node goes away are not acknowledged.

@@ -1,6 +1,7 @@
 #include "obstacle_distance_server_node.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "coopnav/distance_reply_t.hpp"
 #include "maps/map_loader.hpp"
@@ -9,6 +10,9 @@
 #include "wire/conversions.hpp"
 
 namespace coopnav {
+namespace {
+const std::string kReplyPrefix = channels::kDistanceReplyPrefix;
+}  // namespace
 
 void ObstacleDistanceServerConfig::resolvePaths(const std::string& base_dir) {
   map.resolvePaths(base_dir);
@@ -42,6 +46,11 @@ void ObstacleDistanceServerNode::onRequest(const distance_request_t& msg) {
   if (msg.reply_channel.empty() || msg.reply_channel.size() > 63)
     throw RejectedMessage("request " + std::to_string(msg.request_id) +
                           " has no usable reply_channel");
+  // Replies go only to reply channels: a request naming another channel (COOPNAV_STATUS, a
+  // daemon's input) would make this server publish a distance_reply_t onto it for whoever asked.
+  if (msg.reply_channel.compare(0, kReplyPrefix.size(), kReplyPrefix) != 0)
+    throw RejectedMessage("request " + std::to_string(msg.request_id) + " names reply_channel '" +
+                          msg.reply_channel + "', which does not start with " + kReplyPrefix);
   std::vector<DistanceQuery> queries;
   try {
     queries = queriesFromLcm(msg);

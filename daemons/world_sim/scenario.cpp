@@ -4,10 +4,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "config/config.hpp"
+#include "config/file_read.hpp"
 
 namespace coopnav::world_sim {
 
@@ -32,11 +32,16 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
     if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
     map.file = p.lexically_normal().string();
     // Not the throwing overload: a name the system refuses (ENAMETOOLONG) is a missing file.
+    // The map loader reads the file itself through readFileCapped (a regular file under a cap).
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(p, ec))
+    const auto status = std::filesystem::status(p, ec);
+    if (!std::filesystem::exists(status)) {
       r.require(
           false, "map.file",
           "= '" + map.file + "' does not exist" + (ec ? " (" + ec.message() + ")" : std::string()));
+    } else if (!std::filesystem::is_regular_file(status)) {
+      r.require(false, "map.file", "= '" + map.file + "' is not a regular file");
+    }
   }
   r.rejectUnknownKeys();
   if (!r.errors().empty()) {
@@ -49,15 +54,14 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
 }
 
 Scenario loadScenario(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw ScenarioError(path + ": is a directory, not a scenario file");
-  std::ifstream in(path);
-  if (!in) throw ScenarioError(path + ": cannot open the scenario file");
-  std::stringstream ss;
-  ss << in.rdbuf();
+  std::string text;
+  try {
+    text = readFileCapped(path, kMaxYamlFileBytes, "scenario file");
+  } catch (const FileReadError& e) {
+    throw ScenarioError(e.what());
+  }
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parseScenario(ss.str(), path, dir.empty() ? "." : dir);
+  return parseScenario(text, path, dir.empty() ? "." : dir);
 }
 
 void checkScenarioAgainstMap(const Scenario& sc, const DistanceMap& map) {

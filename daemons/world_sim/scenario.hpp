@@ -6,7 +6,9 @@
 /// ConfigReader). Every problem of a file is reported at once, each naming the file, the key, the
 /// value and what is allowed.
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <sstream>
 #include <stdexcept>
@@ -14,7 +16,11 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "coopnav/agent_states_t.hpp"
+#include "coopnav/bands_t.hpp"
 #include "coopnav/distance/distance_map.hpp"
+#include "coopnav/goals_t.hpp"
+#include "coopnav/reference_paths_t.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "maps/map_loader.hpp"
 
@@ -22,6 +28,15 @@ namespace coopnav::world_sim {
 
 /// Bound of every coordinate of a scenario [m]: far beyond any map, finite.
 inline constexpr double kMaxCoordinate_m = 1e6;
+
+/// Most humans a scenario may have: the fewest any message about them carries (agent states,
+/// goals with the robot's, bands, reference paths; lcmtypes/). One more loaded and ran, and every
+/// message of the run was rejected downstream for its count.
+inline constexpr std::size_t kMaxScenarioHumans =
+    std::min<std::size_t>({static_cast<std::size_t>(agent_states_t::MAX_HUMANS),
+                           static_cast<std::size_t>(goals_t::MAX_GOALS - 1),
+                           static_cast<std::size_t>(bands_t::MAX_HUMANS),
+                           static_cast<std::size_t>(reference_paths_t::MAX_PATHS)});
 
 /// A number as messages print it (ostream defaults: 1.5, 1e+15).
 inline std::string scenarioNumber(double x) {
@@ -287,6 +302,11 @@ struct Scenario {
     std::vector<HumanSpecYaml> items;
     for (const auto& h : humans) items.push_back(HumanSpecYaml::of(h));
     v("humans", items);
+    if (items.size() > kMaxScenarioHumans)
+      v.require(false, "humans",
+                "has " + std::to_string(items.size()) + " humans, more than the " +
+                    std::to_string(kMaxScenarioHumans) +
+                    " a message carries (agent_states_t::MAX_HUMANS)");
     humans.clear();
     for (const auto& item : items) humans.push_back(item.spec);
     for (std::size_t i = 0; i < items.size(); ++i) {

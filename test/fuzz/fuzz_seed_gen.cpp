@@ -375,6 +375,142 @@ void lcmSeeds() {
   writeFile("fuzz_lcm_obstacle_distance_server", "request_3", encoded(distanceRequest()));
 }
 
+/// fuzz_lcm_sequence's input: records [selector][length, 2 bytes little endian][payload]; the
+/// selector picks the channel as fuzz_lcm_sequence.cpp numbers them.
+class Sequence {
+ public:
+  enum Selector : std::uint8_t {
+    kAgentStates = 0,
+    kBands = 1,
+    kReferencePaths = 2,
+    kSituation = 3,
+    kPathAssessment = 4,
+    kRobotAction = 5,
+    kStepAck = 6,
+    kGoals = 7,
+  };
+  template <class Msg>
+  Sequence& add(Selector selector, const Msg& m) {
+    const auto payload = encoded(m);
+    bytes_.push_back(selector);
+    bytes_.push_back(static_cast<std::uint8_t>(payload.size() & 0xFFu));
+    bytes_.push_back(static_cast<std::uint8_t>((payload.size() >> 8) & 0xFFu));
+    bytes_.insert(bytes_.end(), payload.begin(), payload.end());
+    return *this;
+  }
+  void write(const std::string& name) const { writeFile("fuzz_lcm_sequence", name, bytes_); }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+};
+
+/// `m` stamped `utime` at lockstep step `step` (-1: free-running).
+template <class Msg>
+Msg stamped(Msg m, std::int64_t utime, std::int64_t step) {
+  m.utime = utime;
+  m.step = step;
+  return m;
+}
+
+/// Agent states of step k of a head-on walk (robot east from x = 1 m, humans west from 9 m).
+agent_states_t walkAt(int num_humans, int k, std::int64_t step) {
+  agent_states_t m = stamped(agentStates(num_humans), 1'000'000 + k * 100'000, step);
+  m.robot.x_m += 0.06 * k;
+  for (auto& h : m.humans) h.x_m -= 0.11 * k;
+  return m;
+}
+
+void sequenceSeeds() {
+  using S = Sequence;
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();
+  {  // a lockstep run: the pipeline's own outputs go round (bands, situations, acks)
+    S s;
+    s.add(S::kGoals, goals());
+    for (int k = 0; k < 6; ++k) s.add(S::kAgentStates, walkAt(1, k, k));
+    s.write("lockstep_run");
+  }
+  {  // free-running, one message of every channel
+    S s;
+    s.add(S::kGoals, goals()).add(S::kAgentStates, walkAt(2, 0, -1));
+    s.add(S::kReferencePaths, stamped(referencePaths(2, 8), 1'000'000, -1));
+    s.add(S::kBands, stamped(bands(2, 10), 1'050'000, -1));
+    s.add(S::kSituation, stamped(situation(situation_t::CROSSING_OK), 1'050'000, -1));
+    s.add(S::kPathAssessment, stamped(pathAssessment(5), 1'050'000, -1));
+    s.add(S::kRobotAction, stamped(robotAction(robot_action_t::ACTION_DOCK), 1'050'000, -1));
+    step_ack_t ack = stepAck();
+    ack.participant = "dialogue_manager";
+    s.add(S::kStepAck, stamped(ack, 1'000'000, 0));
+    s.add(S::kAgentStates, walkAt(2, 1, -1));
+    s.write("free_running_every_channel");
+  }
+  {  // bands whose two poses are 10^7 s apart: the common time grid must not span them
+    S s;
+    bands_t b = stamped(bands(1, 2), 1'100'000, -1);
+    b.robot.poses[1].t_s = 1e7;
+    b.humans[0].poses[1].t_s = 1e7;
+    s.add(S::kReferencePaths, stamped(referencePaths(1, 2), 1'000'000, -1)).add(S::kBands, b);
+    s.write("bands_spanning_1e7_s");
+  }
+  {  // stamps at INT64_MAX, then normal traffic
+    S s;
+    s.add(S::kGoals, goals()).add(S::kAgentStates, stamped(walkAt(1, 0, -1), kMax, -1));
+    for (int k = 1; k < 5; ++k) s.add(S::kAgentStates, walkAt(1, k, -1));
+    s.add(S::kReferencePaths, stamped(referencePaths(1, 4), kMax - 1, -1));
+    s.add(S::kSituation, stamped(situation(situation_t::CROSSING_OK), kMax - 1, -1));
+    for (int k = 1; k < 4; ++k)
+      s.add(S::kSituation,
+            stamped(situation(situation_t::CROSSING_OK), 1'000'000 + k * 100'000, -1));
+    s.write("int64_max_stamps");
+  }
+  {  // more human ids than the per-id caps (the target sets limits.max_ids to 64)
+    S s;
+    for (int k = 0; k < 2; ++k) {
+      agent_states_t a = walkAt(40, k, -1);
+      for (auto& h : a.humans) h.id += 40 * k;
+      s.add(S::kAgentStates, a);
+      reference_paths_t r = stamped(referencePaths(12, 3), 1'000'000 + k * 100'000, -1);
+      for (auto& p : r.paths) p.agent_id += 12 * k + 100;
+      s.add(S::kReferencePaths, r);
+    }
+    for (int k = 0; k < 6; ++k) {
+      situation_t sit = stamped(situation(situation_t::CROSSING_OK), 1'000'000 + k * 100'000, -1);
+      sit.human_id = 200 + k;
+      s.add(S::kSituation, sit);
+    }
+    s.write("new_ids_beyond_max_ids");
+  }
+  {  // the band source's planner meets new humans every cycle (its memory is capped by max_ids)
+    S s;
+    s.add(S::kGoals, goals());
+    for (int k = 0; k < 6; ++k) {  // 12 humans and the robot: over the band source's max_ids of 8
+      agent_states_t a = walkAt(2, k % 10, -1);
+      a.utime = 1'000'000 + k * 100'000;
+      for (auto& h : a.humans) h.id += 2 * k + 300;
+      s.add(S::kAgentStates, a);
+    }
+    s.write("band_planner_new_ids");
+  }
+  {  // lockstep steps far ahead of anything acknowledged
+    S s;
+    for (int k = 0; k < 12; ++k)
+      s.add(S::kReferencePaths, stamped(referencePaths(1, 2), 1'000'000, 1'000'000 + 7 * k));
+    s.add(S::kStepAck, stamped(stepAck(), 1'000'000, 1'000'000'000));
+    s.add(S::kAgentStates, walkAt(1, 0, 1'000'000'000'000));
+    s.write("far_future_steps");
+  }
+  {  // texts that would forge log lines, and long ones
+    S s;
+    robot_action_t a = stamped(robotAction(robot_action_t::ACTION_DOCK), 1'000'000, -1);
+    a.human_id = 4242;
+    a.reason = "hostile\n[2099-01-01 00:00:00.000] [coopnav:1] [critical] FORGED\x1b[2J\r";
+    s.add(S::kGoals, goals()).add(S::kRobotAction, a).add(S::kAgentStates, walkAt(1, 0, -1));
+    situation_t sit = stamped(situation(situation_t::CROSSING_OK), 1'000'000, -1);
+    sit.reason = std::string(1500, 'r');
+    s.add(S::kSituation, sit);
+    s.write("hostile_texts");
+  }
+}
+
 void logSeed() {
   const fs::path dir = g_root / "fuzz_run_log";
   fs::create_directories(dir);
@@ -461,6 +597,7 @@ int main(int argc, char** argv) {
   }
   g_root = argv[1];
   lcmSeeds();
+  sequenceSeeds();
   logSeed();
   mapSeeds();
   return 0;

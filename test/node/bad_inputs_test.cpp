@@ -650,35 +650,108 @@ TEST_F(BadInputBandSource, TimeGoingBackwardsIsDroppedAndAcknowledged) {
   EXPECT_EQ(bands_[-1].utime, f1.utime);
 }
 
-TEST_F(BadInputBandSource, TimeJumpingFarAheadIsPlannedAtOnceWithoutAHang) {
+TEST_F(BadInputBandSource, TimeJumpingFarAheadIsRejectedUntilTimeResyncMessagesAgree) {
+  const int resync = InputLimits{}.time_resync_messages;
   ASSERT_TRUE(step(corridorStates(0)));
-  auto jump = corridorStates(1);
-  jump.utime += 1'000'000'000'000'000LL;  // ~32 years later
-  ASSERT_TRUE(step(jump, 10s));
-  EXPECT_EQ(bands_.count(1), 1u);
-  auto next = corridorStates(2);
-  next.utime = jump.utime + kStep_us;
-  ASSERT_TRUE(step(next, 10s));
-  EXPECT_EQ(bands_.count(2), 1u);
+  const daemon_status_t before = dut_.freshStatus();
+  // ~32 years later from step 1 on: the clock does not move for the first messages (rejected,
+  // acknowledged, not planned), and follows once time_resync_messages of them agree.
+  constexpr std::int64_t kJump_us = 1'000'000'000'000'000LL;
+  for (std::int64_t k = 1; k <= resync + 1; ++k) {
+    auto jump = corridorStates(k);
+    jump.utime += kJump_us;
+    ASSERT_TRUE(step(jump, 10s)) << "step " << k;
+    EXPECT_EQ(bands_.count(k), k < resync ? 0u : 1u) << "step " << k;
+  }
+  const daemon_status_t after = dut_.countersReach(before.rejected + resync - 1);
+  EXPECT_EQ(after.rejected, before.rejected + resync - 1);
+  EXPECT_EQ(after.dropped, before.dropped);
 }
 
 TEST_F(BadInputBandSource, ExtremeTimestampsNeverCrashOrHang) {
   // Free-running from the lowest time to the highest: the throttle's time difference must not
-  // overflow (UBSan aborts on it), and the second message is planned.
+  // overflow (UBSan aborts on it); the second is too far from the first to move the clock.
   auto low = corridorStates(0);
   low.step = -1;
   low.utime = std::numeric_limits<std::int64_t>::min();
   dut_.publish(channels::kAgentStates, low);
   ASSERT_TRUE(dut_.spinUntil([&] { return bands_.count(-1) > 0; }));
+  const daemon_status_t before = dut_.freshStatus();
   auto high = corridorStates(1);
   high.step = -1;
   high.utime = std::numeric_limits<std::int64_t>::max();
   dut_.publish(channels::kAgentStates, high);
-  ASSERT_TRUE(dut_.spinUntil([&] { return bands_[-1].utime == high.utime; }));
-  // Lockstep after that: every later time is "backwards", dropped but acknowledged.
-  ASSERT_TRUE(step(corridorStates(2)));
-  EXPECT_EQ(bands_.count(2), 0u);
+  EXPECT_EQ(dut_.countersReach(before.rejected + 1).rejected, before.rejected + 1);
+  EXPECT_EQ(bands_[-1].utime, low.utime);
+  // Lockstep at normal times after that: rejected (acknowledged) until time_resync_messages of
+  // them agree, then planned.
+  const int resync = InputLimits{}.time_resync_messages;
+  for (std::int64_t k = 2; k < 2 + resync; ++k) {
+    ASSERT_TRUE(step(corridorStates(k)));
+    EXPECT_EQ(bands_.count(k), k < 1 + resync ? 0u : 1u) << "step " << k;
+  }
   EXPECT_TRUE(dut_.child().running());
+}
+
+TEST_F(BadInputBandSource, AFirstMessageStampedInt64MaxThenNormalTrafficGetsCommandsAgain) {
+  // The probe: free-running, one agent-states message stamped INT64_MAX (it sets the
+  // clock: nothing came before it), then normal traffic 0.1 s apart. The daemon follows the
+  // normal time after time_resync_messages of it; before, every later message was dropped.
+  const int resync = InputLimits{}.time_resync_messages;
+  auto high = corridorStates(0);
+  high.step = -1;
+  high.utime = std::numeric_limits<std::int64_t>::max();
+  dut_.publish(channels::kAgentStates, high);
+  dut_.settle(100ms);
+  std::vector<std::int64_t> commanded;  // indices of the normal messages with a command
+  for (int i = 0; i < 10; ++i) {
+    auto m = corridorStates(i);
+    m.step = -1;
+    dut_.publish(channels::kAgentStates, m);
+    dut_.spinUntil([&] { return cmds_.count(-1) > 0 && cmds_[-1].utime == m.utime; },
+                   i + 1 < resync ? 300ms : 10s);
+    if (cmds_.count(-1) > 0 && cmds_[-1].utime == m.utime) commanded.push_back(i);
+  }
+  ASSERT_FALSE(commanded.empty()) << "no velocity command after the INT64_MAX message";
+  EXPECT_EQ(commanded.front(), resync - 1) << "the first normal message followed";
+  EXPECT_EQ(commanded.size(), 10u - static_cast<std::size_t>(resync - 1));
+  EXPECT_GT(cmds_[-1].vx_m_s, 0.0);
+}
+
+TEST_F(BadInputBandSource, AMessageStampedInt64MaxAmidNormalTrafficIsRejectedAndIgnored) {
+  ASSERT_TRUE(step(corridorStates(0)));
+  const daemon_status_t before = dut_.freshStatus();
+  auto high = corridorStates(1);
+  high.utime = std::numeric_limits<std::int64_t>::max();
+  ASSERT_TRUE(step(high));
+  EXPECT_EQ(bands_.count(1), 0u);
+  ASSERT_TRUE(step(corridorStates(2)));  // planned at once: the clock never moved
+  EXPECT_EQ(bands_.count(2), 1u);
+  EXPECT_GT(cmds_[2].vx_m_s, 0.0);
+  const daemon_status_t after = dut_.countersReach(before.rejected + 1);
+  EXPECT_EQ(after.rejected, before.rejected + 1);
+  EXPECT_EQ(after.dropped, before.dropped);
+}
+
+TEST_F(BadInputBandSource, GoalsStampedInt64MaxNeverPinTheGoals) {
+  // The robot's band ends towards its goal: ahead of it (x 20.5) or behind it (x 3.0).
+  auto bandEnd_m = [&](std::int64_t k) { return bands_.at(k).robot.poses.back().x_m; };
+  ASSERT_TRUE(step(corridorStates(0)));
+  // Goals stamped INT64_MAX sending the robot back: rejected (before, every later goal was
+  // "older" and ignored for good).
+  auto back = corridorGoals();
+  back.utime = std::numeric_limits<std::int64_t>::max();
+  back.goals[0].x_m = 3.0;
+  dut_.publish(channels::kGoals, back);
+  dut_.settle(50ms);
+  ASSERT_TRUE(step(corridorStates(1)));
+  EXPECT_GT(bandEnd_m(1), 6.5) << "the INT64_MAX goal was taken";
+  auto later = back;  // the same goal at normal time: taken
+  later.utime = corridorStates(2).utime;
+  dut_.publish(channels::kGoals, later);
+  dut_.settle(50ms);
+  ASSERT_TRUE(step(corridorStates(2)));
+  EXPECT_LT(bandEnd_m(2), 6.5) << "the later goal was not taken";
 }
 
 TEST_F(BadInputBandSource, BadGoalsAreRejectedAndThePreviousGoalsStay) {
@@ -1137,16 +1210,13 @@ TEST_F(BadInputPathAssessor, TimeGoingBackwardsIsIgnoredAndTheAssessmentStillPub
   EXPECT_GT(at(6, 1)->num_samples, samples);
 }
 
-TEST_F(BadInputPathAssessor, TimeJumpingFarAheadIsSkippedWithoutAHang) {
+TEST_F(BadInputPathAssessor, TimeJumpingFarAheadIsRejectedWithoutAHang) {
   record(5);
-  const auto samples = at(4, 1)->interaction_samples;
   auto jump = paStates(5);
   jump.utime += 1'000'000'000'000'000LL;  // ~32 years: 10^10 samples at 10 Hz if interpolated
   ASSERT_TRUE(step(jump, 5s)) << "a jump of the clock hung the path assessor";
-  ASSERT_NE(at(5, 1), nullptr);
-  // No sample inside the gap: at most the one at its end.
-  EXPECT_LE(at(5, 1)->interaction_samples, samples + 1);
-  EXPECT_TRUE(std::isfinite(at(5, 1)->cm_m));
+  // Beyond limits.max_time_jump_s: rejected (its step acknowledged), nothing assessed.
+  EXPECT_EQ(at(5, 1), nullptr);
   ASSERT_TRUE(step(paStates(6), 5s));
   ASSERT_NE(at(6, 1), nullptr);
   EXPECT_EQ(at(6, 1)->recording, path_assessment_t::REC_RECORDING);
@@ -1398,6 +1468,48 @@ TEST_F(BadInputDialogueManager, ExtremeTimestampsNeverCrashOrDecide) {
   EXPECT_TRUE(dut_.child().running());
 }
 
+TEST_F(BadInputDialogueManager, ASituationStampedInt64MaxFirstIsFollowedOutOfAndDecisionsResume) {
+  // The probe, free-running: the first situation is stamped INT64_MAX (it sets the
+  // clock: nothing came before it), then situations at normal time with t_CROSS falling from 9 s
+  // by 0.2 s. The daemon follows their time after time_resync_messages, so round 1 speaks when
+  // t_CROSS reaches 7 s (the 11th); before, its times stayed pinned at INT64_MAX.
+  auto first = dmSituation(0, 1, 9.0);
+  first.step = -1;
+  first.utime = std::numeric_limits<std::int64_t>::max();
+  dut_.publish(channels::kSituation, first);
+  dut_.settle(100ms);
+  std::int64_t round1_utime = 0;
+  for (int i = 0; i < 16; ++i) {
+    auto s = dmSituation(i, 1, 9.0 - 0.2 * i);
+    s.step = -1;
+    if (round1_utime == 0 && s.t_cross_s <= 7.0) round1_utime = s.utime;  // round1_t_cross_s
+    dut_.publish(channels::kSituation, s);
+    dut_.settle(30ms);
+  }
+  ASSERT_TRUE(dut_.spinUntil([&] { return !utterances_.empty(); }, 5s)) << "no decision resumed";
+  EXPECT_EQ(utterances_.size(), 1u);
+  EXPECT_EQ(utterances_[0].utime, round1_utime);
+  EXPECT_EQ(utterances_[0].round, 1);
+}
+
+TEST_F(BadInputDialogueManager, ASituationStampedInt64MaxAmidNormalTrafficIsRejected) {
+  ASSERT_TRUE(finishStep(0));
+  dut_.publish(channels::kSituation, dmSituation(1, 1, 9.5));
+  ASSERT_TRUE(finishStep(1));
+  const daemon_status_t before = dut_.freshStatus();
+  auto high = dmSituation(2, 1, 6.9);
+  high.utime = std::numeric_limits<std::int64_t>::max();
+  dut_.publish(channels::kSituation, high);
+  ASSERT_TRUE(finishStep(2));
+  EXPECT_TRUE(utterances_.empty()) << "decided on a situation stamped INT64_MAX";
+  dut_.publish(channels::kSituation, dmSituation(3, 1, 6.9));
+  ASSERT_TRUE(finishStep(3));
+  ASSERT_EQ(utterances_.size(), 1u) << "the next situation was not decided at once";
+  EXPECT_EQ(utterances_[0].step, 3);
+  const daemon_status_t after = dut_.countersReach(before.rejected + 1);
+  EXPECT_EQ(after.rejected, before.rejected + 1);
+}
+
 TEST_F(BadInputDialogueManager, AssessmentsOfUnknownHumansDecideNothing) {
   ASSERT_TRUE(finishStep(0));
   // A path assessment of a human no situation ever named, and agent states of other people.
@@ -1418,7 +1530,9 @@ TEST_F(BadInputDialogueManager, AClockJumpWithoutTheHumanNeverStallsOrThanks) {
   dut_.publish(channels::kSituation, dmSituation(1, 1, 6.9));
   ASSERT_TRUE(finishStep(1));
   ASSERT_EQ(utterances_.size(), 1u);
-  // The tracker's clock jumps 32 years ahead and the human is missing from that message.
+  const daemon_status_t before = dut_.freshStatus();
+  // The tracker's clock jumps 32 years ahead and the human is missing from that message: it is
+  // rejected (limits.max_time_jump_s), so the human is not taken for gone 32 years.
   auto jump = paStates(2);
   jump.utime += 1'000'000'000'000'000LL;
   jump.humans.clear();
@@ -1427,9 +1541,12 @@ TEST_F(BadInputDialogueManager, AClockJumpWithoutTheHumanNeverStallsOrThanks) {
   dut_.publish(channels::kSituation, dmSituation(2, 1, 3.9));
   dut_.publish(channels::kPathAssessment, dmPath(2, 1, 0.0));
   ASSERT_TRUE(finishStep(2));
-  // The situation assessor still reports the human, so round 2 may decide on it (a dock is the
-  // cautious answer); what must not happen is a crash, a stalled step or thanks to nobody.
+  // Round 2 decides on the situations (the human did not move: a dock), and the dock stands.
   for (const auto& u : utterances_) EXPECT_NE(u.speech_act, utterance_t::ACT_THANK);
+  ASSERT_EQ(actions_.size(), 1u);
+  EXPECT_EQ(actions_[0].action, robot_action_t::ACTION_DOCK);
+  const daemon_status_t after = dut_.countersReach(before.rejected + 1);
+  EXPECT_EQ(after.rejected, before.rejected + 1);
   EXPECT_TRUE(dut_.child().running());
 }
 

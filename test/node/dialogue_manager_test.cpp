@@ -557,25 +557,38 @@ TEST_F(DialogueManagerTest, AHumanGoneForAMinuteIsForgottenAndItsIdStartsAfresh)
   // Given human 1 told round 1, then out of the agent states.
   start({"--set", "human_gone_s=0.5"});
   primePeers();
-  agents(1, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  // Over 700 steps: the world acknowledges its steps as in a run (a step gate keeps the inputs of
+  // a peer that never acknowledges for 320 steps only, limits.max_pending_steps + 64).
+  auto worldStep = [&](std::int64_t step, const std::vector<Human>& humans) {
+    agents(step, 6.0, 0.7, humans);
+    step_ack_t a{};
+    a.utime = utimeOf(step);
+    a.step = step;
+    a.participant = "world_sim";
+    a.output_channels = {channels::kAgentStates};
+    a.output_counts = {1};
+    a.num_outputs = 1;
+    probe_.publish(channels::kStepAck, a);
+  };
+  worldStep(1, {{1, 0.0, 0.0, 0.0}});
   fullStep(1, {{1, 6.9, T, F, F}}, {});
   ASSERT_EQ(utterancesOf(1).size(), 1u);
   std::int64_t k = 2;
   auto absentUntil = [&](std::int64_t last) {
     for (; k <= last; ++k) {
-      agents(k, 6.0, 0.7, {});
+      worldStep(k, {});
       fullStep(k, {}, {});
     }
   };
   // When the id comes back 10 s later: the same interaction, ended; nothing is said again.
   absentUntil(100);
-  agents(k, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  worldStep(k, {{1, 0.0, 0.0, 0.0}});
   fullStep(k++, {{1, 6.8, T, F, F}}, {});
   EXPECT_EQ(utterancesOf(1).size(), 1u);
   // When it comes back after more than a minute away: someone new to the dialogue manager
   // (its state was forgotten, as the assessors forget theirs), whose round 1 is said.
   absentUntil(k + 610);
-  agents(k, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  worldStep(k, {{1, 0.0, 0.0, 0.0}});
   fullStep(k++, {{1, 6.8, T, F, F}}, {});
   ASSERT_EQ(utterancesOf(1).size(), 2u);
   EXPECT_EQ(utterancesOf(1)[1].round, 1);

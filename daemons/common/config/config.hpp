@@ -13,13 +13,17 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
+
+#include "config/file_read.hpp"
 
 namespace coopnav {
 
@@ -74,6 +78,26 @@ void reportUnknownKeys(const YAML::Node& node, const std::set<std::string>& know
   }
 }
 
+/// Calls report(key, message) once for each key the mapping `node` gives more than once, naming
+/// the lines of its first two occurrences. yaml-cpp keeps every pair of a duplicated key and
+/// `node[key]` returns the first, so the later value was silently ignored (a config giving a key
+/// twice, the second time out of range, loaded with the first). Keys that are no name are left to
+/// reportUnknownKeys.
+template <class Report>
+void reportDuplicateKeys(const YAML::Node& node, Report&& report) {
+  if (!node || !node.IsMap()) return;
+  std::map<std::string, std::pair<int, bool>> first_line;  // key -> (line, reported)
+  for (const auto& kv : node) {
+    if (!kv.first.IsScalar()) continue;
+    const int line = kv.first.Mark().line + 1;
+    const auto [it, fresh] = first_line.emplace(kv.first.Scalar(), std::make_pair(line, false));
+    if (fresh || it->second.second) continue;
+    it->second.second = true;
+    report(it->first, "is given more than once (lines " + std::to_string(it->second.first) +
+                          " and " + std::to_string(line) + "); give each key once");
+  }
+}
+
 namespace detail {
 template <class T>
 struct IsVector : std::false_type {};
@@ -89,6 +113,9 @@ struct HasVisit<T, std::void_t<decltype(&T::template visit<int>)>> : std::true_t
 /// source, the dotted key path (list items as "humans[0].") and the value. The one YAML reader of
 /// the project: the daemons' configs and world_sim's scenario files.
 ///
+/// A key given twice in any mapping it reads is an error (reportDuplicateKeys), whichever value
+/// is right.
+///
 /// A visit() calls v(key, field, options...) once per key, options among Range (numeric fields),
 /// OneOf (strings) and Required. A key the mapping lacks, or gives no value ("key:", "key: ~"),
 /// keeps the struct's value (an error for a Required key). A value that is out of its Range, not
@@ -100,6 +127,9 @@ class ConfigReader {
   ConfigReader(const YAML::Node& node, std::string where, std::string prefix = "")
       : node_(node), where_(std::move(where)), prefix_(std::move(prefix)) {
     if (node_ && !node_.IsNull() && !node_.IsMap()) error("", "must be a mapping");
+    // Every mapping read (the file's, a nested one, a list item) is read by a reader of its own.
+    reportDuplicateKeys(
+        node_, [this](const std::string& key, const std::string& msg) { error(key, msg); });
   }
 
   template <class T, class... Options>
@@ -305,10 +335,14 @@ Config loadConfig(const std::string& path, const std::vector<std::string>& overr
   Config config;
   YAML::Node root;
   if (!path.empty()) {
+    std::string text;
     try {
-      root = YAML::LoadFile(path);
-    } catch (const YAML::BadFile&) {
-      throw ConfigError(path + ": cannot open the config file");
+      text = readFileCapped(path, kMaxYamlFileBytes, "config file");
+    } catch (const FileReadError& e) {
+      throw ConfigError(e.what());
+    }
+    try {
+      root = YAML::Load(text);
     } catch (const YAML::ParserException& e) {
       throw ConfigError(path + ": YAML syntax error at line " + std::to_string(e.mark.line + 1) +
                         ": " + e.msg);

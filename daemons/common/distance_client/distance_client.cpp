@@ -8,10 +8,13 @@ namespace coopnav {
 
 DistanceClient::DistanceClient(Runtime& runtime, const std::string& client_name, Options options)
     : runtime_(runtime), options_(options) {
-  const std::string pid = std::to_string(::getpid());
-  reply_channel_ = std::string(channels::kDistanceReplyPrefix) + client_name + "_" + pid;
-  if (reply_channel_.size() > 63)
-    reply_channel_ = reply_channel_.substr(reply_channel_.size() - 63);
+  // The server answers only on channels that start with the prefix, and LCM takes at most 63
+  // bytes: a long client name is cut, never the prefix or the pid that makes the channel this
+  // process's own.
+  const std::string prefix = channels::kDistanceReplyPrefix;
+  const std::string suffix = "_" + std::to_string(::getpid());
+  const std::size_t room = kMaxChannelBytes - prefix.size() - suffix.size();
+  reply_channel_ = prefix + client_name.substr(0, room) + suffix;
   // Unique per process and attempt: pid in the high bits.
   next_id_ = (static_cast<std::int64_t>(::getpid()) << 32) + 1;
   // Not journaled: answers to this process's own requests mean nothing to a restarted one.

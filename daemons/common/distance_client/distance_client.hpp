@@ -34,7 +34,11 @@ class DistanceClient {
   };
   using Callback = std::function<void(const Outcome&)>;
 
-  /// `client_name` makes the reply channel COOPNAV_DIST_REP_<client_name>_<pid>.
+  /// LCM's longest channel name.
+  static constexpr std::size_t kMaxChannelBytes = 63;
+
+  /// `client_name` makes the reply channel COOPNAV_DIST_REP_<client_name>_<pid> (the name cut to
+  /// fit 63 bytes): the server answers only on channels with that prefix.
   DistanceClient(Runtime& runtime, const std::string& client_name, Options options);
 
   /// Sends a batch (1..MAX_QUERIES); `done` runs exactly once: on the reply or after the last

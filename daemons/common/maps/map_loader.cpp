@@ -5,11 +5,13 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <istream>
 #include <limits>
 #include <sstream>
+#include <streambuf>
 
+#include "config/config.hpp"
+#include "config/file_read.hpp"
 #include "coopnav/distance/octree_conversion.hpp"
 
 namespace coopnav {
@@ -78,23 +80,46 @@ void requireInRange(double value, double lo, double hi, const YAML::Node& node,
   }
 }
 
-std::string readFile(const std::string& path, const std::string& what) {
-  // A directory opens like a file and fails at the first read, where libstdc++ throws
-  // std::ios_base::failure past the loader (found by fuzz_map_yaml: a scenario's `map: {file:
-  // ..}` stopped the daemon with exit 1, the fuzz target with std::terminate).
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw MapLoadError(path + ": is a directory, not a " + what);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MapLoadError(path + ": cannot open " + what);
+// Every map file is read here. A directory, /dev/zero, a FIFO or a file over its cap is a bad map
+// (exit 3), refused before it is read (a directory once threw std::ios_base::failure past the
+// loader, found by fuzz_map_yaml; /dev/zero was read until std::bad_alloc).
+std::string readFile(const std::string& path, std::size_t max_bytes, const std::string& what) {
   try {
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::ios_base::failure& e) {
-    throw MapLoadError(path + ": cannot read " + what + ": " + e.what());
+    return readFileCapped(path, max_bytes, what);
+  } catch (const FileReadError& e) {
+    throw MapLoadError(e.what());
   }
 }
 
+// A key given twice in a mapping the loader reads: node[key] would take the first and ignore the
+// second without a word.
+void rejectDuplicateKeys(const YAML::Node& node, const std::string& where,
+                         const std::string& prefix = "") {
+  reportDuplicateKeys(node, [&](const std::string& key, const std::string& msg) {
+    fail(where, "key '" + prefix + key + "' " + msg);
+  });
+}
+
+// Every map source's resolution: `written` is the value as the file gives it.
+void requireResolution(double resolution_m, const std::string& written, const std::string& what,
+                       const std::string& where) {
+  if (resolution_m >= kMinMapResolution_m && resolution_m <= kMaxMapResolution_m) return;
+  std::ostringstream os;
+  os << what << " = " << written << " m per cell is outside [" << kMinMapResolution_m << ", "
+     << kMaxMapResolution_m << "] (a slip of units, not a map)";
+  fail(where, os.str());
+}
+
+// The bytes of a string as a stream without a copy (OctoMap reads from an istream).
+class StringViewBuf : public std::streambuf {
+ public:
+  explicit StringViewBuf(std::string& data) {
+    setg(data.data(), data.data(), data.data() + data.size());
+  }
+};
+
 YAML::Node loadYamlFile(const std::string& path) {
-  const std::string text = readFile(path, "map file");
+  const std::string text = readFile(path, kMaxYamlFileBytes, "map file");
   try {
     return YAML::Load(text);
   } catch (const YAML::ParserException& e) {
@@ -252,10 +277,7 @@ LoadedMap fromGrid(OccupancyGrid2 grid, const MapLoadOptions& options, const std
 }
 
 LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) fail(path, "is a directory, not an OctoMap file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open OctoMap file");
+  std::string data = readFile(path, maxBtBytes(options.max_cells), "OctoMap file");
   if (!(options.bt_z_min_m < options.bt_z_max_m)) {
     std::ostringstream os;
     os << "height band [" << options.bt_z_min_m << ", " << options.bt_z_max_m
@@ -264,7 +286,14 @@ LoadedMap loadBt(const std::string& path, const MapLoadOptions& options) {
   }
   LoadedMap map;
   map.tree = std::make_unique<octomap::OcTree>(0.1);  // readBinary takes the file's resolution
+  StringViewBuf buf(data);
+  std::istream in(&buf);
   if (!map.tree->readBinary(in)) fail(path, "not a readable OctoMap binary (.bt) file");
+  {
+    std::ostringstream res;
+    res << map.tree->getResolution();
+    requireResolution(map.tree->getResolution(), res.str(), "resolution", path);
+  }
   map.tree_origin_m = options.bt_origin_m;
   try {
     map.grid = octreeToGrid(*map.tree, options.bt_z_min_m, options.bt_z_max_m, options.bt_origin_m,
@@ -297,6 +326,7 @@ LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& b
 LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
                       const MapLoadOptions& options, const std::string& where, int nesting) {
   if (!node.IsMap()) fail(where, "expected a YAML mapping, got " + scalarOf(node));
+  rejectDuplicateKeys(node, where);
   if (node["image"])
     return fromGrid(loadRosMap(node, base_dir, where, options.max_cells), options, where);
   if (node["walls"] || node["boxes"])
@@ -313,8 +343,18 @@ LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
 
 }  // namespace
 
-PgmImage readPgm(const std::string& path) {
-  const std::string data = readFile(path, "PGM image");
+std::size_t maxPgmBytes(std::int64_t max_cells) {
+  return kMapFileHeaderBytes +
+         kMaxPgmBytesPerCell * static_cast<std::size_t>(std::max<std::int64_t>(max_cells, 0));
+}
+
+std::size_t maxBtBytes(std::int64_t max_cells) {
+  return kMapFileHeaderBytes +
+         kMaxBtBytesPerCell * static_cast<std::size_t>(std::max<std::int64_t>(max_cells, 0));
+}
+
+PgmImage readPgm(const std::string& path, std::int64_t max_cells) {
+  const std::string data = readFile(path, maxPgmBytes(max_cells), "PGM image");
   if (data.size() < 2 || data[0] != 'P' || (data[1] != '2' && data[1] != '5')) {
     fail(path, "bad PGM magic '" + data.substr(0, std::min<std::size_t>(2, data.size())) +
                    "' (expected P2 or P5)");
@@ -394,12 +434,11 @@ PgmImage readPgm(const std::string& path) {
 
 OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
                           const std::string& where, std::int64_t max_cells) {
+  rejectDuplicateKeys(node, where);
   const std::string image = requireString(node, "image", where);
   const double resolution_m = requireDouble(node, "resolution", where);
-  if (!(resolution_m > 0.0)) {
-    fail(where, "key 'resolution'" + lineOf(node["resolution"]) + " must be > 0, got " +
-                    scalarOf(node["resolution"]));
-  }
+  requireResolution(resolution_m, node["resolution"].Scalar(),
+                    "key 'resolution'" + lineOf(node["resolution"]), where);
   const YAML::Node origin = requireKey(node, "origin", where);
   if (!origin.IsSequence() || origin.size() != 3) {
     fail(where, "key 'origin'" + lineOf(origin) + " must be a sequence [x, y, yaw], got " +
@@ -451,7 +490,7 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
     fail(where, "image file '" + image_path.string() + "' (key 'image'" + lineOf(node["image"]) +
                     ") not found" + (ec ? " (" + ec.message() + ")" : std::string()));
   }
-  const PgmImage img = readPgm(image_path.string());
+  const PgmImage img = readPgm(image_path.string(), max_cells);
   if (std::int64_t{img.width} * img.height > max_cells) {
     fail(where, "image '" + image_path.string() + "' of " + std::to_string(img.width) + " x " +
                     std::to_string(img.height) + " pixels is larger than " +
@@ -481,9 +520,10 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
 
 OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where,
                                  std::int64_t max_cells) {
+  rejectDuplicateKeys(node, where);
   const double res = requireDouble(node, "resolution_m", where);
-  if (!(res > 0.0))
-    fail(where, "key 'resolution_m'" + lineOf(node["resolution_m"]) + " must be > 0");
+  requireResolution(res, node["resolution_m"].Scalar(),
+                    "key 'resolution_m'" + lineOf(node["resolution_m"]), where);
   double margin_m = 0.0;
   if (node["margin_m"]) {
     margin_m = asDouble(node["margin_m"], "margin_m", where);
@@ -507,6 +547,7 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
       const YAML::Node e = list[k];
       const std::string item = std::string(key) + "[" + std::to_string(k) + "]";
       if (!e.IsMap()) fail(where, item + lineOf(e) + " must be a mapping, got " + scalarOf(e));
+      rejectDuplicateKeys(e, where, item + ".");
       const auto get = [&](const char* field) {
         return asDouble(requireKey(e, field, where + ": " + item), item + "." + field, where);
       };
@@ -575,6 +616,7 @@ LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& b
   if (!map_node || !map_node.IsMap()) {
     fail(where, "expected a mapping with 'file' or walls/boxes, got " + scalarOf(map_node));
   }
+  rejectDuplicateKeys(map_node, where);
   if (const YAML::Node file = map_node["file"]) {
     const std::string f = requireString(map_node, "file", where);
     if (nesting >= kMaxMapFileNesting) {

@@ -6,12 +6,16 @@
 ///  - OctoMap binary `.bt`: the leaves in a height band projected to a 2-D grid.
 ///  - A walls map (`walls:` / `boxes:` keys), rasterised 4-connected; see rasteriseWallsMap().
 ///  - A scenario file (`map:` key): its map, whichever of the above it is.
-/// Every failure throws MapLoadError naming the file and the key / line / value at fault.
+/// Every failure throws MapLoadError naming the file and the key / line / value at fault. Every
+/// file is read once through readFileCapped (config/file_read.hpp): a regular file under its cap;
+/// a key given twice in a mapping the loader reads, or a resolution outside
+/// [kMinMapResolution_m, kMaxMapResolution_m], is a bad map.
 
 #include <octomap/OcTree.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -35,6 +39,36 @@ class MapLoadError : public std::runtime_error {
 inline constexpr std::int64_t kMaxMapCells = std::int64_t{1} << 22;
 /// Ceiling of `max_map_cells`: 2^26 cells (410 m square at 5 cm) take ~8 GB to load.
 inline constexpr std::int64_t kMaxMapCellsCeiling = std::int64_t{1} << 26;
+
+/// Bounds of a map's resolution [m per cell], whatever its source (ROS map, walls map, .bt).
+/// Below 1 mm a cell is finer than any range sensor resolves, and max_map_cells (2^22) covers
+/// 2 m square; above 10 m one cell is wider than any corridor the robot meets a person in. Out
+/// of them a map is a slip of units, not a map: a ROS map at 1e-9 m loaded, and every query fell
+/// outside it.
+inline constexpr double kMinMapResolution_m = 1e-3;
+inline constexpr double kMaxMapResolution_m = 10.0;
+
+/// Size caps of the map files read whole at start (config/file_read.hpp; a map YAML is capped at
+/// kMaxYamlFileBytes). They follow the cell limit, so that no map max_map_cells allows is refused
+/// for its bytes and no file much larger than such a map is read: a file over its cap (or
+/// /dev/zero, which read whole took 17-20 s and ~2 GB before std::bad_alloc) is a bad map.
+/// Room for a file's header and comments beyond its cells.
+inline constexpr std::size_t kMapFileHeaderBytes = std::size_t{1} << 20;
+/// PGM: the widest pixel is a P2 "65535\r\n", 7 bytes (P5 takes 1 or 2); 8 at the default
+/// max_map_cells: a 33 MiB image.
+inline constexpr std::size_t kMaxPgmBytesPerCell = 8;
+/// OctoMap .bt: 2 bytes per inner node, ~0.3 bytes per voxel of a tree that cannot be pruned
+/// (measured: 1024 x 1024 x 4 random voxels, 1.2 MiB). Our own 2-D trees (2 layers) take under
+/// 1 byte per cell; 16 leave room for a 3-D map's height layers (walls ~40 voxels tall at 5 cm,
+/// free space pruned): 65 MiB at the default max_map_cells. OctoMap's reader builds the whole tree
+/// before the height band and the cell limit apply, ~170 MB and ~1 s per MiB of unprunable
+/// voxels: the cap bounds that too, and a file at it that is all unprunable voxels still takes
+/// minutes and GBs (the loader does not count the nodes before OctoMap reads them).
+inline constexpr std::size_t kMaxBtBytesPerCell = 16;
+
+/// The cap of a PGM image / a .bt file for a map of at most max_cells cells.
+std::size_t maxPgmBytes(std::int64_t max_cells);
+std::size_t maxBtBytes(std::int64_t max_cells);
 
 struct MapLoadOptions {
   /// Voxel layers of the OcTree built from a 2-D source (even numbers let the tree prune).
@@ -86,8 +120,9 @@ LoadedMap loadMapFromNode(const YAML::Node& map_node, const std::string& base_di
                           const MapLoadOptions& options = {},
                           const std::string& where = "map section");
 
-/// Reads a binary (P5, 8 or 16 bit) or ASCII (P2) PGM, with comments.
-PgmImage readPgm(const std::string& path);
+/// Reads a binary (P5, 8 or 16 bit) or ASCII (P2) PGM, with comments: a regular file of at most
+/// maxPgmBytes(max_cells) bytes.
+PgmImage readPgm(const std::string& path, std::int64_t max_cells = kMaxMapCells);
 
 /// Reads a ROS map_server YAML node: image, resolution, origin [x, y, yaw = 0], negate,
 /// occupied_thresh, free_thresh, optional mode (only `trinary`). An image path is taken relative

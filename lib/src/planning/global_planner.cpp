@@ -104,6 +104,8 @@ Eigen::Vector2d GridPathPlanner::center(int ix, int iy) const {
 
 bool GridPathPlanner::toCell(const Eigen::Vector2d& p, Cell* c) const {
   const Eigen::Vector2d q = (p - origin_) / options_.resolution_m;
+  // Compared as doubles first: a point 1e200 m away (or NaN) must not reach the int cast.
+  if (!(q.x() >= 0.0 && q.y() >= 0.0 && q.x() < nx_ && q.y() < ny_)) return false;
   const int ix = static_cast<int>(std::floor(q.x()));
   const int iy = static_cast<int>(std::floor(q.y()));
   if (ix < 0 || iy < 0 || ix >= nx_ || iy >= ny_) return false;

@@ -235,7 +235,8 @@ int main() {
     lcm::LCM lcm(kBenchUrl);
     // Warm up until both answer (the server loads its map first).
     for (int i = 0; i < 200; ++i) {
-      if (!roundTrips(lcm, channels::kDistanceRequest, "COOPNAV_DIST_REP_BENCH", bytes, 1).empty() &&
+      if (!roundTrips(lcm, channels::kDistanceRequest, "COOPNAV_DIST_REP_BENCH", bytes, 1)
+               .empty() &&
           !roundTrips(lcm, "BENCH_ECHO_REQ", "BENCH_ECHO_REP", bytes, 1).empty())
         break;
     }

@@ -9,8 +9,8 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/distance_request_t.hpp"
 #include "maps/map_source.hpp"
-#include "runtime/runtime.hpp"
 #include "runtime/limits.hpp"
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 

@@ -21,12 +21,12 @@
 #include "coopnav/sim/simulation.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "runtime/limits.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_gate.hpp"
 #include "runtime/step_outputs.hpp"
 #include "scenario.hpp"
 #include "wire/conversions.hpp"
-#include "runtime/limits.hpp"
 
 namespace coopnav {
 

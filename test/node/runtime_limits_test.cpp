@@ -165,8 +165,7 @@ TEST(JournalLimits, AJournalAtItsCapStopsGrowingAndARestartFromItSaysTheStateIsL
       probe.publish(channels::kAgentStates, s);
       rt.spinFor(0);
     }
-    ASSERT_TRUE(
-        test::waitFor([&] { return handled == 1000; }, 5000ms, [&] { rt.spinFor(5); }));
+    ASSERT_TRUE(test::waitFor([&] { return handled == 1000; }, 5000ms, [&] { rt.spinFor(5); }));
     EXPECT_EQ(rt.state(), daemon_status_t::STATE_DEGRADED);
     EXPECT_NE(rt.detail().find("journal_max_mib"), std::string::npos) << rt.detail();
     EXPECT_LE(std::filesystem::file_size(journal.path()), 1024u * 1024u + 64u);

@@ -56,7 +56,7 @@ class Journal {
   int fd_{-1};
   std::vector<Record> records_;
   bool write_failed_{false};
-  bool full_{false};           ///< ends with the "full" record: no replay, no more records
+  bool full_{false};  ///< ends with the "full" record: no replay, no more records
   std::uint64_t size_bytes_{0};
 };
 

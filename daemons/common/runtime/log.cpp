@@ -137,8 +137,8 @@ class SafeSink : public spdlog::sinks::base_sink<std::mutex> {
 };
 
 std::shared_ptr<SafeSink>& safeSink() {
-  static std::shared_ptr<SafeSink> sink = std::make_shared<SafeSink>(
-      std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
+  static std::shared_ptr<SafeSink> sink =
+      std::make_shared<SafeSink>(std::make_shared<spdlog::sinks::stderr_color_sink_mt>());
   return sink;
 }
 

@@ -31,7 +31,6 @@ void flushLogSuppressions();
 /// `text` with every control character, C1 control and byte that is not UTF-8 written as \xNN,
 /// cut to `max_bytes` (plus "...") at a character boundary: what a log line may hold of text that
 /// came from a message. `keep_newlines`: "\n" stays (the project's own multi-line messages).
-std::string escapeLogText(std::string_view text, std::size_t max_bytes,
-                          bool keep_newlines = false);
+std::string escapeLogText(std::string_view text, std::size_t max_bytes, bool keep_newlines = false);
 
 }  // namespace coopnav

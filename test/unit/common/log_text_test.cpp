@@ -24,10 +24,13 @@ TEST(LogTextTest, ControlCharactersAndAnsiEscapesAreWrittenAsHex) {
 TEST(LogTextTest, Utf8StaysAndWhatIsNotUtf8OrAC1ControlIsEscaped) {
   EXPECT_EQ(escapeLogText("d\xc3\xa9j\xc3\xa0 \xe2\x86\x92 \xf0\x9f\x98\x80", 100),
             "d\xc3\xa9j\xc3\xa0 \xe2\x86\x92 \xf0\x9f\x98\x80");
-  EXPECT_EQ(escapeLogText("\xc2\x9b" "31m", 100), "\\xC2\\x9B31m");  // U+009B: CSI on some terminals
-  EXPECT_EQ(escapeLogText("\xff\xc3", 100), "\\xFF\\xC3");            // not UTF-8, cut-off sequence
-  EXPECT_EQ(escapeLogText("\xed\xa0\x80", 100), "\\xED\\xA0\\x80");   // a surrogate
-  EXPECT_EQ(escapeLogText("\xe0\x80\xaf", 100), "\\xE0\\x80\\xAF");   // overlong
+  EXPECT_EQ(escapeLogText("\xc2\x9b"
+                          "31m",
+                          100),
+            "\\xC2\\x9B31m");                               // U+009B: CSI on some terminals
+  EXPECT_EQ(escapeLogText("\xff\xc3", 100), "\\xFF\\xC3");  // not UTF-8, cut-off sequence
+  EXPECT_EQ(escapeLogText("\xed\xa0\x80", 100), "\\xED\\xA0\\x80");  // a surrogate
+  EXPECT_EQ(escapeLogText("\xe0\x80\xaf", 100), "\\xE0\\x80\\xAF");  // overlong
 }
 
 TEST(LogTextTest, LongTextIsCutAtACharacterBoundaryWithAMark) {

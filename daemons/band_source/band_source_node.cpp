@@ -81,17 +81,6 @@ std::string idList(const std::set<std::int32_t>& ids) {
   return s;
 }
 
-/// `text` cut to at most `max_bytes` bytes ("..." included) at a UTF-8 character boundary: text
-/// from a message is kept only this long.
-std::string keptText(std::string text, std::size_t max_bytes) {
-  if (text.size() <= max_bytes) return text;
-  static constexpr char kEllipsis[] = "...";
-  std::size_t n = max_bytes >= sizeof kEllipsis - 1 ? max_bytes - (sizeof kEllipsis - 1) : 0;
-  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // a continuation
-  text.resize(n);
-  return text + kEllipsis;
-}
-
 }  // namespace
 
 void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePaths(base_dir); }
@@ -270,8 +259,7 @@ void BandSourceNode::onRobotAction(const robot_action_t& msg) {
   RobotActionMsg a = fromLcm(msg);  // throws RejectedMessage (unknown action, bad step)
   // Kept (and logged) no longer than limits.max_text_bytes: 3000 actions with a 60 kB reason
   // must not become 180 MB of memory or log.
-  a.reason =
-      keptText(std::move(a.reason), static_cast<std::size_t>(runtime_.limits().max_text_bytes));
+  a.reason = keptText(std::move(a.reason), runtime_.limits().maxTextBytes());
   // A repeat (the dialogue manager answered a re-published step again) is applied once.
   steps_->input(kDialogueParticipant, channels::kRobotAction, msg.step,
                 std::to_string(msg.action) + "/" + std::to_string(msg.human_id), [&] {

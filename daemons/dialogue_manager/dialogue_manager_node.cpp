@@ -23,17 +23,6 @@ std::string formatTCross(std::optional<double> t_cross_s) {
   return t_cross_s ? fmt::format("{:.2f} s", *t_cross_s) : std::string("-");
 }
 
-/// `text` cut to at most `max_bytes` bytes ("..." included) at a UTF-8 character boundary: text
-/// from a message is kept and published on (a robot action's reason) only this long.
-std::string keptText(std::string text, std::size_t max_bytes) {
-  if (text.size() <= max_bytes) return text;
-  static constexpr char kEllipsis[] = "...";
-  std::size_t n = max_bytes >= sizeof kEllipsis - 1 ? max_bytes - (sizeof kEllipsis - 1) : 0;
-  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // a continuation
-  text.resize(n);
-  return text + kEllipsis;
-}
-
 std::string idList(const std::vector<std::int32_t>& ids) {
   std::string s;
   for (std::size_t i = 0; i < ids.size() && i < kIdsPerLogLine; ++i)
@@ -64,7 +53,8 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
       decision_config_(config.decisionConfig()),
       runtime_(runtime),
       speech_(config.speech),
-      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
+      clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
+      ack_steps_(runtime.limits().max_pending_steps, runtime.limits().time_resync_messages) {
   // Step k is decided with every situation and path assessment of k and the world's agent
   // states of k (a lost one holds the step until the world publishes it again).
   StepNodeOptions steps;
@@ -217,9 +207,14 @@ void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
   // An upstream ack of a step we have no input for (no humans this step, or inputs lost) still
   // needs a work item, or the step would never be acknowledged downstream.
   if (ack.participant != kSituationAssessor && ack.participant != kPathAssessor) return;
-  if (ack.step < 0 || ack.step <= newest_step_ || ack.step <= last_done_step_ ||
-      inputs_.count(ack.step))
-    return;
+  if (ack.step < 0) return;
+  // An ack far from the others (a forged step 2^50) must not become the newest step: every real
+  // step after it would be refused as going backwards.
+  if (ack_steps_.offer(ack.step) == JumpGuard::Verdict::kJump)
+    throw RejectedMessage("step ack " + std::to_string(ack.step) + " from " + ack.participant +
+                          " is more than " + std::to_string(runtime_.limits().max_pending_steps) +
+                          " steps from the acks so far (limits.max_pending_steps)");
+  if (ack.step <= newest_step_ || ack.step <= last_done_step_ || inputs_.count(ack.step)) return;
   newest_step_ = ack.step;
   StepInputs& bucket = inputs_[ack.step];
   bucket.utime = nearClock(ack.utime);
@@ -363,17 +358,10 @@ void DialogueManagerNode::forgetStale(StepNode::Step& run) {
   const auto now = clock_.now();
   if (!now) return;
   const double max_age_s = std::max(runtime_.limits().forget_after_s, config_.human_gone_s);
-  std::vector<std::int32_t> aged, over;
-  std::vector<std::int32_t> ended;  // of these, those whose interaction was still open
-  while (const IdRecency::Entry* e = heard_.oldest()) {
-    const std::int32_t id = e->id;
-    if (utimeDiffSeconds(*now, e->utime) > max_age_s) {
-      aged.push_back(id);
-    } else if (heard_.size() > maxIds()) {
-      over.push_back(id);
-    } else {
-      break;
-    }
+  std::vector<std::int32_t> forgotten;  // least recent first: the aged ones, then the others
+  std::vector<std::int32_t> ended;      // of these, those whose interaction was still open
+  const IdRecency::Forgotten n = heard_.forgetOld(*now, max_age_s, maxIds(), [&](std::int32_t id) {
+    forgotten.push_back(id);
     const auto h = humans_.find(id);
     if (h != humans_.end() && !h->second.decision.ended()) {
       // Never forgotten in the middle of it: the recorder is stopped and a dock resumed.
@@ -385,13 +373,14 @@ void DialogueManagerNode::forgetStale(StepNode::Step& run) {
            std::nullopt, /*quiet=*/true);
     }
     forget(id);
-  }
-  if (aged.empty() && over.empty()) return;
+  });
+  if (forgotten.empty()) return;
+  const auto aged_end = forgotten.begin() + static_cast<std::ptrdiff_t>(n.aged);
   log().info(
       "dialogue_manager: forgot {} humans not heard of for {:.0f} s ({}) and {} beyond "
       "limits.max_ids {} ({}); interactions ended: {}",
-      aged.size(), max_age_s, idList(aged), over.size(), maxIds(), idList(over),
-      ended.empty() ? "-" : idList(ended));
+      n.aged, max_age_s, idList({forgotten.begin(), aged_end}), n.over, maxIds(),
+      idList({aged_end, forgotten.end()}), ended.empty() ? "-" : idList(ended));
 }
 
 void DialogueManagerNode::forget(std::int32_t id) {

@@ -20,7 +20,7 @@
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
-#include "id_recency.hpp"
+#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -43,12 +43,16 @@ struct TemplatesConfig : dialogue::TextTemplates {
     v("ask_to_move_more", ask_to_move_more);
     v("inform_docking", inform_docking);
     v("inform_precautionary_docking", inform_precautionary_docking);
+    v("inform_wider_place", inform_wider_place);
+    v("inform_retreat", inform_retreat);
+    v("inform_stopping", inform_stopping);
     v("thank", thank);
     v("left_word", left_word);
     v("right_word", right_word);
     for (const auto* t :
          {&inform_direction, &ask_to_move, &inform_dock_if_needed, &repeat_direction,
-          &ask_to_move_more, &inform_docking, &inform_precautionary_docking, &thank})
+          &ask_to_move_more, &inform_docking, &inform_precautionary_docking, &inform_wider_place,
+          &inform_retreat, &inform_stopping, &thank})
       v.require(!t->empty(), "templates", "no template may be empty");
     v.require(!left_word.empty() && !right_word.empty(), "left_word",
               "left_word and right_word must not be empty");
@@ -164,9 +168,7 @@ class DialogueManagerNode {
   /// The clock's time; `fallback` before any input was accepted.
   std::int64_t clockNow(std::int64_t fallback) const { return clock_.now().value_or(fallback); }
   std::size_t maxIds() const { return static_cast<std::size_t>(runtime_.limits().max_ids); }
-  std::size_t maxTextBytes() const {
-    return static_cast<std::size_t>(runtime_.limits().max_text_bytes);
-  }
+  std::size_t maxTextBytes() const { return runtime_.limits().maxTextBytes(); }
   void runStep(StepNode::Step& run);
   void process(StepNode::Step& run, StepInputs& in);
   void decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
@@ -201,6 +203,8 @@ class DialogueManagerNode {
   /// The time of every input, guarded: a message stamped far from it is rejected, so one
   /// situation stamped INT64_MAX cannot pin the times below (docs/bad-inputs.md "Caps").
   MessageClock clock_;
+  /// The assessors' acked steps: one far off the others is refused (onStepAck).
+  JumpGuard ack_steps_;
   /// Every id with per-id state (humans_, tracked_, latest_path_, history_unknown_), by when it
   /// was last heard of on any input: the order in which ids are forgotten.
   IdRecency heard_;

@@ -9,20 +9,7 @@
 #include "wire/assessment.hpp"
 
 namespace coopnav {
-namespace {
-
-/// Text from a message cut to `max_bytes` (at a UTF-8 character boundary) plus "...": what this
-/// daemon keeps of a peer's text (limits.max_text_bytes).
-std::string cutText(std::string text, int max_bytes) {
-  const auto max = static_cast<std::size_t>(std::max(max_bytes, 0));
-  if (text.size() <= max) return text;
-  std::size_t end = max;
-  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0u) == 0x80u) --end;
-  text.resize(end);
-  return text + "...";
-}
-
-}  // namespace
+namespace {}  // namespace
 
 PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
@@ -61,18 +48,14 @@ std::size_t PathAssessorNode::referencePathsKept() const {
 PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
   if (it == humans_.end()) {
-    Human h{assessment::PathRecorder(config_.recorderConfig()), {}, false};
-    h.recency = recency_.insert(recency_.end(), id);
-    h.heard_utime = clock_.now().value_or(0);
-    it = humans_.emplace(id, std::move(h)).first;
+    it = humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, false})
+             .first;
+    hear(id);
   }
   return it->second;
 }
 
-void PathAssessorNode::hear(Human& h) {
-  h.heard_utime = clock_.now().value_or(0);
-  recency_.splice(recency_.end(), recency_, h.recency);
-}
+void PathAssessorNode::hear(std::int32_t id) { recency_.touch(id, clock_.now().value_or(0)); }
 
 void PathAssessorNode::offerTime(std::int64_t utime, const char* what) {
   switch (clock_.offer(utime)) {
@@ -107,27 +90,14 @@ void PathAssessorNode::forgetHumans() {
   // dialogue manager ended its interaction long before), and ids beyond limits.max_ids are a
   // flood: kept, recorders and paths grew with every id ever sent (docs/soak.md).
   const InputLimits& limits = runtime_.limits();
-  const std::int64_t now_utime = *clock_.now();
-  std::size_t aged = 0;
-  std::size_t over = 0;
-  while (!recency_.empty()) {
-    const auto it = humans_.find(recency_.front());
-    if (utimeDiffSeconds(now_utime, it->second.heard_utime) <= limits.forget_after_s) break;
-    humans_.erase(it);
-    recency_.pop_front();
-    ++aged;
-  }
   const auto max_ids = static_cast<std::size_t>(std::max(limits.max_ids, 1));
-  while (humans_.size() > max_ids) {
-    humans_.erase(recency_.front());
-    recency_.pop_front();
-    ++over;
-  }
-  if (aged + over > 0)
+  const IdRecency::Forgotten n = recency_.forgetOld(*clock_.now(), limits.forget_after_s, max_ids,
+                                                    [&](std::int32_t id) { humans_.erase(id); });
+  if (n.aged + n.over > 0)
     log().info(
         "path_assessor: forgot {} humans ({} not heard of for {} s, {} beyond limits.max_ids = "
         "{})",
-        aged + over, aged, limits.forget_after_s, over, max_ids);
+        n.aged + n.over, n.aged, limits.forget_after_s, n.over, max_ids);
 }
 
 double PathAssessorNode::seconds(std::int64_t utime) {
@@ -143,7 +113,7 @@ void PathAssessorNode::onReferencePaths(const reference_paths_t& msg) {
       Human& h = human(e.agent_id);
       // Only a human not (yet) in the agent states is kept alive by its paths: one the tracker
       // lost is forgotten a minute later even if the band source still names it.
-      if (!h.seen_in_states) hear(h);
+      if (!h.seen_in_states) hear(e.agent_id);
       if (e.path.empty()) continue;  // nothing to measure CA against; keep the previous one
       h.references[paths.step] = e.path;
       while (h.references.size() > kReferencesPerHuman) h.references.erase(h.references.begin());
@@ -158,7 +128,7 @@ void PathAssessorNode::onControl(const path_assessor_control_t& msg) {
       "dialogue_manager", channels::kPathAssessorControl, msg.step,
       std::to_string(msg.human_id) + "/" + std::to_string(msg.command), [&] {
         RecorderControl c = fromLcm(msg);  // throws RejectedMessage (command)
-        c.reason = cutText(std::move(c.reason), runtime_.limits().max_text_bytes);
+        c.reason = keptText(std::move(c.reason), runtime_.limits().maxTextBytes());
         if (c.step >= 0) {
           // A dialogue manager sends at most a few controls per human and step, and
           // they wait one step: more than limits.max_ids waiting is a flood.
@@ -267,7 +237,7 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
   const Eigen::Vector2d robot_m = states.robot.pose.position();
   for (const AgentState& a : states.humans) {
     Human& h = human(a.id);
-    hear(h);
+    hear(a.id);
     h.seen_in_states = true;
     // Paper §II-C: one observation; the recorder samples CA on its fixed grid from these.
     if (!h.recorder.observe(t_s, a.pose.position(), robot_m))

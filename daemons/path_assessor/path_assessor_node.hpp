@@ -17,6 +17,7 @@
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
+#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -70,10 +71,6 @@ class PathAssessorNode {
     /// uses the latest one published at or before j, whatever arrived since.
     std::map<std::int64_t, Path2> references;
     bool seen_in_states{false};
-    /// [utime] the clock when last heard of: in agent states, or (never seen there yet) in a
-    /// reference path. Ages the human out (limits.forget_after_s).
-    std::int64_t heard_utime{0};
-    std::list<std::int32_t>::iterator recency{};  ///< its place in recency_
   };
   /// Reference paths kept per human, by step: the START of a step still waiting needs at most
   /// the paths of a few steps back (the gate holds a step for one step of the dialogue manager).
@@ -87,15 +84,17 @@ class PathAssessorNode {
   /// Lockstep: the controls of steps before `step`, in arrival order (each logged on failure).
   void applyControlsBefore(std::int64_t step);
   void assess(const AgentStatesSnapshot& states, StepNode::Step& step);
-  /// The state of human `id`, created if new; marked heard now (most recently heard last).
+  /// The state of human `id`, created (and heard now) if new.
   Human& human(std::int32_t id);
-  void hear(Human& h);
+  /// Human `id` heard of now: in agent states, or (never seen there yet) in a reference path.
+  /// Ages it out from then (limits.forget_after_s).
+  void hear(std::int32_t id);
   /// Offers a message's utime to the clock: throws RejectedMessage on a jump, starts a new time
   /// line on a resync (forgetting every human: their recorders' times are on the old one).
   void offerTime(std::int64_t utime, const char* what);
   /// Forgets humans not heard of for limits.forget_after_s of message time, then the least
   /// recently heard beyond limits.max_ids; one log line for the lot. Only the forgotten are
-  /// visited (recency_ is in hearing order), so a message costs O(its humans + forgotten).
+  /// visited, so a message costs O(its humans + forgotten).
   void forgetHumans();
   /// [s] message time on the node's time base (the clock's first or resynced utime), so the
   /// recorder's grid arithmetic works on small numbers whatever the clock's epoch.
@@ -108,7 +107,7 @@ class PathAssessorNode {
   /// paths with the agent states' utime); messages stamped far off it are rejected.
   MessageClock clock_;
   std::map<std::int32_t, Human> humans_;
-  std::list<std::int32_t> recency_;  ///< ids of humans_, least recently heard first
+  IdRecency recency_;  ///< ids of humans_ by when last heard of
   std::optional<std::int64_t> base_utime_;
   /// Time lines started (resyncs): work prepared on an earlier one is not run on this one.
   std::uint64_t time_line_{0};

@@ -32,17 +32,6 @@ void prependReason(std::string& reason, const std::string& what) {
   reason = reason.empty() ? what : what + "; " + reason;
 }
 
-/// Text from a message cut to `max_bytes` (at a UTF-8 character boundary) plus "...": what this
-/// daemon keeps or republishes of a peer's text (limits.max_text_bytes).
-std::string cutText(std::string text, int max_bytes) {
-  const auto max = static_cast<std::size_t>(std::max(max_bytes, 0));
-  if (text.size() <= max) return text;
-  std::size_t end = max;
-  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0u) == 0x80u) --end;
-  text.resize(end);
-  return text + "...";
-}
-
 }  // namespace
 
 SituationAssessorNode::SituationAssessorNode(const Config& config, Runtime& runtime)
@@ -125,17 +114,12 @@ void SituationAssessorNode::storeReferencePaths(const reference_paths_t& msg) {
           "{} (band source restarted?)",
           e.agent_id, it->second.revision, e.revision);
     }
-    if (it == references_.end()) {
-      it = references_.emplace(e.agent_id, Reference{}).first;
-      it->second.recency = recency_.insert(recency_.end(), e.agent_id);
-    } else {
-      recency_.splice(recency_.end(), recency_, it->second.recency);
-    }
+    if (it == references_.end()) it = references_.emplace(e.agent_id, Reference{}).first;
+    recency_.touch(e.agent_id, now_utime);
     Reference& r = it->second;
     r.revision = e.revision;
     r.utime = paths.utime;
     r.path = e.path;
-    r.heard_utime = now_utime;
   }
   forgetReferences();
 }
@@ -145,27 +129,15 @@ void SituationAssessorNode::forgetReferences() {
   // limits.forget_after_s (a minute) of message time belongs to someone who left, and ids beyond
   // limits.max_ids are a flood. Kept, they grew with every id ever sent (docs/soak.md).
   const InputLimits& limits = runtime_.limits();
-  const std::int64_t now_utime = *clock_.now();
-  std::size_t aged = 0;
-  std::size_t over = 0;
-  while (!recency_.empty()) {
-    const auto it = references_.find(recency_.front());
-    if (utimeDiffSeconds(now_utime, it->second.heard_utime) <= limits.forget_after_s) break;
-    references_.erase(it);
-    recency_.pop_front();
-    ++aged;
-  }
   const auto max_ids = static_cast<std::size_t>(std::max(limits.max_ids, 1));
-  while (references_.size() > max_ids) {
-    references_.erase(recency_.front());
-    recency_.pop_front();
-    ++over;
-  }
-  if (aged + over > 0)
+  const IdRecency::Forgotten n =
+      recency_.forgetOld(*clock_.now(), limits.forget_after_s, max_ids,
+                         [&](std::int32_t id) { references_.erase(id); });
+  if (n.aged + n.over > 0)
     log().info(
         "situation_assessor: forgot the reference paths of {} humans ({} not republished for "
         "{} s, {} beyond limits.max_ids = {})",
-        aged + over, aged, limits.forget_after_s, over, max_ids);
+        n.aged + n.over, n.aged, limits.forget_after_s, n.over, max_ids);
 }
 
 void SituationAssessorNode::onBands(const bands_t& msg) {
@@ -262,7 +234,7 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
   if (outcome) {
     if (!outcome->ok) {
       runtime_.setDegraded("distance server: " +
-                           cutText(outcome->error, runtime_.limits().max_text_bytes));
+                           keptText(outcome->error, runtime_.limits().maxTextBytes()));
       log().warn("situation_assessor: step {}: {}; d_OH / d_OR unknown", done.step.step(),
                  outcome->error);
     } else {
@@ -287,7 +259,7 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
         }
       } else {
         prependReason(reason, "distance server: " +
-                                  cutText(outcome->error, runtime_.limits().max_text_bytes));
+                                  keptText(outcome->error, runtime_.limits().maxTextBytes()));
       }
     }
     const auto ref = references_.find(w.id);
@@ -300,6 +272,8 @@ void SituationAssessorNode::finish(const DistanceClient::Outcome* outcome) {
     rec.crossing = w.crossing;
     rec.has_reference = !path.empty();
     rec.thresholds = thresholds_;
+    rec.room_plan = bands.roomPlan(w.id);
+    rec.robot_mode = bands.robot_mode;
     // Paper §II-B: d_h, d_OH, d_OR, d_HR and the three predicates.
     rec.assessment = assessment::assessSituation(w.crossing, path, d_oh_m, d_or_m, thresholds_);
     prependReason(rec.assessment.reason, reason);

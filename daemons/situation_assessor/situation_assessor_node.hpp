@@ -22,6 +22,7 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "distance_client/distance_client.hpp"
+#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -97,9 +98,6 @@ class SituationAssessorNode {
     std::int32_t revision{0};
     std::int64_t utime{0};  ///< of the message that brought it (the stale-revision check)
     Path2 path;
-    /// [utime] the clock when it was last stored: ages it out (limits.forget_after_s).
-    std::int64_t heard_utime{0};
-    std::list<std::int32_t>::iterator recency{};  ///< its place in recency_
   };
   /// Per human of the job at the head of the queue, between the request and the answer.
   struct HumanWork {
@@ -115,7 +113,7 @@ class SituationAssessorNode {
   void storeReferencePaths(const reference_paths_t& msg);
   /// Forgets the reference paths not stored for limits.forget_after_s of message time, then the
   /// least recently stored beyond limits.max_ids; one log line for the lot. Only the forgotten
-  /// are visited (recency_ is in storing order), so a message costs O(its paths + forgotten).
+  /// are visited, so a message costs O(its paths + forgotten).
   void forgetReferences();
   void enqueue(BandsToAssess bands);
   /// Assesses the waiting bands in order until one waits for the distance server.
@@ -131,7 +129,7 @@ class SituationAssessorNode {
   /// Bands keep no time: each is assessed on its own, whatever its stamp.
   MessageClock clock_;
   std::map<std::int32_t, Reference> references_;
-  std::list<std::int32_t> recency_;  ///< ids of references_, least recently stored first
+  IdRecency recency_;  ///< ids of references_ by when last stored (ages them out)
   std::deque<BandsToAssess> waiting_;
   bool busy_{false};  ///< the head of waiting_ waits for its distance answers
   std::vector<HumanWork> work_;

@@ -153,7 +153,8 @@ void WorldSimNode::onUtterance(const utterance_t& msg) {
 }
 
 void WorldSimNode::hear(const utterance_t& msg) {
-  if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION || msg.speech_act > utterance_t::ACT_THANK)
+  if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION ||
+      msg.speech_act > utterance_t::ACT_INFORM_STOPPING)
     throw RejectedMessage("utterance with unknown speech_act " + std::to_string(msg.speech_act));
   if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
       msg.direction != situation_t::DIR_UNDEFINED)

@@ -139,9 +139,9 @@ hook_after_probe() {
     action_reason_forgery)
       log="$tmp/$1.band_source.log"
       # A line of the log that the reason started, or a raw escape byte a terminal would obey.
-      if grep -a -E '^\[2099-01-01|^FORGED' "$log" >/dev/null; then why+=" forged line in the log;"; fi
+      if grep -a -E '^\[0000-00-00|^FORGED' "$log" >/dev/null; then why+=" forged line in the log;"; fi
       if grep -a -P '\x1b|\r' "$log" >/dev/null; then why+=" raw control characters in the log;"; fi
-      if ! grep -a -F '\x0A[2099-01-01' "$log" >/dev/null; then
+      if ! grep -a -F '\x0A[0000-00-00' "$log" >/dev/null; then
         why+=" the reason is not logged with its newline as \\x0A;"
       fi
       ;;

@@ -4,7 +4,9 @@
 // (BAD_REQUEST with the reason, or the results), which must encode and be readable by a client.
 #include <algorithm>
 #include <memory>
+#include <string>
 
+#include "coopnav/channels.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "lcm_paths.hpp"
 #include "maps/map_loader.hpp"
@@ -39,7 +41,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fuzz::ChannelInput in{0, data, size};
   distance_request_t msg;
   if (!fuzz::decodeLikeDaemon(in, &msg)) return 0;
-  if (msg.reply_channel.empty() || msg.reply_channel.size() > 63) return 0;  // rejected, no reply
+  // As onRequest: a reply channel LCM cannot name, or one outside COOPNAV_DIST_REP_*, is rejected
+  // without a reply.
+  static const std::string kReplyPrefix = channels::kDistanceReplyPrefix;
+  if (msg.reply_channel.size() > 63 ||
+      msg.reply_channel.compare(0, kReplyPrefix.size(), kReplyPrefix) != 0)
+    return 0;
   std::vector<DistanceQuery> queries;
   try {
     queries = queriesFromLcm(msg);

@@ -141,6 +141,7 @@ bands_t bands(int num_humans, int num_poses) {
   for (int i = 0; i < num_humans; ++i)
     m.humans.push_back(band(i + 1, agent_state_t::KIND_HUMAN, 9.0 - i, -1.1, num_poses));
   m.num_humans = static_cast<std::int16_t>(m.humans.size());
+  m.room_plans.assign(m.humans.size(), bands_t::ROOM_DOCK_HERE);
   return m;
 }
 
@@ -502,7 +503,7 @@ void sequenceSeeds() {
     S s;
     robot_action_t a = stamped(robotAction(robot_action_t::ACTION_DOCK), 1'000'000, -1);
     a.human_id = 4242;
-    a.reason = "hostile\n[2099-01-01 00:00:00.000] [coopnav:1] [critical] FORGED\x1b[2J\r";
+    a.reason = "hostile\n[0000-00-00 00:00:00.000] [coopnav:1] [critical] FORGED\x1b[2J\r";
     s.add(S::kGoals, goals()).add(S::kRobotAction, a).add(S::kAgentStates, walkAt(1, 0, -1));
     situation_t sit = stamped(situation(situation_t::CROSSING_OK), 1'000'000, -1);
     sit.reason = std::string(1500, 'r');

@@ -37,6 +37,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "messages.hpp"
 #include "runtime/runtime.hpp"
 #include "test_util.hpp"
 
@@ -849,22 +850,10 @@ TEST_F(BadInputBandSource, AcksFromStrangersOrTheFarFutureDoNotReorderSteps) {
 // ---------------------------------------------------------------------------------------------
 // situation_assessor (with a real distance server)
 
+/// `n` poses `dt_s` apart.
 band_t straightBand(std::int32_t id, std::int8_t kind, double x0, double y0, double x1, double y1,
                     int n, double dt_s) {
-  band_t b{};
-  b.agent_id = id;
-  b.kind = kind;
-  for (int i = 0; i < n; ++i) {
-    const double s = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
-    timed_pose_t p{};
-    p.t_s = i * dt_s;
-    p.x_m = x0 + s * (x1 - x0);
-    p.y_m = y0 + s * (y1 - y0);
-    p.theta_rad = std::atan2(y1 - y0, x1 - x0);
-    b.poses.push_back(p);
-  }
-  b.num_poses = static_cast<std::int16_t>(b.poses.size());
-  return b;
+  return hostile::straightBand(id, kind, x0, y0, x1, y1, n, (n > 1 ? n - 1 : 0) * dt_s);
 }
 
 /// Bottom corridor of open.pgm, as situation_assessor_test: robot +x, human -x, 0.4 m apart.
@@ -876,6 +865,7 @@ bands_t corridorBands(std::int64_t step) {
   m.robot = straightBand(0, agent_state_t::KIND_ROBOT, 12.0, 1.5, 20.0, 1.5, 17, 0.5);
   m.humans.push_back(straightBand(1, agent_state_t::KIND_HUMAN, 20.0, 1.9, 12.0, 1.9, 21, 0.4));
   m.num_humans = 1;
+  m.room_plans.assign(1, bands_t::ROOM_UNKNOWN);
   return m;
 }
 
@@ -959,6 +949,7 @@ TEST_F(BadInputSituationAssessor, BandsAtTheirBoundsAreAssessedAndOverThemReject
     at.humans.push_back(
         straightBand(i + 1, agent_state_t::KIND_HUMAN, 20.0, 1.9, 12.0, 1.9, 21, 0.4));
   at.num_humans = bands_t::MAX_HUMANS;
+  at.room_plans.assign(bands_t::MAX_HUMANS, bands_t::ROOM_UNKNOWN);
   ASSERT_TRUE(step(at));
   for (int i = 1; i <= bands_t::MAX_HUMANS; ++i) EXPECT_NE(sit(0, i), nullptr) << i;
 
@@ -973,6 +964,7 @@ TEST_F(BadInputSituationAssessor, BandsAtTheirBoundsAreAssessedAndOverThemReject
     humans_over.humans.back().agent_id = static_cast<std::int32_t>(humans_over.humans.size());
   }
   humans_over.num_humans = static_cast<std::int16_t>(humans_over.humans.size());
+  humans_over.room_plans.assign(humans_over.humans.size(), bands_t::ROOM_UNKNOWN);
   ASSERT_TRUE(step(humans_over));
   EXPECT_EQ(sit(1, 1), nullptr);
   EXPECT_EQ(sit(2, 1), nullptr);
@@ -1080,6 +1072,7 @@ TEST_F(BadInputSituationAssessor, BadReferencePathsAreRejectedAndTheStoredOnesSt
   two.humans.push_back(two.humans[0]);
   two.humans.back().agent_id = 5;
   two.num_humans = 2;
+  two.room_plans.assign(2, bands_t::ROOM_UNKNOWN);
   ASSERT_TRUE(step(two));
   EXPECT_EQ(sit(2, 5)->crossing_status, situation_t::CROSSING_NO_REFERENCE);
   EXPECT_EQ(sit(2, 5)->human_needs_to_contribute, situation_t::PRED_UNKNOWN);
@@ -1306,30 +1299,7 @@ TEST_F(BadInputPathAssessor, ExactlyMaxHumansAreAssessedAndOverIsRejectedButAcke
 // dialogue_manager (the test plays both assessors; lockstep)
 
 situation_t dmSituation(std::int64_t step, std::int32_t id, double t_cross_s) {
-  situation_t m{};
-  m.utime = 1'000'000 + step * 100'000;
-  m.step = step;
-  m.human_id = id;
-  m.crossing_status = situation_t::CROSSING_OK;
-  m.i_star = 10;
-  m.t_cross_s = t_cross_s;
-  m.cp_h_x_m = 5.0;
-  m.cp_h_y_m = 0.0;
-  m.cp_r_x_m = 5.0;
-  m.cp_r_y_m = 0.7;
-  m.dir = situation_t::DIR_LEFT;
-  m.d_h_m = 0.6;
-  m.d_oh_m = 1.0;
-  m.d_or_m = 1.0;
-  m.d_hr_m = 0.7;
-  m.human_needs_to_contribute = situation_t::PRED_TRUE;
-  m.human_is_constrained = situation_t::PRED_FALSE;
-  m.robot_is_constrained = situation_t::PRED_TRUE;
-  m.tau_h_m = 0.3;
-  m.tau_oh_m = 0.5;
-  m.tau_or_m = 0.5;
-  m.tau_hr_m = 1.0;
-  return m;
+  return hostile::situation(1'000'000 + step * 100'000, step, id, t_cross_s, "");
 }
 
 path_assessment_t dmPath(std::int64_t step, std::int32_t id, double cm_m) {
@@ -1400,6 +1370,20 @@ TEST_F(BadInputDialogueManager, BytesThatAreNotTheirTypeAreRejectedOnEveryInput)
   dut_.publish(channels::kSituation, dmSituation(1, 1, 6.9));
   ASSERT_TRUE(finishStep(1));
   EXPECT_EQ(utterances_.size(), 1u);
+}
+
+TEST_F(BadInputDialogueManager, AnAckOfAStepFarAheadIsRefusedAndTheRunGoesOn) {
+  ASSERT_TRUE(finishStep(0));
+  const daemon_status_t before = dut_.freshStatus();
+  step_ack_t forged{};
+  forged.utime = 1'000'000;
+  forged.step = std::int64_t{1} << 50;  // one ack must not become the newest step
+  forged.participant = "situation_assessor";
+  dut_.publish(channels::kStepAck, forged);
+  dut_.countersReach(before.rejected + 1);
+  dut_.publish(channels::kSituation, dmSituation(1, 1, 6.9));
+  ASSERT_TRUE(finishStep(1));
+  EXPECT_EQ(utterances_.size(), 1u) << "the real step 1 was taken for one going backwards";
 }
 
 TEST_F(BadInputDialogueManager, ImpossibleNumbersAreRejectedAndNeverSpokenOrDockedOn) {

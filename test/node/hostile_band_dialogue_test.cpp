@@ -20,6 +20,7 @@
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "dialogue_manager_node.hpp"
+#include "messages.hpp"
 #include "runtime/log.hpp"
 #include "runtime/runtime.hpp"
 #include "test_util.hpp"
@@ -52,34 +53,10 @@ class QuietLog : public ::testing::Test {
 // ---------------------------------------------------------------------------------------------
 // dialogue_manager
 
+/// Robot constrained, human not: round 1 asks the human to move, round 2 docks if it did not.
 situation_t situation(std::int64_t utime, std::int32_t id, double t_cross_s,
                       const std::string& reason = "") {
-  situation_t m{};
-  m.utime = utime;
-  m.step = -1;
-  m.human_id = id;
-  m.crossing_status = situation_t::CROSSING_OK;
-  m.i_star = 10;
-  m.t_cross_s = t_cross_s;
-  m.cp_h_x_m = 5.0;
-  m.cp_h_y_m = 0.0;
-  m.cp_r_x_m = 5.0;
-  m.cp_r_y_m = 0.7;
-  m.dir = situation_t::DIR_LEFT;
-  m.d_h_m = 0.6;
-  m.d_oh_m = 1.0;
-  m.d_or_m = 1.0;
-  m.d_hr_m = 0.7;
-  // Robot constrained, human not: round 1 asks the human to move, round 2 docks if it did not.
-  m.human_needs_to_contribute = situation_t::PRED_TRUE;
-  m.human_is_constrained = situation_t::PRED_FALSE;
-  m.robot_is_constrained = situation_t::PRED_TRUE;
-  m.tau_h_m = 0.3;
-  m.tau_oh_m = 0.5;
-  m.tau_or_m = 0.5;
-  m.tau_hr_m = 1.0;
-  m.reason = reason;
-  return m;
+  return hostile::situation(utime, -1, id, t_cross_s, reason);
 }
 
 path_assessment_t notContributing(std::int64_t utime, std::int32_t id) {

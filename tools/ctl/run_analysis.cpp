@@ -21,8 +21,11 @@ std::string speechActName(std::int8_t act) {
                                        "REPEAT_DIRECTION",
                                        "ASK_TO_MOVE_MORE",
                                        "INFORM_DOCKING",
-                                       "THANK"};
-  return codeName(kNames, utterance_t::ACT_INFORM_DIRECTION, 7, act, "ACT_");
+                                       "THANK",
+                                       "INFORM_WIDER_PLACE",
+                                       "INFORM_RETREAT",
+                                       "INFORM_STOPPING"};
+  return codeName(kNames, utterance_t::ACT_INFORM_DIRECTION, 10, act, "ACT_");
 }
 
 std::string robotActionName(std::int8_t action) {
@@ -37,8 +40,9 @@ std::string recorderCommandName(std::int8_t command) {
 
 std::string simStateName(std::int8_t state) {
   static const char* const kNames[] = {"RUNNING",    "GOAL_REACHED",        "COLLISION",
-                                       "TIME_LIMIT", "PARTICIPANT_TIMEOUT", "ERROR"};
-  return codeName(kNames, sim_status_t::STATE_RUNNING, 6, state, "STATE_");
+                                       "TIME_LIMIT", "PARTICIPANT_TIMEOUT", "ERROR",
+                                       "STANDSTILL"};
+  return codeName(kNames, sim_status_t::STATE_RUNNING, 7, state, "STATE_");
 }
 
 std::string crossingName(std::int8_t status) {

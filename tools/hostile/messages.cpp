@@ -92,6 +92,7 @@ bands_t corridorBands(std::int64_t utime, std::int64_t step, int num_humans, int
     m.humans.push_back(straightBand(h + 1, agent_state_t::KIND_HUMAN, 20.0 + 0.5 * h, 1.9, 12.0,
                                     1.9, num_poses, 8.0));
   m.num_humans = static_cast<std::int16_t>(m.humans.size());
+  m.room_plans.assign(m.humans.size(), bands_t::ROOM_UNKNOWN);
   return m;
 }
 

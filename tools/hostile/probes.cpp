@@ -363,7 +363,7 @@ Outcome distReplyChannelFlood(Bus& bus) {
 /// A reason that, logged as it is, starts a line of its own that looks like a critical one,
 /// and clears the terminal of whoever tails the log.
 const char* kForgedReason =
-    "hostile\n[2099-01-01 00:00:00.000] [coopnav:1] [critical] FORGED: band_source stopped"
+    "hostile\n[0000-00-00 00:00:00.000] [coopnav:1] [critical] FORGED: band_source stopped"
     "\x1b[2J\x1b[31m\r";
 
 Outcome actionReasonForgery(Bus& bus) {

@@ -8,7 +8,9 @@
 /// piece of state a message can create is bounded here, so that a daemon's memory and time stay
 /// within what the robot's computer has whatever it is sent.
 
+#include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "config/config.hpp"
 
@@ -34,6 +36,7 @@ struct InputLimits {
   /// [bytes] Longest text from a message (a reason, a name) a daemon keeps or logs; longer text
   /// is cut with "...". Logged text is escaped (control characters as \xNN) in any case.
   int max_text_bytes{1024};
+  std::size_t maxTextBytes() const { return static_cast<std::size_t>(max_text_bytes); }
   /// Log lines per second one line's pattern (its text with digits removed) may write; the rest
   /// are counted and reported once a second as "suppressed N lines like: ...".
   int log_lines_per_s{20};
@@ -53,5 +56,16 @@ struct InputLimits {
     v("journal_max_mib", journal_max_mib, Range{1, 1 << 20});
   }
 };
+
+/// `text` from a message cut to at most `max_bytes` bytes ("..." included) at a UTF-8 character
+/// boundary: what a daemon keeps or publishes on of a peer's text (limits.max_text_bytes).
+inline std::string keptText(std::string text, std::size_t max_bytes) {
+  if (text.size() <= max_bytes) return text;
+  static constexpr char kEllipsis[] = "...";
+  std::size_t n = max_bytes >= sizeof kEllipsis - 1 ? max_bytes - (sizeof kEllipsis - 1) : 0;
+  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0u) == 0x80u) --n;  // continuation
+  text.resize(n);
+  return text + kEllipsis;
+}
 
 }  // namespace coopnav

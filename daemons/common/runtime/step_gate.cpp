@@ -89,6 +89,27 @@ void StepGate::onAck(const std::string& participant, std::int64_t step,
   auto it = peers_.find(participant);
   if (it == peers_.end()) return;  // not one we depend on
   Peer& p = it->second;
+  if (step >= 0) {
+    const InputLimits& limits = runtime_.limits();
+    if (!p.ack_steps) p.ack_steps.emplace(limits.max_pending_steps, limits.time_resync_messages);
+    switch (p.ack_steps->offer(step)) {
+      case JumpGuard::Verdict::kJump:
+        throw RejectedMessage("step ack " + std::to_string(step) + " from " + participant +
+                              " is more than " + std::to_string(limits.max_pending_steps) +
+                              " steps from its acks so far (" + std::to_string(p.last_ack) +
+                              ", limits.max_pending_steps)");
+      case JumpGuard::Verdict::kResynced:
+        log().warn("{}: {} acknowledges steps from {} on (was at {}): a new run", runtime_.name(),
+                   participant, step, p.last_ack);
+        p.last_ack = step;
+        p.acked_counts.clear();
+        p.received.clear();
+        break;
+      case JumpGuard::Verdict::kAccepted:
+      case JumpGuard::Verdict::kBackwards:
+        break;
+    }
+  }
   if (step >= 0 && !counts.empty()) p.acked_counts[step] = counts;
   if (step > p.last_ack) {
     p.last_ack = step;

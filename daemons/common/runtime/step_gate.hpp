@@ -15,10 +15,12 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 
 namespace coopnav {
@@ -111,6 +113,9 @@ class StepGate {
   };
   struct Peer {
     std::int64_t last_ack{-1};
+    /// The acked steps' sequence: an ack far off it (a forged step 2^50) is refused, or every
+    /// real input after it would count as a late repeat; a new run is followed after a few acks.
+    std::optional<JumpGuard> ack_steps;
     bool present{false};
     /// Per step: the ack's counts per channel; and the keys of the messages noted per channel.
     std::map<std::int64_t, std::map<std::string, int>> acked_counts;

@@ -77,6 +77,8 @@ situation_t toLcm(const SituationRecord& r) {
   m.tau_oh_m = r.thresholds.tau_oh_m;
   m.tau_or_m = r.thresholds.tau_or_m;
   m.tau_hr_m = r.thresholds.tau_hr_m;
+  m.room_plan = r.room_plan;
+  m.robot_mode = r.robot_mode;
   m.reason = a.reason;
   return m;
 }
@@ -131,6 +133,13 @@ SituationRecord fromLcm(const situation_t& msg) {
   r.thresholds.tau_oh_m = msg.tau_oh_m;
   r.thresholds.tau_or_m = msg.tau_or_m;
   r.thresholds.tau_hr_m = msg.tau_hr_m;
+  if (msg.room_plan < bands_t::ROOM_UNKNOWN || msg.room_plan > bands_t::ROOM_NONE)
+    reject("room_plan has an unknown value " + std::to_string(msg.room_plan));
+  if (msg.robot_mode < velocity_command_t::MODE_IDLE ||
+      msg.robot_mode > velocity_command_t::MODE_RETREATING)
+    reject("robot_mode has an unknown value " + std::to_string(msg.robot_mode));
+  r.room_plan = msg.room_plan;
+  r.robot_mode = msg.robot_mode;
   return r;
 }
 
@@ -144,6 +153,8 @@ dialogue::SituationSnapshot situationSnapshotFromLcm(const situation_t& msg) {
   s.dir = r.crossing.dir;
   s.d_h_m = r.assessment.d_h_m;
   s.reason = r.assessment.reason;
+  s.room_plan = static_cast<dialogue::RoomPlan>(r.room_plan);
+  s.robot_retreating = r.robot_mode == velocity_command_t::MODE_RETREATING;
   return s;
 }
 

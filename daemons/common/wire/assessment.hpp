@@ -12,10 +12,12 @@
 #include "coopnav/assessment/crossing.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/assessment/situation.hpp"
+#include "coopnav/bands_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/situation_t.hpp"
+#include "coopnav/velocity_command_t.hpp"
 #include "runtime/runtime.hpp"
 
 namespace coopnav {
@@ -31,6 +33,9 @@ struct SituationRecord {
   bool has_reference{true};
   assessment::SituationAssessment assessment;
   assessment::SituationThresholds thresholds;
+  /// Copied from the bands assessed (bands_t.ROOM_* for this human, velocity_command_t.MODE_*).
+  std::int8_t room_plan{bands_t::ROOM_UNKNOWN};
+  std::int8_t robot_mode{velocity_command_t::MODE_IDLE};
 };
 
 /// crossing_status on the wire: the lib's CrossingStatus, except that an ok crossing of a human

@@ -132,6 +132,12 @@ const Band* BandsSnapshot::humanBand(std::int32_t id) const {
   return nullptr;
 }
 
+std::int8_t BandsSnapshot::roomPlan(std::int32_t id) const {
+  for (std::size_t i = 0; i < humans.size() && i < room_plans.size(); ++i)
+    if (humans[i].first == id) return room_plans[i];
+  return bands_t::ROOM_UNKNOWN;
+}
+
 BandsSnapshot fromLcm(const bands_t& msg) {
   requireCount(msg.num_humans, msg.humans.size(), bands_t::MAX_HUMANS, "human bands");
   BandsSnapshot s;
@@ -149,6 +155,12 @@ BandsSnapshot fromLcm(const bands_t& msg) {
     if (!ids.insert(h.agent_id).second) reject("duplicate human band id");
     s.humans.emplace_back(h.agent_id, bandFromLcm(h));
   }
+  if (msg.room_plans.size() != msg.humans.size()) reject("room_plans count differs from humans");
+  for (const std::int8_t p : msg.room_plans) {
+    if (p < bands_t::ROOM_UNKNOWN || p > bands_t::ROOM_NONE)
+      reject("room plan " + std::to_string(p) + " unknown");
+  }
+  s.room_plans = msg.room_plans;
   return s;
 }
 
@@ -165,6 +177,8 @@ bands_t toLcm(const BandsSnapshot& s) {
   for (const auto& [id, band] : s.humans)
     m.humans.push_back(bandToLcm(id, agent_state_t::KIND_HUMAN, band));
   m.num_humans = static_cast<std::int16_t>(m.humans.size());
+  m.room_plans = s.room_plans;
+  m.room_plans.resize(m.humans.size(), bands_t::ROOM_UNKNOWN);
   return m;
 }
 
@@ -257,6 +271,7 @@ VelocityCommand fromLcm(const velocity_command_t& msg) {
   c.step = msg.step;
   c.body = {msg.vx_m_s, msg.vy_m_s, msg.omega_rad_s};
   c.mode = msg.mode;
+  c.guard = msg.guard;
   return c;
 }
 
@@ -268,6 +283,7 @@ velocity_command_t toLcm(const VelocityCommand& c) {
   m.vy_m_s = c.body.vy_m_s;
   m.omega_rad_s = c.body.omega_rad_s;
   m.mode = c.mode;
+  m.guard = c.guard;
   return m;
 }
 

@@ -28,11 +28,6 @@ std::int64_t secondsToUtime(double t_s);
 /// INT64_MIN or INT64_MAX); exact, like the integer difference, while both are below 2^53 us.
 double utimeDiffSeconds(std::int64_t later_utime, std::int64_t earlier_utime);
 
-/// [s] of message time after which a daemon forgets a human it no longer hears of (per-human
-/// state must not grow with every person a robot ever met; a tracker reusing an id later means
-/// someone new). One policy for the assessors and the dialogue manager.
-inline constexpr double kForgetHumanAfter_s = 60.0;
-
 /// All agents at one instant (coopnav_agent_states_t).
 struct AgentStatesSnapshot {
   std::int64_t utime{0};
@@ -59,7 +54,12 @@ struct BandsSnapshot {
   std::int32_t robot_id{0};
   Band robot;
   std::vector<std::pair<std::int32_t, Band>> humans;
+  /// bands_t.ROOM_* per entry of humans (same order and size; filled with ROOM_UNKNOWN when
+  /// shorter on the way out).
+  std::vector<std::int8_t> room_plans;
   const Band* humanBand(std::int32_t id) const;
+  /// bands_t.ROOM_* for that human; ROOM_UNKNOWN when it has no band here.
+  std::int8_t roomPlan(std::int32_t id) const;
 };
 
 BandsSnapshot fromLcm(const bands_t& msg);
@@ -99,6 +99,7 @@ struct VelocityCommand {
   std::int64_t step{-1};
   Velocity2 body;  ///< vx forward, vy left, omega yaw rate (robot body frame)
   std::int8_t mode{velocity_command_t::MODE_IDLE};
+  std::int8_t guard{velocity_command_t::GUARD_NONE};
 };
 VelocityCommand fromLcm(const velocity_command_t& msg);
 velocity_command_t toLcm(const VelocityCommand& c);

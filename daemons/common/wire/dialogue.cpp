@@ -13,7 +13,7 @@ void requireStep(std::int64_t step) {
 }
 
 dialogue::SpeechAct speechActFromLcm(std::int8_t act) {
-  if (act < utterance_t::ACT_INFORM_DIRECTION || act > utterance_t::ACT_THANK)
+  if (act < utterance_t::ACT_INFORM_DIRECTION || act > utterance_t::ACT_INFORM_STOPPING)
     reject("unknown speech_act " + std::to_string(act));
   return static_cast<dialogue::SpeechAct>(act);
 }

@@ -30,6 +30,12 @@ const char* toString(SpeechAct a) {
       return "ask_to_move_more";
     case SpeechAct::kInformDocking:
       return "inform_docking";
+    case SpeechAct::kInformWiderPlace:
+      return "inform_wider_place";
+    case SpeechAct::kInformRetreat:
+      return "inform_retreat";
+    case SpeechAct::kInformStopping:
+      return "inform_stopping";
     case SpeechAct::kThank:
       return "thank";
   }
@@ -44,6 +50,22 @@ const char* toString(RecorderCommand c) {
       return "stop";
     case RecorderCommand::kReset:
       return "reset";
+  }
+  return "?";
+}
+
+const char* toString(RoomPlan p) {
+  switch (p) {
+    case RoomPlan::kUnknown:
+      return "unknown";
+    case RoomPlan::kDockHere:
+      return "dock_here";
+    case RoomPlan::kWiderPlace:
+      return "wider_place";
+    case RoomPlan::kRetreat:
+      return "retreat";
+    case RoomPlan::kNone:
+      return "none";
   }
   return "?";
 }
@@ -78,6 +100,15 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir) 
       break;
     case SpeechAct::kInformDocking:
       text = templates.inform_docking;
+      break;
+    case SpeechAct::kInformWiderPlace:
+      text = templates.inform_wider_place;
+      break;
+    case SpeechAct::kInformRetreat:
+      text = templates.inform_retreat;
+      break;
+    case SpeechAct::kInformStopping:
+      text = templates.inform_stopping;
       break;
     case SpeechAct::kThank:
       text = templates.thank;
@@ -121,7 +152,16 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
     }
   }
   if (in.crossed && !fired_[2]) round3(in, out);
+  announceRetreat(in, out);
   return out;
+}
+
+// Not in the paper (issue 29): a dock that leaves too little room becomes a retreat in the band
+// source when the human keeps closing; the human hears it once.
+void HumanDecision::announceRetreat(const DecisionInput& in, DecisionOutput& out) {
+  if (!docked_ || retreat_said_ || !in.situation.robot_retreating || in.crossed) return;
+  retreat_said_ = true;
+  say(SpeechAct::kInformRetreat, Side::kUndefined, 2, out);
 }
 
 // Paper §II-D, round 1 (design-readings, "Decision pipeline").
@@ -209,7 +249,7 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
         }
       } else if (contributing == Tristate::kFalse) {
         r.branch = "still & robot_constrained & !contributing -> dock";
-        dock(out, false);
+        dock(out, false, s.room_plan);
       } else {
         r.branch = "still & robot_constrained & contributing unknown";
         r.reason = "IsContributing unknown: no dock, silent";
@@ -269,15 +309,24 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
   r.degraded = true;
   // As a flowchart dock: the recorder restarts, so that round 3 judges the human from here.
   out.recorder_commands.push_back(RecorderCommand::kReset);
-  dock(out, true);
+  dock(out, true, s.room_plan);
   return true;
 }
 
 // Round 2's dock, from the flowchart or as a precaution: request it and tell the human.
-void HumanDecision::dock(DecisionOutput& out, bool precautionary) {
+void HumanDecision::dock(DecisionOutput& out, bool precautionary, RoomPlan room) {
   out.robot_actions.push_back(RobotAction::kDock);
   docked_ = true;
-  if (precautionary) {
+  // What the robot will really do (the band source checked the passage its dock would leave):
+  // the promise must hold. Unknown keeps the paper's sentence.
+  const SpeechAct concrete = room == RoomPlan::kWiderPlace ? SpeechAct::kInformWiderPlace
+                             : room == RoomPlan::kRetreat  ? SpeechAct::kInformRetreat
+                             : room == RoomPlan::kNone     ? SpeechAct::kInformStopping
+                                                           : SpeechAct::kInformDocking;
+  if (concrete != SpeechAct::kInformDocking) {
+    retreat_said_ = concrete == SpeechAct::kInformRetreat;
+    say(concrete, Side::kUndefined, 2, out);
+  } else if (precautionary) {
     out.utterances.push_back({SpeechAct::kInformDocking, Side::kUndefined, 2,
                               config_.templates.inform_precautionary_docking});
   } else {

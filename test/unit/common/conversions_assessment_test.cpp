@@ -32,6 +32,8 @@ SituationRecord okRecord() {
   r.assessment.human_is_constrained = Tristate::kFalse;
   r.assessment.robot_is_constrained = Tristate::kUnknown;
   r.assessment.reason = "d_OR unknown (no distance answer)";
+  r.room_plan = bands_t::ROOM_WIDER_PLACE;
+  r.robot_mode = velocity_command_t::MODE_RETREATING;
   return r;
 }
 
@@ -62,6 +64,11 @@ TEST(ConversionsAssessmentTest, SituationRoundTripKeepsEveryField) {
   EXPECT_EQ(b.assessment.human_is_constrained, Tristate::kFalse);
   EXPECT_EQ(b.assessment.robot_is_constrained, Tristate::kUnknown);
   EXPECT_EQ(b.assessment.reason, r.assessment.reason);
+  EXPECT_EQ(b.room_plan, bands_t::ROOM_WIDER_PLACE);
+  EXPECT_EQ(b.robot_mode, velocity_command_t::MODE_RETREATING);
+  const dialogue::SituationSnapshot s = situationSnapshotFromLcm(m);
+  EXPECT_EQ(s.room_plan, dialogue::RoomPlan::kWiderPlace);
+  EXPECT_TRUE(s.robot_retreating);
 }
 
 TEST(ConversionsAssessmentTest, OkCrossingWithoutReferenceIsNoReferenceOnTheWire) {
@@ -113,6 +120,12 @@ TEST(ConversionsAssessmentTest, GarbageSituationsAreRejected) {
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
   bad = m;
   bad.d_h_m = -0.1;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.room_plan = bands_t::ROOM_NONE + 1;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.robot_mode = -1;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
 }
 

@@ -78,11 +78,38 @@ TEST(ConversionsTest, BandsRoundTripKeepsPerPoseTimes) {
   Band h;
   for (int i = 0; i < 4; ++i) h.poses.push_back({0.2 * i, {5.0 - 0.2 * i, 0.1, M_PI}});
   b.humans.emplace_back(7, h);
+  b.room_plans = {bands_t::ROOM_RETREAT};
   const auto back = fromLcm(reencode(toLcm(b)));
   EXPECT_EQ(back.robot, b.robot);
   ASSERT_NE(back.humanBand(7), nullptr);
   EXPECT_EQ(*back.humanBand(7), h);
   EXPECT_EQ(back.step, 3);
+  EXPECT_EQ(back.roomPlan(7), bands_t::ROOM_RETREAT);
+  EXPECT_EQ(back.roomPlan(8), bands_t::ROOM_UNKNOWN) << "no band, no plan";
+}
+
+TEST(ConversionsTest, BandsRoomPlansAreFilledOnTheWayOutAndCheckedOnTheWayIn) {
+  BandsSnapshot b;
+  b.humans.emplace_back(1, Band{});
+  b.humans.emplace_back(2, Band{});
+  bands_t m = toLcm(b);  // no plans given: one ROOM_UNKNOWN per human
+  ASSERT_EQ(m.room_plans.size(), 2u);
+  EXPECT_EQ(m.room_plans[1], bands_t::ROOM_UNKNOWN);
+  m.room_plans[0] = bands_t::ROOM_NONE + 1;
+  EXPECT_THROW(fromLcm(m), RejectedMessage);
+  m.room_plans.pop_back();
+  m.room_plans[0] = bands_t::ROOM_DOCK_HERE;
+  EXPECT_THROW(fromLcm(m), RejectedMessage) << "fewer plans than humans";
+}
+
+TEST(ConversionsTest, VelocityCommandKeepsModeAndGuard) {
+  VelocityCommand c;
+  c.body = {0.1, 0.0, 0.2};
+  c.mode = velocity_command_t::MODE_RETREATING;
+  c.guard = velocity_command_t::GUARD_EVADING;
+  const VelocityCommand back = fromLcm(reencode(toLcm(c)));
+  EXPECT_EQ(back.mode, velocity_command_t::MODE_RETREATING);
+  EXPECT_EQ(back.guard, velocity_command_t::GUARD_EVADING);
 }
 
 TEST(ConversionsTest, BandsKeepDegenerateBandsForTheAssessorToJudge) {

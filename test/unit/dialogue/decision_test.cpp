@@ -363,6 +363,66 @@ TEST(Decision, CrossingAfterADockResumesAndStops) {
   EXPECT_FALSE(dut.docked());
 }
 
+// Issue 29: the dock is said as the move the band source will really make for this human.
+DecisionInput dockingSituation(double t_s, RoomPlan room) {
+  DecisionInput in = neutral(t_s, 3.0);
+  in.situation.human_needs_to_contribute = T;
+  in.situation.robot_is_constrained = T;
+  in.situation.d_h_m = 0.8;
+  in.situation.room_plan = room;
+  in.path.cm_window_m = 0.1;
+  in.path.is_contributing = F;
+  return in;
+}
+
+TEST(Decision, TheDockIsSaidAsTheMoveTheRobotWillMake) {
+  const std::pair<RoomPlan, Act> cases[] = {{RoomPlan::kUnknown, Act::kInformDocking},
+                                            {RoomPlan::kDockHere, Act::kInformDocking},
+                                            {RoomPlan::kWiderPlace, Act::kInformWiderPlace},
+                                            {RoomPlan::kRetreat, Act::kInformRetreat},
+                                            {RoomPlan::kNone, Act::kInformStopping}};
+  for (const auto& [room, act] : cases) {
+    SCOPED_TRACE(toString(room));
+    HumanDecision dut;
+    dut.step(neutral(0.0, 6.0));
+    const DecisionOutput out = dut.step(dockingSituation(1.0, room));
+    EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+    ASSERT_EQ(out.utterances.size(), 1u);
+    EXPECT_EQ(out.utterances[0].act, act);
+    EXPECT_EQ(out.utterances[0].text, renderText(TextTemplates{}, act, X));
+  }
+}
+
+TEST(Decision, ADockThatBecomesARetreatIsSaidOnceAndNotAfterCrossing) {
+  HumanDecision dut;
+  dut.step(neutral(0.0, 6.0));
+  DecisionInput in = dockingSituation(1.0, RoomPlan::kDockHere);
+  ASSERT_EQ(dut.step(in).utterances.size(), 1u);
+  in.t_s = 1.5;
+  EXPECT_TRUE(dut.step(in).utterances.empty()) << "not retreating yet: nothing to say";
+  in.t_s = 2.0;
+  in.situation.robot_retreating = true;
+  const DecisionOutput out = dut.step(in);
+  ASSERT_EQ(out.utterances.size(), 1u);
+  EXPECT_EQ(out.utterances[0].act, Act::kInformRetreat);
+  in.t_s = 2.5;
+  EXPECT_TRUE(dut.step(in).utterances.empty()) << "said once";
+  // Retreating without a dock for this human (another human's) says nothing to this one.
+  HumanDecision other;
+  other.step(neutral(0.0, 6.0));
+  DecisionInput free_robot = neutral(1.0, 3.0);
+  free_robot.situation.robot_retreating = true;
+  EXPECT_TRUE(other.step(free_robot).utterances.empty());
+  // A retreat announced with the dock is not announced again.
+  HumanDecision retreat;
+  retreat.step(neutral(0.0, 6.0));
+  DecisionInput r = dockingSituation(1.0, RoomPlan::kRetreat);
+  ASSERT_EQ(retreat.step(r).utterances.size(), 1u);
+  r.t_s = 2.0;
+  r.situation.robot_retreating = true;
+  EXPECT_TRUE(retreat.step(r).utterances.empty());
+}
+
 TEST(Decision, CrossedBeforeRoundOneRecordsWhyAndIssuesNoStop) {
   HumanDecision dut;
   DecisionInput in = neutral(0.0, 9.0);

@@ -31,12 +31,27 @@ enum class SpeechAct : std::int8_t {
   kAskToMoveMore = 5,       ///< round 2: contributing, ask a bit more (dir = opposite(Dir))
   kInformDocking = 6,       ///< round 2: docking, "I will wait here for you to pass."
   kThank = 7,               ///< round 3: the human facilitated
+  // Round 2's dock said as what the robot will really do (RoomPlan), not only "wait here":
+  kInformWiderPlace = 8,  ///< it goes back to a wider place on its own path
+  kInformRetreat = 9,     ///< it backs away the way it came (also: a dock escalated to a retreat)
+  kInformStopping = 10,   ///< no move leaves room: it stops where it is
 };
 const char* toString(SpeechAct a);
 
 /// Path assessor commands; values mirror coopnav_path_assessor_control_t.COMMAND_*.
 enum class RecorderCommand : std::int8_t { kStart = 1, kStop = 2, kReset = 3 };
 const char* toString(RecorderCommand c);
+
+/// How the robot would make room for this human if asked now (the band source's check of the
+/// passage its dock would leave, issue 29); values mirror coopnav_bands_t.ROOM_*.
+enum class RoomPlan : std::int8_t {
+  kUnknown = 0,     ///< not assessed: the dock is said as before ("I will wait here ...")
+  kDockHere = 1,    ///< a dock nearby leaves the human a wide enough passage
+  kWiderPlace = 2,  ///< only a wider place back along the robot's path does
+  kRetreat = 3,     ///< the robot backs away while the human closes
+  kNone = 4,        ///< no move leaves room
+};
+const char* toString(RoomPlan p);
 
 /// Robot actions; values mirror coopnav_robot_action_t.ACTION_*.
 enum class RobotAction : std::int8_t { kDock = 1, kResume = 2 };
@@ -55,6 +70,9 @@ struct TextTemplates {
   /// corridor the band source finds no dock pose and the robot keeps its band, which gives way
   /// without stopping, so "I will wait here" would be untrue. This promise holds either way.
   std::string inform_precautionary_docking{"I will make room for you to pass."};
+  std::string inform_wider_place{"I will go back to a wider place to let you pass."};
+  std::string inform_retreat{"I will back up to let you pass."};
+  std::string inform_stopping{"I will stop here. Please pass carefully."};
   std::string thank{"Thank you."};
   std::string left_word{"left"};
   std::string right_word{"right"};
@@ -87,6 +105,8 @@ struct SituationSnapshot {
   Side dir{Side::kUndefined};   ///< side the robot passes on, as the human sees it
   std::optional<double> d_h_m;  ///< [m] nullopt = unknown
   std::string reason;           ///< the assessor's why for anything unknown ("" = all known)
+  RoomPlan room_plan{RoomPlan::kUnknown};  ///< what a dock for this human would do now
+  bool robot_retreating{false};            ///< the band source is backing away (any human)
 };
 
 /// Path assessor output for this human (coopnav_path_assessment_t), window since the last reset.
@@ -162,13 +182,17 @@ class HumanDecision {
   bool precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
                          DecisionOutput& out);
   /// precautionary: the sentence is TextTemplates::inform_precautionary_docking.
-  void dock(DecisionOutput& out, bool precautionary);
+  /// room: the band source's plan for this human; the sentence says that move.
+  void dock(DecisionOutput& out, bool precautionary, RoomPlan room);
   void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
+  /// While docked for this human: a dock that escalated to a retreat is said once.
+  void announceRetreat(const DecisionInput& in, DecisionOutput& out);
 
   DecisionConfig config_;
   bool fired_[3]{false, false, false};
   bool recorder_started_{false};
   bool docked_{false};
+  bool retreat_said_{false};
   bool ended_{false};
 };
 

@@ -177,12 +177,13 @@ startup_probe() {
   wait_exit "$pid" "$STARTUP_EXIT_MS_MAX"
   [ "$rc" -eq "$want_rc" ] || why+=" exit $rc, not $want_rc;"
   [ "$ms" -le "$STARTUP_EXIT_MS_MAX" ] || why+=" took $ms ms;"
+  [ -e "$log" ] || { why+=" its log $log is gone;"; : >"$log"; }
   grep -a -E -q -- "$pattern" "$log" || why+=" the message does not name /$pattern/;"
   local msg
   msg="$(grep -a -E -m1 -- "$pattern" "$log" | sed 's/^\[[^]]*\] \[[^]]*\] \[[^]]*\] //' |
     cut -c1-90 || true)"
   report "$probe" "exit $rc: ${msg:-$(tail -1 "$log" | cut -c1-90)}" - "$ms"
-  [ -z "$why" ] || tail -3 "$log" | cut -c1-200 | sed 's/^/    /'
+  [ -z "$why" ] || tail -3 "$log" | cut -c1-200 | sed 's/^/    /' || true
 }
 
 # --- the hostile files ---

@@ -32,6 +32,24 @@ TEST(StepGateLimits, InputsFarAheadOfThePeersAckAreRejected) {
   EXPECT_THROW(gate.noteReceived("band_source", "X", 1LL << 62, "1"), RejectedMessage);
 }
 
+TEST(StepGateLimits, AnAckFarAheadIsRefusedAndANewRunIsFollowed) {
+  Runtime rt("limits_gate_ack", test::testLcmUrl());
+  StepGate gate(rt, StepGateOptions{{{"band_source", 0, {"X"}}}, 2000ms, false});
+  gate.onAck("band_source", 10);
+  EXPECT_THROW(gate.onAck("band_source", std::int64_t{1} << 50), RejectedMessage);
+  EXPECT_EQ(gate.lastAck("band_source"), 10);
+  EXPECT_TRUE(gate.noteReceived("band_source", "X", 11, "1")) << "a real input is not a repeat";
+  // A new run from step 0: refused as a jump back until time_resync_messages acks agree.
+  gate.onAck("band_source", 200);
+  gate.onAck("band_source", 400);
+  EXPECT_EQ(gate.lastAck("band_source"), 400);
+  EXPECT_THROW(gate.onAck("band_source", 0), RejectedMessage);
+  EXPECT_THROW(gate.onAck("band_source", 1), RejectedMessage);
+  gate.onAck("band_source", 2);
+  EXPECT_EQ(gate.lastAck("band_source"), 2);
+  EXPECT_TRUE(gate.noteReceived("band_source", "X", 3, "1"));
+}
+
 TEST(StepGateLimits, DistinctFutureStepsAreBoundedByCount) {
   Runtime rt("limits_gate2", test::testLcmUrl());
   InputLimits limits;

@@ -78,6 +78,8 @@ class StepGate {
 
   /// Feeds an acknowledgement (the gate's own subscription calls this; tests may too).
   /// `counts`: messages per channel the participant published for the step (empty = unknown).
+  /// Throws RejectedMessage for a step more than limits.max_pending_steps from the peer's acks
+  /// so far, until limits.time_resync_messages such acks agree (a new run).
   void onAck(const std::string& participant, std::int64_t step,
              const std::map<std::string, int>& counts = {});
 

@@ -205,8 +205,9 @@ class Run {
 
 const char* stateName(std::int8_t s) {
   static const char* names[] = {"RUNNING",    "GOAL_REACHED",        "COLLISION",
-                                "TIME_LIMIT", "PARTICIPANT_TIMEOUT", "ERROR"};
-  return s >= 0 && s <= 5 ? names[s] : "?";
+                                "TIME_LIMIT", "PARTICIPANT_TIMEOUT", "ERROR",
+                                "STANDSTILL"};
+  return s >= 0 && s <= 6 ? names[s] : "?";
 }
 
 void report(const char* what, const Run& r) {

@@ -138,6 +138,8 @@ sim::WorldSpec toWorldSpec(const Scenario& sc) {
   w.settings.substeps_per_step =
       static_cast<int>(std::lround(sc.rates.physics_hz / sc.rates.publish_hz));
   w.settings.time_limit_s = sc.time_limit_s;
+  w.settings.standstill_time_s = sc.standstill_time_s;
+  w.settings.standstill_distance_m = sc.standstill_distance_m;
   w.robot = sc.robot;
   w.humans = sc.humans;
   return w;

@@ -238,6 +238,9 @@ struct HumanSpecYaml {
     v("radius_m", spec.radius_m, Range{0.05, 1.0});
     v("max_acc_m_s2", spec.max_acc_m_s2, Range{0.1, 10.0});
     v("goal_tolerance_m", spec.goal_tolerance_m, Range{0.01, 5.0});
+    // Every behaviour's but oblivious's (which ignores it): lib/include/coopnav/sim/behaviour.hpp.
+    SimParamsYaml<sim::BodyCheckParams> body_check{&spec.behaviour.body_check};
+    v("body_check", body_check);
     if (known) {
       visitParams(v);
     } else {
@@ -275,6 +278,10 @@ struct Scenario {
   std::string name;
   std::uint64_t seed{0};
   double time_limit_s{60.0};
+  /// The run ends in STANDSTILL after this long without any agent moving more than
+  /// standstill_distance_m (and not every goal reached); 0 = never. Defaults: lib/sim's.
+  double standstill_time_s{sim::SimSettings{}.standstill_time_s};
+  double standstill_distance_m{sim::SimSettings{}.standstill_distance_m};
   MapSpec map;
   RatesSpec rates;
   LockstepSpec lockstep;
@@ -294,6 +301,8 @@ struct Scenario {
       v.require(false, "seed", "= " + scenarioNumber(seed_value) + " must be an integer >= 0");
     seed = static_cast<std::uint64_t>(seed_value);
     v("time_limit_s", time_limit_s, Range{0.1, 86400.0}, Required{});
+    v("standstill_time_s", standstill_time_s, Range{0.0, 86400.0});
+    v("standstill_distance_m", standstill_distance_m, Range{0.0, 10.0});
     v("map", map, Required{});
     v("rates", rates);
     v("lockstep", lockstep);

@@ -1,6 +1,7 @@
 #include "world_sim_node.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <sstream>
 
@@ -40,13 +41,57 @@ std::int8_t toSimStatusState(sim::SimStatus s) {
       return sim_status_t::STATE_COLLISION;
     case sim::SimStatus::kTimeLimit:
       return sim_status_t::STATE_TIME_LIMIT;
+    case sim::SimStatus::kStandstill:
+      return sim_status_t::STATE_STANDSTILL;
     case sim::SimStatus::kRunning:
       break;
   }
   return sim_status_t::STATE_RUNNING;
 }
 
+/// Two decimals, as a time or speed in a sentence.
+std::string fixed2(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", x);
+  return buf;
+}
+
+const char* commandModeName(std::int8_t mode) {
+  switch (mode) {
+    case velocity_command_t::MODE_IDLE:
+      return "idle";
+    case velocity_command_t::MODE_NAVIGATING:
+      return "navigating";
+    case velocity_command_t::MODE_DOCKING:
+      return "docking";
+    case velocity_command_t::MODE_HOLDING:
+      return "holding";
+    case velocity_command_t::MODE_RESUMING:
+      return "resuming";
+    case velocity_command_t::MODE_GOAL_REACHED:
+      return "at its goal";
+    case velocity_command_t::MODE_STOPPED:
+      return "stopped";
+    case velocity_command_t::MODE_RETREATING:
+      return "retreating";
+    default:
+      return "in an unknown mode";
+  }
+}
+
 }  // namespace
+
+std::string contactDetail(const sim::RobotHumanContact& c, double fault_speed_m_s) {
+  const std::string human = "human " + std::to_string(c.human_id);
+  const std::string at = " at t " + fixed2(c.t_s) + " s";
+  if (c.robot_at_fault)
+    return "the robot drove into " + human + " at " + fixed2(c.robot_speed_towards_m_s) + " m/s" +
+           at;
+  if (c.robot_speed_towards_m_s < -fault_speed_m_s)
+    return human + " walked into the robot moving away from it at " +
+           fixed2(-c.robot_speed_towards_m_s) + " m/s" + at;
+  return human + " walked into the robot at rest" + at;
+}
 
 void WorldSimConfig::resolvePaths(const std::string& base_dir) {
   scenario = resolvePath(base_dir, scenario);
@@ -139,6 +184,7 @@ void WorldSimNode::accept(const char* participant, const char* channel, std::int
 void WorldSimNode::onCommand(const velocity_command_t& msg) {
   accept("band_source", channels::kRobotCmd, msg.step, "cmd", [&] {
     VelocityCommand c = fromLcm(msg);  // throws RejectedMessage on a non-finite command
+    last_mode_ = c.mode;
     // A late repeat of an older step's command never replaces a newer one.
     if (!command_ || c.step < 0 || c.step >= command_->step) command_ = c;
   });
@@ -165,6 +211,7 @@ void WorldSimNode::hear(const utterance_t& msg) {
   if (human == nullptr)
     throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) +
                          ", who is not in the scenario");
+  last_said_ = "\"" + msg.text + "\" to human " + std::to_string(msg.human_id);
   const bool ask = msg.speech_act == utterance_t::ACT_ASK_TO_MOVE ||
                    msg.speech_act == utterance_t::ACT_ASK_TO_MOVE_MORE;
   // Only a request to move changes a simulated human; information, docking and thanks do not.
@@ -396,6 +443,19 @@ void WorldSimNode::publishSimStatus(std::int8_t state, const std::string& detail
   m.min_clearance_m =
       std::isfinite(sum.min_robot_human_clearance_m) ? sum.min_robot_human_clearance_m : kNaN;
   m.robot_time_to_goal_s = sum.robot_goal_time_s >= 0.0 ? sum.robot_goal_time_s : kNaN;
+  m.min_clearance_t_s =
+      std::isfinite(sum.min_robot_human_clearance_m) ? sum.min_robot_human_clearance_t_s : kNaN;
+  m.contact = sim_status_t::CONTACT_NONE;
+  m.contact_human_id = -1;
+  m.contact_t_s = kNaN;
+  m.contact_robot_speed_m_s = kNaN;
+  if (const auto& c = sum.first_contact) {
+    m.contact = c->robot_at_fault ? sim_status_t::CONTACT_ROBOT_AT_FAULT
+                                  : sim_status_t::CONTACT_HUMAN_AT_FAULT;
+    m.contact_human_id = c->human_id;
+    m.contact_t_s = c->t_s;
+    m.contact_robot_speed_m_s = c->robot_speed_towards_m_s;
+  }
   m.detail = detail;
   runtime_.publish(channels::kSimStatus, m);
 }
@@ -410,6 +470,17 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
   }
   log().info("world_sim: '{}' ended at t = {} s (step {}): {}", scenario_.name, sim_->time_s(),
              step_, detail);
+  const sim::SimSummary& sum = sim_->summary();
+  if (std::isfinite(sum.min_robot_human_clearance_m))
+    log().info(
+        "world_sim: min robot-human clearance {} m at t = {} s; {}",
+        fixed2(sum.min_robot_human_clearance_m), fixed2(sum.min_robot_human_clearance_t_s),
+        sum.first_contact
+            ? "first contact: " +
+                  contactDetail(*sum.first_contact, sim_->spec().settings.contact_fault_speed_m_s) +
+                  (sum.first_contact->robot_at_fault ? " (robot at fault)"
+                                                     : " (robot not at fault)")
+            : std::string("no robot-human contact"));
   if (retransmits_ > 0)
     log().info("world_sim: steps published again {} times (acks overdue)", retransmits_);
   if (config_.exit_at_end) runtime_.requestStop();
@@ -421,12 +492,24 @@ std::string WorldSimNode::endDetail(const sim::StepResult& r) const {
     case sim::SimStatus::kCollision:
       for (const sim::SimEvent& e : r.events) {
         if (e.kind != sim::SimEvent::Kind::kCollision || e.agent_id != sim::kRobotId) continue;
-        return "robot collided with " +
-               (e.other_id == sim::kWallId ? std::string("a wall")
-                                           : "human " + std::to_string(e.other_id)) +
-               " at t = " + fmt(e.t_s) + " s";
+        if (e.other_id == sim::kWallId)
+          return "robot collided with a wall at t = " + fmt(e.t_s) + " s";
+        if (sum.first_contact && sum.first_contact->human_id == e.other_id)
+          return contactDetail(*sum.first_contact, sim_->spec().settings.contact_fault_speed_m_s);
+        return "robot collided with human " + std::to_string(e.other_id) + " at t = " + fmt(e.t_s) +
+               " s";
       }
       return "robot collision";
+    case sim::SimStatus::kStandstill: {
+      std::string robot = last_mode_ ? std::string("was ") + commandModeName(*last_mode_)
+                                     : std::string("was never commanded");
+      if (sum.robot_goal_time_s >= 0.0 &&
+          (!last_mode_ || *last_mode_ != velocity_command_t::MODE_GOAL_REACHED))
+        robot += " (at its goal)";
+      return "standstill: no agent moved more than " + fmt(scenario_.standstill_distance_m) +
+             " m for " + fmt(scenario_.standstill_time_s) + " s; the robot " + robot +
+             (last_said_.empty() ? ", had said nothing" : ", last said " + last_said_);
+    }
     case sim::SimStatus::kGoalsReached:
       return "robot reached its goal at t = " + fmt(sum.robot_goal_time_s) +
              " s and every human its own";

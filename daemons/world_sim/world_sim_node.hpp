@@ -72,6 +72,10 @@ struct WorldSimConfig {
   void resolvePaths(const std::string& base_dir);
 };
 
+/// The first robot-human contact in words, e.g. "human 1 walked into the robot at rest at t
+/// 23.40 s" or "the robot drove into human 2 at 0.32 m/s at t 12.30 s".
+std::string contactDetail(const sim::RobotHumanContact& contact, double fault_speed_m_s);
+
 class WorldSimNode {
  public:
   using Config = WorldSimConfig;
@@ -152,6 +156,8 @@ class WorldSimNode {
   std::int64_t stale_commands_{0};
   std::vector<PendingCue> cues_;
   std::optional<BandsSnapshot> band_;
+  std::optional<std::int8_t> last_mode_;  ///< of the latest robot command (standstill detail)
+  std::string last_said_;                 ///< latest utterance, "text" to human N (same)
   bool behind_logged_{false};
 };
 

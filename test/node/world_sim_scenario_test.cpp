@@ -151,6 +151,36 @@ TEST(Scenario, EachMistakeGivesAClearError) {
   }
 }
 
+TEST(Scenario, StandstillAndBodyCheckKeysLoadAndAreChecked) {
+  // Left out: lib/sim's defaults.
+  const Scenario plain = parseScenario(kValid, "ok.yaml", ".");
+  EXPECT_DOUBLE_EQ(plain.standstill_time_s, sim::SimSettings{}.standstill_time_s);
+  EXPECT_DOUBLE_EQ(plain.standstill_distance_m, sim::SimSettings{}.standstill_distance_m);
+  EXPECT_DOUBLE_EQ(plain.humans[0].behaviour.body_check.squeeze_margin_m,
+                   sim::BodyCheckParams{}.squeeze_margin_m);
+  // Given: into the world spec and the human's behaviour config.
+  std::string text = replaced(kValid, "time_limit_s: 40.0\n",
+                              "time_limit_s: 40.0\nstandstill_time_s: 8\n"
+                              "standstill_distance_m: 0.2\n");
+  text = replaced(text, "    speed_m_s: 1.1\n",
+                  "    speed_m_s: 1.1\n    body_check: {squeeze_margin_m: 0.1, wait_gap_m: 0.5}\n");
+  const Scenario sc = parseScenario(text, "ok.yaml", ".");
+  const sim::WorldSpec w = toWorldSpec(sc);
+  EXPECT_DOUBLE_EQ(w.settings.standstill_time_s, 8.0);
+  EXPECT_DOUBLE_EQ(w.settings.standstill_distance_m, 0.2);
+  EXPECT_DOUBLE_EQ(w.humans[0].behaviour.body_check.squeeze_margin_m, 0.1);
+  EXPECT_DOUBLE_EQ(w.humans[0].behaviour.body_check.wait_gap_m, 0.5);
+  EXPECT_DOUBLE_EQ(w.humans[0].behaviour.body_check.engage_distance_m,
+                   sim::BodyCheckParams{}.engage_distance_m);
+  // Out of range, unknown: named.
+  std::string msg = errorOf(replaced(text, "standstill_time_s: 8", "standstill_time_s: -1"));
+  EXPECT_NE(msg.find("'standstill_time_s'"), std::string::npos) << msg;
+  msg = errorOf(replaced(text, "wait_gap_m: 0.5", "wait_gap: 0.5"));
+  EXPECT_NE(msg.find("'humans[0].body_check.wait_gap'"), std::string::npos) << msg;
+  msg = errorOf(replaced(text, "squeeze_margin_m: 0.1", "squeeze_margin_m: 2"));
+  EXPECT_NE(msg.find("'humans[0].body_check.squeeze_margin_m'"), std::string::npos) << msg;
+}
+
 TEST(Scenario, SyntaxErrorNamesTheLine) {
   const std::string msg = errorOf("name: x\nseed: [1,\n");
   EXPECT_NE(msg.find("bad.yaml"), std::string::npos) << msg;

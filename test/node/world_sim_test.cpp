@@ -3,11 +3,14 @@
 // step's agent states with a velocity command and an acknowledgement, as band_source would.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
@@ -36,9 +39,36 @@ using test::testLcmUrl;
 
 constexpr const char* kParticipant = "fake_planner";
 
+/// A file of test/data/scenarios, or an absolute path as it is.
 std::string scenarioPath(const std::string& name) {
+  if (!name.empty() && name.front() == '/') return name;
   return std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/" + name;
 }
+
+/// A scenario of a straight corridor, free for y in (0, width_m), x in (-1, 25), written to a
+/// file of its own; the robot and its one human as YAML flow mappings, the rest as given.
+class CorridorScenario {
+ public:
+  CorridorScenario(const std::string& name, double width_m, const std::string& robot,
+                   const std::string& human, const std::string& extra = "") {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("coopnav_world_sim_" + std::to_string(::getpid()) + "_" + name + ".yaml"))
+                .string();
+    std::ofstream out(path_);
+    out << "name: " << name << "\nseed: 1\ntime_limit_s: 40.0\n"
+        << extra << "map:\n  resolution_m: 0.05\n  walls:\n"
+        << "    - {x0_m: -1, y0_m: -0.1, x1_m: 25, y1_m: -0.1}\n"
+        << "    - {x0_m: -1, y0_m: " << width_m + 0.1 << ", x1_m: 25, y1_m: " << width_m + 0.1
+        << "}\n"
+        << "lockstep: {enabled: true, participants: [fake_planner], step_timeout_s: 5.0}\n"
+        << "robot: " << robot << "\nhumans:\n  - " << human << "\n";
+  }
+  ~CorridorScenario() { std::filesystem::remove(path_); }
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 /// Listens to what world_sim publishes and plays its participant.
 class Harness {
@@ -480,6 +510,84 @@ TEST(WorldSimNode, HumanPlannerKeysReachThePlannerBackedHumans) {
   const auto [code, out] = runCapture("tiny_band_human.yaml", "--set human_planner.dt_ref_s=0");
   EXPECT_EQ(code, 2) << out;
   EXPECT_NE(out.find("human_planner.dt_ref_s"), std::string::npos) << out;
+}
+
+// ---- issue 29: who touched whom, standstill
+
+constexpr const char* kRobotAtWall =
+    "{start: {x_m: 10, y_m: 0.55, theta_rad: 0}, goal: {x_m: 10, y_m: 0.55}, radius_m: 0.47}";
+
+TEST(WorldSimNode, FinalStatusSaysTheHumanWalkedIntoTheRobotAtRest) {
+  // An oblivious human walks into the robot standing at the wall of a 1.8 m corridor.
+  CorridorScenario sc("oblivious_into_robot", 1.8, kRobotAtWall,
+                      "{id: 1, start: {x_m: 2, y_m: 0.9}, goal: {x_m: 20, y_m: 0.9}, "
+                      "behaviour: oblivious, speed_m_s: 1.2}");
+  Harness h;
+  Participant p;
+  p.command = [](std::int64_t) { return std::make_pair(0.0, 0.0); };
+  EXPECT_EQ(runWithParticipant(h, sc.path(), p).exit_code, 0);
+  const sim_status_t* fin = h.final();
+  ASSERT_NE(fin, nullptr);
+  EXPECT_EQ(fin->state, sim_status_t::STATE_COLLISION) << fin->detail;
+  EXPECT_EQ(fin->contact, sim_status_t::CONTACT_HUMAN_AT_FAULT);
+  EXPECT_EQ(fin->contact_human_id, 1);
+  EXPECT_DOUBLE_EQ(fin->contact_robot_speed_m_s, 0.0);
+  EXPECT_GT(fin->contact_t_s, 5.0);
+  EXPECT_LE(fin->contact_t_s, 1e-6 * static_cast<double>(fin->utime));
+  EXPECT_LT(fin->min_clearance_m, 0.0);
+  EXPECT_DOUBLE_EQ(fin->min_clearance_t_s, fin->contact_t_s);
+  EXPECT_EQ(fin->detail.rfind("human 1 walked into the robot at rest at t ", 0), 0u) << fin->detail;
+  // The running reports before it: no contact yet, every field set.
+  ASSERT_GT(h.simStatus().size(), 1u);
+  const sim_status_t& running = h.simStatus().front();
+  EXPECT_EQ(running.state, sim_status_t::STATE_RUNNING);
+  EXPECT_EQ(running.contact, sim_status_t::CONTACT_NONE);
+  EXPECT_EQ(running.contact_human_id, -1);
+  EXPECT_TRUE(std::isnan(running.contact_t_s));
+  EXPECT_TRUE(std::isnan(running.contact_robot_speed_m_s));
+  EXPECT_TRUE(std::isfinite(running.min_clearance_t_s));
+}
+
+TEST(WorldSimNode, FinalStatusSaysTheRobotDroveIntoTheHuman) {
+  // A human standing at its goal; the robot drives into it at 0.5 m/s.
+  CorridorScenario sc("robot_into_human", 3.0,
+                      "{start: {x_m: 1, y_m: 1.5, theta_rad: 0}, goal: {x_m: 20, y_m: 1.5}, "
+                      "radius_m: 0.47}",
+                      "{id: 1, start: {x_m: 5, y_m: 1.5}, goal: {x_m: 5, y_m: 1.5}, "
+                      "behaviour: minimal}");
+  Harness h;
+  EXPECT_EQ(runWithParticipant(h, sc.path(), Participant{}).exit_code, 0);
+  const sim_status_t* fin = h.final();
+  ASSERT_NE(fin, nullptr);
+  EXPECT_EQ(fin->state, sim_status_t::STATE_COLLISION) << fin->detail;
+  EXPECT_EQ(fin->contact, sim_status_t::CONTACT_ROBOT_AT_FAULT);
+  EXPECT_NEAR(fin->contact_robot_speed_m_s, 0.5, 1e-9);
+  EXPECT_EQ(fin->detail.rfind("the robot drove into human 1 at 0.50 m/s at t ", 0), 0u)
+      << fin->detail;
+}
+
+TEST(WorldSimNode, AnEncounterNobodyResolvesEndsInStandstillWithoutContact) {
+  // 1.5 m corridor: beside the robot at the wall there is no room for the human's body; it stops
+  // short of the robot and waits, the robot holds: STANDSTILL after standstill_time_s.
+  CorridorScenario sc("standstill", 1.5, kRobotAtWall,
+                      "{id: 1, start: {x_m: 2, y_m: 0.75}, goal: {x_m: 20, y_m: 0.75}, "
+                      "behaviour: minimal, speed_m_s: 1.2}",
+                      "standstill_time_s: 5.0\n");
+  Harness h;
+  Participant p;
+  p.command = [](std::int64_t) { return std::make_pair(0.0, 0.0); };
+  EXPECT_EQ(runWithParticipant(h, sc.path(), p).exit_code, 0);
+  const sim_status_t* fin = h.final();
+  ASSERT_NE(fin, nullptr);
+  EXPECT_EQ(fin->state, sim_status_t::STATE_STANDSTILL) << fin->detail;
+  EXPECT_EQ(fin->contact, sim_status_t::CONTACT_NONE);
+  EXPECT_EQ(fin->contact_human_id, -1);
+  EXPECT_TRUE(std::isnan(fin->contact_t_s));
+  EXPECT_GT(fin->min_clearance_m, 0.15);
+  EXPECT_LT(1e-6 * static_cast<double>(fin->utime), 20.0);  // not the time limit (40 s)
+  EXPECT_EQ(fin->detail,
+            "standstill: no agent moved more than 0.1 m for 5 s; the robot was navigating (at its "
+            "goal), had said nothing");
 }
 
 }  // namespace

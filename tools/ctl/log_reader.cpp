@@ -58,7 +58,7 @@ bool decodeInto(const RawEvent& e, std::vector<Msg>& out) {
 }
 
 bool isNotNeeded(const std::string& channel) {
-  static const char* const kNames[] = {channels::kGoals, channels::kBands, channels::kRobotCmd,
+  static const char* const kNames[] = {channels::kGoals, channels::kBands,
                                        channels::kDistanceRequest};
   for (const char* n : kNames)
     if (channel == n) return true;
@@ -168,6 +168,14 @@ void addEvent(const RawEvent& e, RunLog& run) {
     take(Kind::kReferencePaths, run.reference_paths);
   } else if (ch == channels::kStatus) {
     take(Kind::kDaemonStatus, run.daemon_status);
+  } else if (ch == channels::kRobotCmd) {
+    // Only the modes and the guard are used (summary counts). A command of an older shape does
+    // not decode: not needed, not corrupt, as the acks below.
+    take(Kind::kVelocityCommand, run.commands);
+    if (!ok) {
+      ++run.counts.not_needed;
+      return;
+    }
   } else if (ch == channels::kStepAck) {
     // Only a restart matters to the tools: its first ack, per daemon and restart step. Acks of an
     // older shape (logs before the restart fields) do not decode: not needed, not corrupt.

@@ -25,14 +25,17 @@
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
+#include "coopnav/velocity_command_t.hpp"
 
 namespace coopnav::ctl {
 
 /// What reading a log met, for the user (stderr) and the summary.
 struct LogReadCounts {
-  std::int64_t events{0};           ///< well-framed events read
-  std::int64_t decoded{0};          ///< decoded as their channel's type and kept
-  std::int64_t not_needed{0};       ///< coopnav channels the tools do not use (bands, acks, ...)
+  std::int64_t events{0};   ///< well-framed events read
+  std::int64_t decoded{0};  ///< decoded as their channel's type and kept
+  /// Coopnav channels the tools do not use (bands, acks, ...), and robot commands of an older
+  /// shape than this build's (logs recorded before the guard field).
+  std::int64_t not_needed{0};
   std::int64_t unknown_channel{0};  ///< channels that are not coopnav's (LCM_SELF_TEST, ...)
   std::int64_t undecodable{0};      ///< payload does not decode as its channel's type
   std::int64_t bad_headers{0};      ///< headers with impossible lengths (skipped, resynchronised)
@@ -91,6 +94,7 @@ struct RunLog {
     kReferencePaths,
     kDaemonStatus,
     kRestart,  ///< a step ack of a daemon that restarted mid-run (first one per restart)
+    kVelocityCommand,
   };
   struct Ref {
     Kind kind;
@@ -107,6 +111,7 @@ struct RunLog {
   std::vector<reference_paths_t> reference_paths;
   std::vector<daemon_status_t> daemon_status;  ///< wall-clock reports: never in default outputs
   std::vector<step_ack_t> restarts;            ///< first ack of each daemon's restart
+  std::vector<velocity_command_t> commands;    ///< the robot's (modes and guard: summary counts)
   std::vector<Ref> order;
   LogReadCounts counts;
 };

@@ -59,6 +59,17 @@ double minClearanceFromStates(const RunLog& run) {
   return std::isfinite(best) ? best : std::nan("");
 }
 
+// The first robot-human contact of the final sim status: null when there was none.
+Json contactJson(const sim_status_t& st) {
+  if (st.contact == sim_status_t::CONTACT_NONE) return nullptr;
+  Json c = Json::object();
+  c["human_id"] = std::int64_t{st.contact_human_id};
+  c["t_s"] = numberOrNull(st.contact_t_s);
+  c["robot_at_fault"] = st.contact == sim_status_t::CONTACT_ROBOT_AT_FAULT;
+  c["robot_speed_m_s"] = numberOrNull(st.contact_robot_speed_m_s);
+  return c;
+}
+
 Json humanEntry(const RunLog& run, const HumanAnalysis& h,
                 const std::vector<TranscriptEntry>& transcript) {
   Json o = Json::object();
@@ -145,6 +156,23 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
 
 }  // namespace
 
+RobotBehaviourCounts countRobotBehaviour(const RunLog& run) {
+  RobotBehaviourCounts n;
+  std::int8_t previous = velocity_command_t::MODE_IDLE;
+  for (const auto& c : run.commands) {
+    const bool first = n.commands++ == 0;
+    if (c.mode == velocity_command_t::MODE_DOCKING &&
+        (first || previous != velocity_command_t::MODE_DOCKING))
+      ++n.docks;
+    if (c.mode == velocity_command_t::MODE_RETREATING &&
+        (first || previous != velocity_command_t::MODE_RETREATING))
+      ++n.retreats;
+    if (c.guard != velocity_command_t::GUARD_NONE) ++n.guard_steps;
+    previous = c.mode;
+  }
+  return n;
+}
+
 Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::string& log_name) {
   TranscriptOptions topt;
   topt.include_unknown = false;
@@ -165,15 +193,23 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
     s["sim_time_s"] = numberOrNull(utimeToS(st->utime));
     s["last_step"] = st->step;
     s["detail"] = st->detail;
+    s["outcome"] = simStateName(st->state);
+    s["min_clearance_t_s"] = numberOrNull(st->min_clearance_t_s);
+    s["contact"] = contactJson(*st);
   } else {
-    for (const char* k : {"final_state", "collision", "min_clearance_m", "robot_time_to_goal_s",
-                          "sim_time_s", "last_step", "detail"})
+    for (const char* k :
+         {"final_state", "collision", "min_clearance_m", "robot_time_to_goal_s", "sim_time_s",
+          "last_step", "detail", "outcome", "min_clearance_t_s", "contact"})
       s[k] = nullptr;
   }
   s["min_clearance_states_m"] = numberOrNull(minClearanceFromStates(run));
   bool docked = false;
   for (const auto& h : analysis.humans) docked = docked || h.docked;
   s["docked"] = docked;
+  const RobotBehaviourCounts robot = countRobotBehaviour(run);
+  s["docks"] = robot.docks;
+  s["retreats"] = robot.retreats;
+  s["guard_steps"] = robot.guard_steps;
 
   Json humans = Json::array();
   for (const auto& h : analysis.humans) humans.push_back(humanEntry(run, h, transcript));

@@ -18,6 +18,15 @@ namespace coopnav::ctl {
 
 inline constexpr const char* kSummaryFormat = "coopnav-summary/1";
 
+/// What the robot did, from its velocity commands in the log (in log order).
+struct RobotBehaviourCounts {
+  std::int64_t docks{0};        ///< entries into MODE_DOCKING (from any other mode)
+  std::int64_t retreats{0};     ///< entries into MODE_RETREATING
+  std::int64_t guard_steps{0};  ///< commands with guard != GUARD_NONE
+  std::int64_t commands{0};     ///< commands read
+};
+RobotBehaviourCounts countRobotBehaviour(const RunLog& run);
+
 /// The summary entry of one run. log_name: shown as "log" (a file name, not a path).
 Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::string& log_name);
 

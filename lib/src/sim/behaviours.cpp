@@ -4,6 +4,7 @@
 
 #include "coopnav/geometry/geometry.hpp"
 #include "coopnav/sim/behaviour.hpp"
+#include "coopnav/sim/body_check.hpp"
 
 namespace coopnav::sim {
 
@@ -371,6 +372,61 @@ class SocialForceBehaviour final : public HumanBehaviour {
   double offset_m_{0.0};
 };
 
+/// Every model but oblivious: its velocity, then the body check (body_check.hpp). One wrapper, so
+/// that each model keeps only its own avoidance logic.
+class BodyCheckedBehaviour final : public HumanBehaviour {
+ public:
+  BodyCheckedBehaviour(std::unique_ptr<HumanBehaviour> model, const BodyCheckParams& p)
+      : model_(std::move(model)), check_(p) {}
+  Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
+    const Velocity2 want = model_->desiredVelocity(ctx);
+    return check_.apply(ctx, want, model_->status().target_offset_m);
+  }
+  BehaviourStatus status() const override {
+    BehaviourStatus s = model_->status();
+    if (check_.mode() == BodyCheckMode::kSqueeze) {
+      s.mode = "squeeze";
+      s.target_offset_m = check_.targetOffset();
+    } else if (check_.mode() == BodyCheckMode::kWait) {
+      s.mode = "wait";
+    }
+    return s;
+  }
+  const char* name() const override { return model_->name(); }
+
+ private:
+  std::unique_ptr<HumanBehaviour> model_;
+  BodyCheck check_;
+};
+
+std::unique_ptr<HumanBehaviour> makeModel(const BehaviourConfig& config,
+                                          const PlannerAdapterFactory& planner_factory) {
+  switch (config.type) {
+    case BehaviourType::kMinimal:
+      return std::make_unique<MinimalBehaviour>(config.minimal);
+    case BehaviourType::kOblivious:
+      return std::make_unique<ObliviousBehaviour>(config.oblivious);
+    case BehaviourType::kSocialForce:
+      return std::make_unique<SocialForceBehaviour>(config.social_force);
+    case BehaviourType::kLateFacilitating:
+      return std::make_unique<LateFacilitatingBehaviour>(config.late_facilitating);
+    case BehaviourType::kResponsive:
+      return std::make_unique<ResponsiveBehaviour>(config.responsive);
+    case BehaviourType::kFacilitating: {
+      std::unique_ptr<HumanPlannerAdapter> planner;
+      if (config.facilitating.planner == "band") {
+        if (!planner_factory)
+          throw std::invalid_argument(
+              "behaviour facilitating with planner: band needs the dual-band planner adapter, "
+              "which this build does not provide; use planner: analytic");
+        planner = planner_factory(config.facilitating);
+      }
+      return std::make_unique<FacilitatingBehaviour>(config.facilitating, std::move(planner));
+    }
+  }
+  throw std::invalid_argument("unknown behaviour type");
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -485,30 +541,10 @@ bool parseBehaviourType(const std::string& s, BehaviourType& out) {
 
 std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory) {
-  switch (config.type) {
-    case BehaviourType::kMinimal:
-      return std::make_unique<MinimalBehaviour>(config.minimal);
-    case BehaviourType::kOblivious:
-      return std::make_unique<ObliviousBehaviour>(config.oblivious);
-    case BehaviourType::kSocialForce:
-      return std::make_unique<SocialForceBehaviour>(config.social_force);
-    case BehaviourType::kLateFacilitating:
-      return std::make_unique<LateFacilitatingBehaviour>(config.late_facilitating);
-    case BehaviourType::kResponsive:
-      return std::make_unique<ResponsiveBehaviour>(config.responsive);
-    case BehaviourType::kFacilitating: {
-      std::unique_ptr<HumanPlannerAdapter> planner;
-      if (config.facilitating.planner == "band") {
-        if (!planner_factory)
-          throw std::invalid_argument(
-              "behaviour facilitating with planner: band needs the dual-band planner adapter, "
-              "which this build does not provide; use planner: analytic");
-        planner = planner_factory(config.facilitating);
-      }
-      return std::make_unique<FacilitatingBehaviour>(config.facilitating, std::move(planner));
-    }
-  }
-  throw std::invalid_argument("unknown behaviour type");
+  std::unique_ptr<HumanBehaviour> model = makeModel(config, planner_factory);
+  // Only the oblivious human walks into a robot in its way.
+  if (config.type == BehaviourType::kOblivious) return model;
+  return std::make_unique<BodyCheckedBehaviour>(std::move(model), config.body_check);
 }
 
 }  // namespace coopnav::sim

@@ -41,8 +41,17 @@ const char* toString(SimStatus s) {
       return "COLLISION";
     case SimStatus::kTimeLimit:
       return "TIME_LIMIT";
+    case SimStatus::kStandstill:
+      return "STANDSTILL";
   }
   return "?";
+}
+
+double robotSpeedTowards(const AgentState& robot, const AgentState& human) {
+  const Eigen::Vector2d d = human.pose.position() - robot.pose.position();
+  const double n = d.norm();
+  if (!(n > 0.0)) return 0.0;
+  return Eigen::Vector2d{robot.velocity.vx_m_s, robot.velocity.vy_m_s}.dot(d / n);
 }
 
 Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
@@ -52,6 +61,9 @@ Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
   require(st.physics_dt_s > 0.0 && st.physics_dt_s <= 0.05, "physics_dt_s must be in (0, 0.05]");
   require(st.substeps_per_step >= 1, "substeps_per_step must be >= 1");
   require(st.time_limit_s > 0.0, "time_limit_s must be > 0");
+  require(st.contact_fault_speed_m_s >= 0.0, "contact_fault_speed_m_s must be >= 0");
+  require(st.standstill_time_s >= 0.0 && st.standstill_distance_m >= 0.0,
+          "standstill_time_s and standstill_distance_m must be >= 0");
   require(spec.robot.radius_m > 0.0, "robot radius must be > 0");
   require(isFinite(spec.robot.start) && isFinite(spec.robot.goal), "robot start/goal not finite");
   std::set<std::int32_t> ids;
@@ -91,6 +103,8 @@ Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
   const std::size_t n = humans_.size() + 2;  // robot, humans, wall
   in_contact_.assign(n, std::vector<bool>(n, false));
   summary_.human_goal_time_s.assign(humans_.size(), -1.0);
+  still_at_.push_back(robot_.pose.position());
+  for (const Human& h : humans_) still_at_.push_back(h.state.pose.position());
 }
 
 void Simulation::addCue(const Cue& cue) {
@@ -181,6 +195,7 @@ void Simulation::physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& e
     ctx.reference_path = &h.path;
     ctx.preferred_speed_m_s = h.preferred_speed_m_s;
     ctx.goal_tolerance_m = h.spec.goal_tolerance_m;
+    ctx.max_acc_m_s2 = h.spec.max_acc_m_s2;
     ctx.robot = &robot_snapshot;
     ctx.robot_band = has_band_ ? &robot_band_ : nullptr;
     ctx.robot_band_stamp_s = robot_band_stamp_s_;
@@ -232,11 +247,30 @@ void Simulation::physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& e
 
   const bool all_goals = robot_at_goal_ && std::all_of(humans_.begin(), humans_.end(),
                                                        [](const Human& h) { return h.at_goal; });
+  const bool still = standingStill();
   if (spec_.settings.end_on_goals && all_goals) {
     end(SimStatus::kGoalsReached, events);
+  } else if (still && !all_goals) {
+    end(SimStatus::kStandstill, events);
   } else if (t_s_ >= spec_.settings.time_limit_s - 1e-9) {
     end(SimStatus::kTimeLimit, events);
   }
+}
+
+bool Simulation::standingStill() {
+  const SimSettings& st = spec_.settings;
+  bool moved = (robot_.pose.position() - still_at_[0]).norm() > st.standstill_distance_m;
+  for (std::size_t i = 0; i < humans_.size() && !moved; ++i)
+    moved = (humans_[i].state.pose.position() - still_at_[i + 1]).norm() > st.standstill_distance_m;
+  if (moved) {
+    // A move of anyone restarts the clock for everyone: the encounter is still being resolved.
+    still_at_[0] = robot_.pose.position();
+    for (std::size_t i = 0; i < humans_.size(); ++i)
+      still_at_[i + 1] = humans_[i].state.pose.position();
+    still_since_s_ = t_s_;
+    return false;
+  }
+  return st.standstill_time_s > 0.0 && t_s_ - still_since_s_ >= st.standstill_time_s - 1e-9;
 }
 
 void Simulation::checkCollisions(std::vector<SimEvent>& events) {
@@ -264,7 +298,19 @@ void Simulation::checkCollisions(std::vector<SimEvent>& events) {
   for (std::size_t i = 0; i < humans_.size(); ++i) {
     const AgentState& h = humans_[i].state;
     const double gap_m = (h.pose.position() - pr).norm() - h.radius_m - robot_.radius_m;
-    summary_.min_robot_human_clearance_m = std::min(summary_.min_robot_human_clearance_m, gap_m);
+    if (gap_m < summary_.min_robot_human_clearance_m) {
+      summary_.min_robot_human_clearance_m = gap_m;
+      summary_.min_robot_human_clearance_t_s = t_s_;
+    }
+    if (gap_m < 0.0 && !in_contact_[0][i + 1] && !summary_.first_contact) {
+      // Who touched whom: the robot's velocity of this physics step, in which contact began.
+      RobotHumanContact c;
+      c.human_id = h.id;
+      c.t_s = t_s_;
+      c.robot_speed_towards_m_s = robotSpeedTowards(robot_, h);
+      c.robot_at_fault = c.robot_speed_towards_m_s > spec_.settings.contact_fault_speed_m_s;
+      summary_.first_contact = c;
+    }
     contact(0, i + 1, gap_m < 0.0, kRobotId, h.id, gap_m);
   }
   const double robot_wall_gap_m = wallGap(robot_);

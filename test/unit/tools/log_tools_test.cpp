@@ -220,6 +220,10 @@ sim_status_t simStatus(int k, std::int8_t state, const std::string& detail) {
   s.scenario = "open_facilitating";
   s.min_clearance_m = 0.65;
   s.robot_time_to_goal_s = state == sim_status_t::STATE_GOAL_REACHED ? 8.9 : std::nan("");
+  s.min_clearance_t_s = 8.0;
+  s.contact = sim_status_t::CONTACT_NONE;
+  s.contact_human_id = -1;
+  s.contact_t_s = s.contact_robot_speed_m_s = std::nan("");
   s.detail = detail;
   return s;
 }
@@ -444,6 +448,13 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   EXPECT_EQ(s.at("docked"), true);
   // Closest approach of the script: step 80, both at x 8, y 1.5 and 2.4, radii 0.3.
   EXPECT_NEAR(s.at("min_clearance_states_m").get<double>(), 0.3, 1e-9);
+  EXPECT_EQ(s.at("outcome"), "GOAL_REACHED");
+  EXPECT_DOUBLE_EQ(s.at("min_clearance_t_s").get<double>(), 8.0);
+  EXPECT_TRUE(s.at("contact").is_null());
+  // The script logs no robot command.
+  EXPECT_EQ(s.at("docks"), 0);
+  EXPECT_EQ(s.at("retreats"), 0);
+  EXPECT_EQ(s.at("guard_steps"), 0);
 
   const Json& h = s.at("humans").at(0);
   const path_assessment_t& last = run.assessments.back();
@@ -479,6 +490,103 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   EXPECT_EQ(entries[3].at("action"), "DOCK");
   // THANK after crossing: t_CROSS unknown -> null.
   EXPECT_TRUE(entries[7].at("t_cross_s").is_null());
+}
+
+velocity_command_t command(int k, std::int8_t mode, std::int8_t guard) {
+  velocity_command_t c{};
+  c.utime = utimeOf(k);
+  c.step = k;
+  c.mode = mode;
+  c.guard = guard;
+  return c;
+}
+
+TEST(LogTools, SummaryCountsWhatTheRobotDidAndSaysWhoTouchedWhom) {
+  using C = velocity_command_t;
+  // Modes step by step: navigating, docking (2 steps), holding, resuming, docking again,
+  // retreating (3 steps), navigating, retreating again; the guard acting on 4 steps.
+  const std::vector<std::pair<std::int8_t, std::int8_t>> script = {
+      {C::MODE_NAVIGATING, C::GUARD_NONE},   {C::MODE_DOCKING, C::GUARD_NONE},
+      {C::MODE_DOCKING, C::GUARD_SLOWED},    {C::MODE_HOLDING, C::GUARD_NONE},
+      {C::MODE_RESUMING, C::GUARD_STOPPED},  {C::MODE_DOCKING, C::GUARD_NONE},
+      {C::MODE_RETREATING, C::GUARD_NONE},   {C::MODE_RETREATING, C::GUARD_EVADING},
+      {C::MODE_RETREATING, C::GUARD_NONE},   {C::MODE_NAVIGATING, C::GUARD_NONE},
+      {C::MODE_RETREATING, C::GUARD_SLOWED},
+  };
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    for (std::size_t k = 0; k < script.size(); ++k) {
+      const int step = static_cast<int>(k);
+      w.put(channels::kAgentStates, statesAt(step));
+      w.put(channels::kRobotCmd, command(step, script[k].first, script[k].second));
+    }
+    sim_status_t fin = simStatus(static_cast<int>(script.size()), sim_status_t::STATE_COLLISION,
+                                 "human 1 walked into the robot at rest at t 1.05 s");
+    fin.min_clearance_m = -0.01;
+    fin.min_clearance_t_s = 1.1;
+    fin.contact = sim_status_t::CONTACT_HUMAN_AT_FAULT;
+    fin.contact_human_id = 1;
+    fin.contact_t_s = 1.05;
+    fin.contact_robot_speed_m_s = -0.125;
+    w.put(channels::kSimStatus, fin);
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.commands.size(), script.size());
+  EXPECT_EQ(run.counts.undecodable, 0);
+  const RobotBehaviourCounts n = countRobotBehaviour(run);
+  EXPECT_EQ(n.commands, static_cast<std::int64_t>(script.size()));
+  EXPECT_EQ(n.docks, 2);
+  EXPECT_EQ(n.retreats, 2);
+  EXPECT_EQ(n.guard_steps, 4);
+
+  const Json s = parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm")));
+  EXPECT_EQ(s.at("outcome"), "COLLISION");
+  EXPECT_EQ(s.at("final_state"), "COLLISION");
+  EXPECT_EQ(s.at("docks"), 2);
+  EXPECT_EQ(s.at("retreats"), 2);
+  EXPECT_EQ(s.at("guard_steps"), 4);
+  EXPECT_DOUBLE_EQ(s.at("min_clearance_m").get<double>(), -0.01);
+  EXPECT_DOUBLE_EQ(s.at("min_clearance_t_s").get<double>(), 1.1);
+  const Json& c = s.at("contact");
+  ASSERT_TRUE(c.is_object());
+  EXPECT_EQ(c.at("human_id"), 1);
+  EXPECT_DOUBLE_EQ(c.at("t_s").get<double>(), 1.05);
+  EXPECT_EQ(c.at("robot_at_fault"), false);
+  EXPECT_DOUBLE_EQ(c.at("robot_speed_m_s").get<double>(), -0.125);
+
+  // The robot at fault.
+  {
+    LogWriter w(dir.file("fault.lcm"));
+    sim_status_t fin = simStatus(3, sim_status_t::STATE_COLLISION, "");
+    fin.contact = sim_status_t::CONTACT_ROBOT_AT_FAULT;
+    fin.contact_human_id = 2;
+    fin.contact_t_s = 0.3;
+    fin.contact_robot_speed_m_s = 0.4;
+    w.put(channels::kSimStatus, fin);
+  }
+  const RunLog fault = readRunLog(dir.file("fault.lcm"));
+  const Json f = parseJson(dumpJson(summarizeRun(fault, analyseRun(fault), "fault.lcm")));
+  EXPECT_EQ(f.at("contact").at("robot_at_fault"), true);
+  EXPECT_EQ(f.at("contact").at("human_id"), 2);
+  EXPECT_EQ(f.at("docks"), 0);
+}
+
+TEST(LogTools, ARobotCommandOfAnOlderShapeIsNotNeededNotCorrupt) {
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    // Another fingerprint (an older velocity_command_t): does not decode as this build's.
+    std::vector<std::uint8_t> bytes(50, 0);
+    bytes[0] = 0x12;
+    w.raw(channels::kRobotCmd, bytes);
+    w.put(channels::kRobotCmd, command(0, velocity_command_t::MODE_DOCKING, 0));
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.counts.not_needed, 1);
+  EXPECT_EQ(run.counts.undecodable, 0);
+  EXPECT_FALSE(run.counts.anyCorruption());
+  EXPECT_EQ(countRobotBehaviour(run).docks, 1);
 }
 
 TEST(LogTools, CmByGammaIsDiscountedMeanOfTheLoggedCa) {

@@ -35,6 +35,7 @@ struct BehaviourContext {
   const Path2* reference_path{nullptr};  ///< start -> via -> goal, >= 2 points
   double preferred_speed_m_s{1.0};
   double goal_tolerance_m{0.2};
+  double max_acc_m_s2{1.5};          ///< the human's walking acceleration limit
   const AgentState* robot{nullptr};  ///< nullptr when the world has no robot
   const Band* robot_band{nullptr};   ///< last band the robot published, nullptr if none
   double robot_band_stamp_s{0.0};    ///< sim time of the band's t_s = 0
@@ -205,6 +206,37 @@ struct ResponsiveParams {
   }
 };
 
+/// The body check every behaviour but oblivious makes on its desired velocity (body_check.hpp):
+/// a robot that is not coming at the human is treated as a wall is.
+struct BodyCheckParams {
+  /// Kept between the human's body and the robot's, and between its body and the wall, when it
+  /// squeezes past a robot: people pass a still obstacle in a tight spot a few centimetres off.
+  double squeeze_margin_m{0.05};
+  /// Surface gap at which a human that cannot pass stops and waits (people stop about an arm's
+  /// length short of someone blocking a corridor).
+  double wait_gap_m{0.3};
+  /// Starts steering round a robot in its way once the surface gap along its path is below this.
+  double engage_distance_m{2.0};
+  /// A robot moving towards the human faster than this is left to the model (the paper's
+  /// behaviours react to an oncoming robot); slower, at rest or moving away, it is a body in the
+  /// way.
+  double rest_speed_m_s{0.1};
+  /// Carrot distance of the steering round the robot (shorter when the robot is closer).
+  double lookahead_m{0.8};
+  /// Deceleration the human plans with when stopping short of the robot, as a fraction of its
+  /// acceleration limit (the rest absorbs the discrete step).
+  double brake_fraction{0.8};
+  template <class V>
+  void visit(V& v) {
+    v.number("squeeze_margin_m", squeeze_margin_m, 0.0, 1.0);
+    v.number("wait_gap_m", wait_gap_m, 0.0, 3.0);
+    v.number("engage_distance_m", engage_distance_m, 0.0, 20.0);
+    v.number("rest_speed_m_s", rest_speed_m_s, 0.0, 3.0);
+    v.number("lookahead_m", lookahead_m, 0.1, 5.0);
+    v.number("brake_fraction", brake_fraction, 0.1, 1.0);
+  }
+};
+
 enum class BehaviourType : std::uint8_t {
   kMinimal,
   kOblivious,
@@ -231,6 +263,7 @@ struct BehaviourConfig {
   LateFacilitatingParams late_facilitating;
   ResponsiveParams responsive;
   FacilitatingParams facilitating;
+  BodyCheckParams body_check;  ///< every type but kOblivious
 };
 
 /// Plans a human's motion with an external planner (the planner-backed facilitating mode).
@@ -245,8 +278,8 @@ class HumanPlannerAdapter {
 using PlannerAdapterFactory =
     std::function<std::unique_ptr<HumanPlannerAdapter>(const FacilitatingParams&)>;
 
-/// Creates a behaviour. Throws std::invalid_argument for planner: band without an adapter
-/// factory.
+/// Creates a behaviour; every type but kOblivious with the body check (body_check.hpp) on its
+/// desired velocity. Throws std::invalid_argument for planner: band without an adapter factory.
 std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory = {});
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,14 @@ struct SimSettings {
   double time_limit_s{60.0};
   bool end_on_goals{true};            ///< end when the robot and every human reached its goal
   bool end_on_robot_collision{true};  ///< end when the robot touches a human or a wall
+  /// [m/s] At the first robot-human contact the robot is at fault when its velocity towards the
+  /// human exceeds this; at or below it the human walked into a robot at rest or moving away.
+  /// Above odometry noise, below any deliberate motion of a planner.
+  double contact_fault_speed_m_s{0.05};
+  /// [s] The run ends in kStandstill once no agent has moved more than standstill_distance_m for
+  /// this long and not every goal is reached (an encounter neither side resolves); 0 = never.
+  double standstill_time_s{15.0};
+  double standstill_distance_m{0.1};  ///< [m] moving less than this is standing still
 };
 
 struct WorldSpec {
@@ -82,7 +91,8 @@ enum class SimStatus : std::uint8_t {
   kRunning = 0,
   kGoalsReached = 1,
   kCollision = 2,
-  kTimeLimit = 3
+  kTimeLimit = 3,
+  kStandstill = 4  ///< nobody moved for standstill_time_s and not every goal is reached
 };
 const char* toString(SimStatus s);
 
@@ -109,12 +119,29 @@ struct StepResult {
   SimStatus status{SimStatus::kRunning};
 };
 
+/// The first robot-human contact of a run and who is at fault.
+struct RobotHumanContact {
+  std::int32_t human_id{0};
+  double t_s{0.0};  ///< sim time of the physics step in which it began
+  /// Robot's world velocity towards the human (along the unit vector from the robot's centre to
+  /// the human's) in that step [m/s]: > 0 closing.
+  double robot_speed_towards_m_s{0.0};
+  bool robot_at_fault{false};  ///< robot_speed_towards_m_s > SimSettings::contact_fault_speed_m_s
+};
+
+/// The robot's velocity towards a human: the component of its world velocity along the unit
+/// vector from its centre to the human's (> 0 closing); 0 for coincident centres.
+double robotSpeedTowards(const AgentState& robot, const AgentState& human);
+
 /// Totals of a run so far.
 struct SimSummary {
   SimStatus status{SimStatus::kRunning};
   double t_s{0.0};
   double min_robot_human_clearance_m{std::numeric_limits<double>::infinity()};  ///< surface gap
-  double robot_goal_time_s{-1.0};         ///< -1 while not reached
+  /// Sim time at which min_robot_human_clearance_m was first reached; NaN while no human.
+  double min_robot_human_clearance_t_s{std::numeric_limits<double>::quiet_NaN()};
+  std::optional<RobotHumanContact> first_contact;  ///< none while the robot touched nobody
+  double robot_goal_time_s{-1.0};                  ///< -1 while not reached
   std::vector<double> human_goal_time_s;  ///< per human, in spec order; -1 while not reached
   int collisions{0};
 };
@@ -164,6 +191,8 @@ class Simulation {
   void physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& events);
   void integrateRobot(const Velocity2& cmd_body, double dt_s);
   void checkCollisions(std::vector<SimEvent>& events);
+  /// True once nobody has moved more than standstill_distance_m for standstill_time_s.
+  bool standingStill();
   void end(SimStatus s, std::vector<SimEvent>& events);
 
   WorldSpec spec_;
@@ -180,6 +209,8 @@ class Simulation {
   bool has_band_{false};
   std::vector<std::vector<bool>> in_contact_;  ///< [agent][agent or wall]: edge-triggered events
   SimSummary summary_;
+  std::vector<Eigen::Vector2d> still_at_;  ///< robot, humans: where each was when all last moved
+  double still_since_s_{0.0};
 };
 
 }  // namespace coopnav::sim

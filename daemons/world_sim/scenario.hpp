@@ -54,7 +54,7 @@ class ScenarioError : public std::runtime_error {
 /// A straight wall of a synthetic map: the segment thickened by thickness_m.
 struct WallSegment {
   double x0_m{0.0}, y0_m{0.0}, x1_m{0.0}, y1_m{0.0};
-  double thickness_m{0.2};
+  double thickness_m{kDefaultWallThickness_m};
   template <class V>
   void visit(V& v) {
     const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};

@@ -552,7 +552,8 @@ OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& wher
         return asDouble(requireKey(e, field, where + ": " + item), item + "." + field, where);
       };
       if (std::string(key) == "walls") {
-        Wall w{{get("x0_m"), get("y0_m")}, {get("x1_m"), get("y1_m")}, 0.5 * get("thickness_m")};
+        const double thickness_m = e["thickness_m"] ? get("thickness_m") : kDefaultWallThickness_m;
+        Wall w{{get("x0_m"), get("y0_m")}, {get("x1_m"), get("y1_m")}, 0.5 * thickness_m};
         if (!(w.half_m > 0.0)) {
           fail(where, item + ".thickness_m" + lineOf(e["thickness_m"]) + " must be > 0");
         }

@@ -130,7 +130,12 @@ PgmImage readPgm(const std::string& path, std::int64_t max_cells = kMaxMapCells)
 OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
                           const std::string& where, std::int64_t max_cells = kMaxMapCells);
 
-/// Rasterises `resolution_m`, `walls: [{x0_m, y0_m, x1_m, y1_m, thickness_m}]`,
+/// [m] Thickness of a synthetic wall that does not give one (docs/scenario-format.md): the same
+/// for world_sim and for a daemon that loads the scenario file as its map.
+inline constexpr double kDefaultWallThickness_m = 0.2;
+
+/// Rasterises `resolution_m`, `walls: [{x0_m, y0_m, x1_m, y1_m, thickness_m}]` (thickness
+/// optional, kDefaultWallThickness_m),
 /// `boxes: [{min_x_m, min_y_m, max_x_m, max_y_m}]`, optional `margin_m` (>= 0, default 0) into a
 /// grid covering their bounding box plus the margin; every cell not a wall or box is free. A wall
 /// occupies the cells whose centre is within thickness/2 of its segment plus the 4-connected

@@ -215,6 +215,19 @@ TEST(MapLoaderTest, BtHeightBandSelectsTheSlab) {
   EXPECT_THAT(errorOf([&] { loadMap(tmp.dir() + "/t.bt", options); }), HasSubstr("is empty"));
 }
 
+TEST(MapLoaderTest, AWallWithoutThicknessHasTheDocumentedDefault) {
+  const auto load = [](const std::string& wall) {
+    return loadMapFromNode(YAML::Load("{resolution_m: 0.05, walls: [" + wall + "]}"),
+                           "/nonexistent", {}, "scenario.yaml: map")
+        .grid;
+  };
+  EXPECT_EQ(load("{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0}"),
+            load("{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0, thickness_m: " +
+                 std::to_string(kDefaultWallThickness_m) + "}"));
+  EXPECT_NE(load("{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0}"),
+            load("{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0, thickness_m: 0.6}"));
+}
+
 TEST(MapLoaderTest, WallsMapIsFourConnectedAndBoxesFill) {
   const YAML::Node node = YAML::Load(R"(
 resolution_m: 0.1

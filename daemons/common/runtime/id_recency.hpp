@@ -2,7 +2,7 @@
 /// @file Ids in the order they were last heard of (message time), least recent first: per-id
 /// state is forgotten by age or by count from the front, never by scanning every entry, so a
 /// flood of new ids costs constant work per message (docs/bad-inputs.md "Caps": limits.max_ids,
-/// limits.forget_after_s).
+/// limits.forget_after_s). Every daemon that keeps state per human id bounds it with one.
 
 #include <cstddef>
 #include <cstdint>
@@ -60,6 +60,37 @@ class IdRecency {
   /// times belong to another time base (their ages would be meaningless).
   void restamp(std::int64_t utime) {
     for (auto& e : order_) e.utime = utime;
+  }
+
+  /// How many ids forgetOld() removed, and why.
+  struct Forgotten {
+    std::size_t aged{0};  ///< not heard of for more than max_age_s
+    std::size_t over{0};  ///< beyond max_ids (a flood of new ids)
+  };
+
+  /// Removes, least recent first, the ids not heard of for more than `max_age_s` before
+  /// `now_utime`, then the least recent ones beyond `max_ids`; calls forget(id) for each before
+  /// it goes (the owner drops its state for that id). Visits only what it removes plus one.
+  template <class Forget>
+  Forgotten forgetOld(std::int64_t now_utime, double max_age_s, std::size_t max_ids,
+                      Forget&& forget) {
+    Forgotten n;
+    while (!order_.empty()) {
+      // In double: a hostile stamp must not overflow the difference.
+      const double age_s =
+          (static_cast<double>(now_utime) - static_cast<double>(order_.front().utime)) * 1e-6;
+      if (age_s > max_age_s) {
+        ++n.aged;
+      } else if (order_.size() > max_ids) {
+        ++n.over;
+      } else {
+        break;
+      }
+      const std::int32_t id = order_.front().id;
+      forget(id);
+      erase(id);
+    }
+    return n;
   }
 
   void clear() {

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "coopnav/bands_t.hpp"
+#include "coopnav/geometry/geometry.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "maps/map_loader.hpp"
@@ -56,6 +57,8 @@ std::int8_t commandMode(RobotMode m) {
       return velocity_command_t::MODE_RESUMING;
     case RobotMode::kGoalReached:
       return velocity_command_t::MODE_GOAL_REACHED;
+    case RobotMode::kRetreating:
+      return velocity_command_t::MODE_RETREATING;
   }
   return velocity_command_t::MODE_STOPPED;
 }
@@ -70,7 +73,7 @@ Pose2 motionPose(const AgentState& h) {
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
+  const auto k = static_cast<std::size_t>(std::llround(q * static_cast<double>(v.size() - 1)));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k];
 }
@@ -100,9 +103,13 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   }
   ModeMachineOptions mo = config_.dock.options;
   mo.goal_tolerance_m = pc.xy_goal_tolerance_m;
-  mo.dock_reached_tolerance_m = pc.xy_goal_tolerance_m;
   mo.dock.robot_radius_m = pc.robot.radius_m;
   modes_ = DockModeMachine(mo);
+  limits_.holonomic = pc.robot.holonomic;
+  limits_.max_forward_m_s = pc.robot.max_vel_x_m_s;
+  limits_.max_backward_m_s = pc.robot.max_vel_x_backwards_m_s;
+  limits_.max_lateral_m_s = pc.robot.max_vel_y_m_s;
+  limits_.max_omega_rad_s = pc.robot.max_vel_theta_rad_s;
 
   StepNodeOptions steps;
   // Step k plans with every robot action of k-1 and the goals of k (a lost one is re-sent when
@@ -313,14 +320,18 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   }
   action_.reset();
 
-  // --- mode: navigate / dock / hold / resume ---
+  // --- mode: navigate / dock / hold / retreat / resume ---
   RobotMode mode = RobotMode::kNavigate;
   Pose2 active_goal = s.robot.pose;
   bool hold = false;
+  ModeOutput mode_out;
   if (robot_goal) {
     ModeInput in;
     in.stamp_s = stamp_s;
     in.robot = s.robot.pose;
+    in.robot_radius_m = s.robot.radius_m;
+    in.trail = &trail_.points();
+    in.limits = limits_;
     in.goal = *robot_goal;
     in.dock_requested = dock_req;
     in.resume_requested = resume_req;
@@ -330,24 +341,35 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
     if (human) {
       in.has_human = true;
       in.human = motionPose(*human);
+      in.human_velocity = {human->velocity.vx_m_s, human->velocity.vy_m_s};
+      in.human_radius_m = human->radius_m;
     } else if (dock_req) {
       log().warn("band_source: DOCK for human {} who is not in the agent states: ignored",
                  dock_for);
     }
-    const ModeOutput out = modes_.update(*map_, in);
+    mode_out = modes_.update(*map_, in);
+    const ModeOutput& out = mode_out;
     if (out.dock_failure) {
-      log().warn("band_source: DOCK for human {} impossible at step {}: {}", dock_for, s.step,
+      log().warn("band_source: DOCK for human {} at step {}: {}: the robot keeps avoiding",
+                 dock_for, s.step,
                  *out.dock_failure == DockStatus::kNoWall
-                     ? "no wall on the side away from the human"
+                     ? "no wall on the side away from the human and room to pass"
                      : "no reachable dock pose");
     }
-    if (out.mode == RobotMode::kDocking || out.mode == RobotMode::kHolding) {
-      if (out.changed && out.mode == RobotMode::kDocking) dock_human_id_ = dock_for;
+    if (out.mode == RobotMode::kDocking || out.mode == RobotMode::kHolding ||
+        out.mode == RobotMode::kRetreating) {
+      if (dock_req && in.has_human) dock_human_id_ = dock_for;
     } else {
       dock_human_id_.reset();
     }
     if (out.changed) {
-      log().info("band_source: mode {} at step {} (utime {})", toString(out.mode), s.step, s.utime);
+      log().info("band_source: mode {} at step {} (utime {}){}", toString(out.mode), s.step,
+                 s.utime,
+                 out.room != RoomMove::kUnknown
+                     ? std::string(" for human ") +
+                           std::to_string(dock_human_id_ ? *dock_human_id_ : dock_for) +
+                           ", room: " + toString(out.room)
+                     : std::string());
     }
     mode = out.mode;
     active_goal = out.active_goal;
@@ -419,7 +441,9 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   const bool idle = !robot_goal;
   const bool usable = r.status == PlanStatus::kOk || r.status == PlanStatus::kGoalReached;
   std::int8_t cmd_mode = velocity_command_t::MODE_IDLE;
-  if (!idle) cmd_mode = usable ? commandMode(mode) : velocity_command_t::MODE_STOPPED;
+  // A dock or a retreat is driven without the planner's band (modeCommand).
+  const bool driven = mode == RobotMode::kDocking || mode == RobotMode::kRetreating;
+  if (!idle) cmd_mode = usable || driven ? commandMode(mode) : velocity_command_t::MODE_STOPPED;
 
   BandsSnapshot b;
   b.utime = s.utime;
@@ -432,14 +456,84 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   b.robot_id = s.robot.id;
   b.robot = r.agent_band;
   for (const auto& o : r.others) b.humans.emplace_back(o.id, o.band);
+  b.room_plans = roomPlans(s, r);
   step.publish(channels::kBands, toLcm(b));
 
   VelocityCommand c;
   c.utime = s.utime;
   c.step = s.step;
   c.mode = cmd_mode;
-  if (r.status == PlanStatus::kOk && !hold && !idle) c.body = r.command_body;
+  const GuardOutput g = guard(s, modeCommand(s, mode_out, r, hold, idle));
+  c.body = g.command_body;
+  c.guard = static_cast<std::int8_t>(g.action);
   step.publish(channels::kRobotCmd, toLcm(c));
+
+  // The way back is the way the robot came while navigating: a dock or a retreat is no way back.
+  if (mode != RobotMode::kDocking && mode != RobotMode::kHolding && mode != RobotMode::kRetreating)
+    trail_.add(s.robot.pose.position());
+}
+
+std::vector<std::int8_t> BandSourceNode::roomPlans(const AgentStatesSnapshot& s,
+                                                   const PlanResult& r) {
+  std::vector<std::int8_t> plans;
+  const ModeMachineOptions& mo = modes_.options();
+  for (const auto& o : r.others) {
+    std::int8_t plan = bands_t::ROOM_UNKNOWN;
+    const AgentState* h = s.human(o.id);
+    if (h) {
+      Encounter e;
+      e.robot = s.robot.pose;
+      e.robot_radius_m = s.robot.radius_m;
+      e.human_position = h->pose.position();
+      e.human_velocity = {h->velocity.vx_m_s, h->velocity.vy_m_s};
+      e.human_radius_m = h->radius_m;
+      e.trail = &trail_.points();
+      e.limits = limits_;
+      // Only a human ahead and closing may need room: a few distance queries each.
+      // Ahead: in front of the robot as it heads, and not yet past it (one overtaking the robot
+      // from behind needs no room made).
+      const bool ahead =
+          (h->pose.position() - s.robot.pose.position())
+                  .dot(headingVector(s.robot.pose.theta_rad)) > 0.0 &&
+          !DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h), mo.human_passed_margin_m);
+      if (ahead && closingSpeed(e) > mo.room.closing_speed_m_s)
+        plan = static_cast<std::int8_t>(decideRoom(*map_, e, mo.dock, mo.room).move);
+    }
+    plans.push_back(plan);
+  }
+  return plans;
+}
+
+Velocity2 BandSourceNode::modeCommand(const AgentStatesSnapshot& s, const ModeOutput& m,
+                                      const PlanResult& r, bool hold, bool idle) const {
+  if (idle || hold) return {};
+  // The robot drives a dock or a retreat itself: the planner's band keeps
+  // planner.min_obstacle_dist_m from walls, so it would stop short of a flush dock pose.
+  if (m.mode == RobotMode::kDocking && !m.route.empty())
+    return followRoute(s.robot.pose, m.route, limits_.max_forward_m_s, limits_);
+  if (m.mode == RobotMode::kRetreating) {
+    if (!m.retreat_direction) return {};
+    return driveAlong(s.robot.pose, *m.retreat_direction, modes_.options().room.wider_search_m,
+                      limits_);
+  }
+  return r.status == PlanStatus::kOk ? r.command_body : Velocity2{};
+}
+
+GuardOutput BandSourceNode::guard(const AgentStatesSnapshot& s, const Velocity2& command) {
+  GuardInput in;
+  in.robot = s.robot.pose;
+  in.robot_radius_m = s.robot.radius_m;
+  in.command_body = command;
+  in.limits = limits_;
+  for (const auto& h : s.humans)
+    in.humans.push_back({h.pose.position(), {h.velocity.vx_m_s, h.velocity.vy_m_s}, h.radius_m});
+  const GuardOutput g = guardCommand(*map_, in, config_.guard.options);
+  if (g.action != last_guard_) {
+    log().info("band_source: guard {} at step {} (utime {}, command x {:.2f})", toString(g.action),
+               s.step, s.utime, g.scale);
+    last_guard_ = g.action;
+  }
+  return g;
 }
 
 void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const PlanResult& r,

@@ -20,6 +20,8 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/planning/dock.hpp"
+#include "coopnav/planning/room.hpp"
+#include "coopnav/planning/safety_guard.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "maps/map_source.hpp"
 #include "runtime/limits.hpp"
@@ -48,8 +50,10 @@ struct BandSourceConfig {
   /// Reference paths are republished unchanged this often [s of message time] for late joiners;
   /// 0 = only when a path changes.
   double reference_paths_republish_s{1.0};
-  /// Dock / hold / resume.
+  /// Dock / hold / retreat / resume, and the room decision (lib/planning/room.hpp).
   ModeMachineOptionsYaml dock;
+  /// The last safety layer under the planner (lib/planning/safety_guard.hpp).
+  GuardOptionsYaml guard;
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
 
@@ -65,6 +69,7 @@ struct BandSourceConfig {
     v("step_gate_timeout_s", step_gate_timeout_s, Range{0.01, 600.0});
     v("reference_paths_republish_s", reference_paths_republish_s, Range{0.0, 3600.0});
     v("dock", dock);
+    v("guard", guard);
     v("planner", planner);
     v("limits", limits);
   }
@@ -112,6 +117,14 @@ class BandSourceNode {
   /// One control cycle; never throws (it may run from the gate's timer).
   void cycle(const AgentStatesSnapshot& states, StepNode::Step& step);
   void plan(const AgentStatesSnapshot& states, StepNode::Step& step);
+  /// bands_t.ROOM_* for each planned human: how the robot would make room for it if asked now
+  /// (only for humans ahead and closing; ROOM_UNKNOWN for the others).
+  std::vector<std::int8_t> roomPlans(const AgentStatesSnapshot& states, const PlanResult& result);
+  /// The command of a mode the robot drives itself (docking, retreating), else the planner's.
+  Velocity2 modeCommand(const AgentStatesSnapshot& states, const ModeOutput& mode,
+                        const PlanResult& result, bool hold, bool idle) const;
+  /// The safety guard applied to `command`, logged when its action changes.
+  GuardOutput guard(const AgentStatesSnapshot& states, const Velocity2& command);
   void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
                              const std::set<std::int32_t>& with_goal, StepNode::Step& step);
   void notePlanTime(double ms);
@@ -123,6 +136,10 @@ class BandSourceNode {
   std::shared_ptr<const GridDistanceField> map_;
   std::unique_ptr<DualBandPlanner> planner_;
   DockModeMachine modes_;
+  RobotLimits limits_;  ///< the planner's robot limits, for the commands it does not plan
+  /// The robot's recent positions while it navigates: the way back for a wider place or a retreat.
+  Trail trail_;
+  GuardAction last_guard_{GuardAction::kNone};
   /// The agent states' time: a message stamped far from it is rejected and does not move it, so
   /// one stamped INT64_MAX cannot make every later one "backwards" (docs/bad-inputs.md "Caps").
   MessageClock clock_;

@@ -16,6 +16,7 @@
 #include "config/config.hpp"
 #include "coopnav/band/band_config.hpp"
 #include "coopnav/planning/dock.hpp"
+#include "coopnav/planning/safety_guard.hpp"
 
 namespace coopnav {
 
@@ -121,10 +122,10 @@ struct BandPlannerConfigYaml {
   }
 };
 
-/// The dock / hold / resume machine's options, except those a daemon derives from the planner so
-/// they cannot disagree with it: the goal and dock-reached tolerances (= planner
-/// xy_goal_tolerance_m: the planner stops there, so a smaller tolerance would never be met) and
-/// the robot radius (= planner robot.radius_m). Ranges here: lib/ has no validate() for these.
+/// The dock / hold / retreat / resume machine's options and the room decision's, except those a
+/// daemon derives so they cannot disagree: the goal tolerance (= planner xy_goal_tolerance_m: the
+/// planner stops there, so a smaller tolerance would never be met) and the robot radius (the
+/// agent state's, else planner robot.radius_m). Ranges here: lib/ has no validate() for these.
 struct ModeMachineOptionsYaml {
   ModeMachineOptions options{};
 
@@ -139,6 +140,30 @@ struct ModeMachineOptionsYaml {
     v("search_range_m", o.dock.search_range_m, Range{0.1, 50.0});
     v("max_ahead_m", o.dock.max_ahead_m, Range{0.0, 20.0});
     v("candidate_step_m", o.dock.step_m, Range{0.01, 5.0});
+    v("reached_tolerance_m", o.dock_reached_tolerance_m, Range{0.01, 1.0});
+    v("passage_margin_m", o.room.passage_margin_m, Range{0.0, 2.0});
+    v("wider_search_m", o.room.wider_search_m, Range{0.0, 100.0});
+    v("wider_step_m", o.room.wider_step_m, Range{0.05, 5.0});
+    v("reach_margin_s", o.room.reach_margin_s, Range{0.0, 30.0});
+    v("closing_speed_m_s", o.room.closing_speed_m_s, Range{0.0, 2.0});
+    v("retreat_lookahead_m", o.room.retreat_lookahead_m, Range{0.1, 10.0});
+    v("retreat_min_room_m", o.room.retreat_min_room_m, Range{0.05, 5.0});
+  }
+};
+
+/// The safety guard's options (lib/planning/safety_guard.hpp). Ranges here, as above.
+struct GuardOptionsYaml {
+  GuardOptions options{};
+
+  template <class V>
+  void visit(V& v) {
+    GuardOptions& o = options;
+    v("min_clearance_m", o.min_clearance_m, Range{0.0, 2.0});
+    v("horizon_s", o.horizon_s, Range{0.1, 10.0});
+    v("sample_dt_s", o.sample_dt_s, Range{0.01, 1.0});
+    v("evade_gap_m", o.evade_gap_m, Range{0.0, 2.0});
+    v("evade_wall_margin_m", o.evade_wall_margin_m, Range{0.0, 1.0});
+    v.require(o.sample_dt_s <= o.horizon_s, "sample_dt_s", "must not exceed horizon_s");
   }
 };
 

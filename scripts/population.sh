@@ -1,0 +1,129 @@
+#!/usr/bin/env bash
+# A population of head-on corridor encounters (docs/population.md): generates N scenario files
+# from a seed (tools/population), runs them JOBS at a time, each on a udpm port of its own and in
+# a folder of its own, plus one run without humans per corridor layout (the time-to-goal
+# baseline), and writes DIR/population.json and DIR/population.txt. The exit code is non-zero
+# when a contact had the robot at fault (1) or a run left no summary (3).
+#
+#   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
+#   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>)
+# Environment: COOPNAV_POP_PORT_BASE (7400; run k of JOBS uses base + its slot),
+# COOPNAV_POP_RUN_TIMEOUT_S (900: wall seconds before a run is stopped).
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+source "$COOPNAV_ROOT/scripts/scenario.sh"
+
+ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
+pop="$COOPNAV_BUILD_DIR/tools/population/coopnav_population"
+
+# One run, in a process of its own (so that a timeout can stop it and its daemons):
+#   population.sh --worker SCENARIO RUN_DIR PORT
+if [ "${1:-}" = "--worker" ]; then
+  trap coopnav_stop_all EXIT
+  trap 'coopnav_stop_all; exit 143' INT TERM
+  scenario="$2" dir="$3" port="$4"
+  name="$(basename "$scenario" .yaml)"
+  rm -rf "$dir"
+  start_s=$(date +%s.%N)
+  rc=0
+  coopnav_run_scenario "$scenario" "$dir" "$port" || rc=$?
+  echo "$rc" >"$dir/world_sim.exit"
+  if [ -f "$dir/$name.lcm" ]; then
+    "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json" \
+      >"$dir/summarize.log" 2>&1 || true
+  fi
+  state="$(grep -o '"final_state": "[A-Z_]*"' "$dir/summary.json" 2>/dev/null | cut -d'"' -f4)"
+  printf '%-22s %-20s %6.1f s wall\n' "$name" "${state:-NO_SUMMARY}" \
+    "$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')"
+  exit 0
+fi
+
+n=200
+seed=1
+jobs="$(nproc)"
+out=""
+build=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --n) n="$2"; shift 2 ;;
+    --seed) seed="$2"; shift 2 ;;
+    -j) jobs="$2"; shift 2 ;;
+    -j*) jobs="${1#-j}"; shift ;;
+    --out) out="$2"; shift 2 ;;
+    --no-build) build=0; shift ;;
+    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+[[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "population.sh: -j needs a positive integer" >&2; exit 2; }
+
+if [ "$build" -eq 1 ]; then
+  coopnav_install_deps
+  coopnav_build
+fi
+coopnav_ensure_multicast
+
+# A daemon older than its config (keys added since it was built) would only fail at each run.
+for d in "${COOPNAV_DAEMONS[@]}" world_sim; do
+  if ! errors="$("$(coopnav_bin "$d")" -c "$COOPNAV_ROOT/config/$d.yaml" --print-config 2>&1 >/dev/null)"; then
+    echo "population.sh: $d rejects config/$d.yaml (rebuild $COOPNAV_BUILD_DIR?):" >&2
+    echo "$errors" >&2
+    exit 2
+  fi
+done
+
+out="${out:-$COOPNAV_ROOT/runs/population-$seed}"
+mkdir -p "$out"
+out="$(cd "$out" && pwd)"
+"$pop" generate --n "$n" --seed "$seed" --out "$out" --maps-dir "$COOPNAV_ROOT/config/maps"
+
+port_base="${COOPNAV_POP_PORT_BASE:-7400}"
+timeout_s="${COOPNAV_POP_RUN_TIMEOUT_S:-900}"
+declare -A slot_of=()  # worker pid -> slot (its port offset)
+free_slots=()
+for ((s = 0; s < jobs; s++)); do free_slots+=("$s"); done
+stop_workers() {
+  local p
+  for p in "${!slot_of[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+trap 'stop_workers; exit 130' INT TERM
+
+reap() {
+  local p
+  for p in "${!slot_of[@]}"; do
+    if ! kill -0 "$p" 2>/dev/null; then
+      wait "$p" 2>/dev/null || true
+      free_slots+=("${slot_of[$p]}")
+      unset "slot_of[$p]"
+    fi
+  done
+}
+
+mapfile -t lines <"$out/jobs.txt"
+echo "population: ${#lines[@]} runs, $jobs at a time, in $out"
+start_s=$(date +%s.%N)
+for line in "${lines[@]}"; do
+  name="${line%%$'\t'*}"
+  scenario="$out/${line#*$'\t'}"
+  while [ "${#free_slots[@]}" -eq 0 ]; do
+    wait -n 2>/dev/null || true
+    reap
+  done
+  slot="${free_slots[0]}"
+  free_slots=("${free_slots[@]:1}")
+  timeout -k 20 "$timeout_s" bash "$0" --worker "$scenario" "$out/runs/$name" \
+    "$((port_base + slot))" &
+  slot_of[$!]="$slot"
+done
+while [ "${#slot_of[@]}" -gt 0 ]; do
+  wait -n 2>/dev/null || true
+  reap
+done
+wall_s="$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')"
+echo "runs ${#lines[@]} jobs $jobs wall_s $wall_s" >"$out/timing.txt"
+echo "population: ${#lines[@]} runs in $wall_s s wall with -j $jobs"
+
+rc=0
+"$pop" aggregate --dir "$out" || rc=$?
+echo "population: $out/population.txt, $out/population.json"
+exit "$rc"

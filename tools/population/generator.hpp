@@ -1,0 +1,443 @@
+#pragma once
+/// @file The population generator: N head-on corridor encounters in the scenario format of
+/// docs/scenario-format.md, drawn from one seed. Header-only (no library to link) so that the
+/// unit tests in test/unit/population check exactly what coopnav_population writes.
+///
+/// Determinism: every draw comes from SplitMix64 (Steele, Lea & Flood 2014, doi
+/// 10.1145/2714064.2660195) turned into doubles by its top 53 bits; no std:: distribution (their
+/// algorithms differ between standard libraries) and every number is written with a fixed
+/// printf format, so a seed gives the same files byte for byte on any machine.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace coopnav::population {
+
+/// SplitMix64: a 64-bit state advanced by a constant, mixed on output.
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next() {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1): the top 53 bits over 2^53.
+  double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * unit(); }
+  /// Uniform in {0, ..., n - 1}; n >= 1.
+  std::size_t index(std::size_t n) {
+    return static_cast<std::size_t>(unit() * static_cast<double>(n));
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+/// Rounds to a multiple of `step` (1 / step an integer), dividing by 1 / step so that the result
+/// is the double nearest the decimal (35 / 100 is 0.35; 35 * 0.01 is not).
+inline double quantize(double v, double step) {
+  const double per_unit = std::round(1.0 / step);
+  return std::round(v * per_unit) / per_unit;
+}
+
+inline std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+/// The behaviours of docs/scenario-format.md, in the order the generator cycles through them.
+inline const std::array<const char*, 6>& behaviourNames() {
+  static const std::array<const char*, 6> k{"facilitating",      "minimal",      "oblivious",
+                                            "late_facilitating", "social_force", "responsive"};
+  return k;
+}
+
+/// A straight stretch the encounters happen in. The robot drives +x along centre_y_m from
+/// robot_start_x_m to robot_goal_x_m; humans keep lateral_min_y_m..lateral_max_y_m (their
+/// centres, clear of the walls by radius + a margin).
+struct Layout {
+  std::string key;       ///< e.g. "corridor_1.70", "open_narrow"; names the baseline run
+  std::string map_file;  ///< copied map ("open.yaml"), empty for a synthetic corridor
+  double width_m{0.0};   ///< clear width of the stretch
+  double centre_y_m{0.0};
+  double robot_start_x_m{0.0};
+  double robot_goal_x_m{0.0};
+  double lateral_min_y_m{0.0};
+  double lateral_max_y_m{0.0};
+  /// Head-on human: starts robot_goal_x_m + [head_start_min, head_start_max], walks to
+  /// head_goal_x_m (just behind the robot's start, as in the paper's scenarios).
+  double head_start_min_m{0.5};
+  double head_start_max_m{2.0};
+  double head_goal_x_m{0.0};
+  double follower_goal_x_m{0.0};  ///< the human behind the head-on one walks to here
+  double same_way_goal_x_m{0.0};  ///< the human walking the robot's way walks to here
+  /// Lanes of the extra humans (open_wide: round the pillar); empty = the corridor's own range.
+  std::vector<std::pair<double, double>> extra_lanes_y_m;
+  /// Synthetic corridor: x extent of its closed end walls.
+  double wall_x0_m{0.0};
+  double wall_x1_m{0.0};
+};
+
+constexpr double kRobotRadiusM = 0.47;  // scenario default (CoHAN's PR2)
+constexpr double kHumanRadiusM = 0.3;   // scenario default
+constexpr double kStartMarginM = 0.1;   // beyond the radius, from the walls, at the start
+
+/// Synthetic straight corridors: from the narrowest a 0.94 m robot and a 0.6 m human can pass in
+/// (1.54 m plus margins) to the paper's open 6 m. Fixed widths so that the run without humans
+/// is shared by every encounter of a width.
+inline const std::vector<double>& syntheticWidthsM() {
+  static const std::vector<double> k{1.70, 1.80, 1.90, 2.00, 2.25, 2.50,
+                                     2.75, 3.00, 3.50, 4.00, 5.00, 6.00};
+  return k;
+}
+
+inline Layout syntheticCorridor(double width_m) {
+  Layout l;
+  l.key = "corridor_" + fmt("%.2f", width_m);
+  l.width_m = width_m;
+  l.centre_y_m = quantize(width_m / 2.0, 0.005);
+  l.robot_start_x_m = 3.0;
+  l.robot_goal_x_m = 27.0;
+  l.lateral_min_y_m = kHumanRadiusM + kStartMarginM;
+  l.lateral_max_y_m = width_m - kHumanRadiusM - kStartMarginM;
+  l.head_goal_x_m = 2.5;
+  l.follower_goal_x_m = 1.0;
+  l.same_way_goal_x_m = 33.0;
+  l.wall_x0_m = -1.0;
+  l.wall_x1_m = 34.0;
+  return l;
+}
+
+/// The straight stretches of the real maps (geometry measured from the pixels:
+/// ../shared/maps/README.md; junctions: y 25.00-27.00 free from x 6.85 to 37.50, crossed by a
+/// 1.5 m corridor at x 23.50-25.00).
+inline std::vector<Layout> mapLayouts() {
+  std::vector<Layout> out;
+  {
+    Layout l;  // open.pgm, lower corridor y 0.45-2.70 (the paper's 2.25 m), x 9.65-35.30
+    l.key = "open_narrow";
+    l.map_file = "open.yaml";
+    l.width_m = 2.25;
+    l.centre_y_m = 1.575;
+    l.robot_start_x_m = 11.0;
+    l.robot_goal_x_m = 34.0;
+    l.lateral_min_y_m = 0.45 + kHumanRadiusM + kStartMarginM;
+    l.lateral_max_y_m = 2.70 - kHumanRadiusM - kStartMarginM;
+    l.head_goal_x_m = 10.5;
+    l.follower_goal_x_m = 9.0;
+    l.same_way_goal_x_m = 37.5;
+    l.head_start_max_m = 2.0;
+    out.push_back(l);
+  }
+  {
+    // open.pgm, upper corridor y 3.50-9.50 (6 m), straight only for x 9.65-21.90 (then the
+    // pillar): the robot starts in the west open area and the head-on human west of the pillar
+    // (x <= 21.3 keeps it 0.3 m clear); the extra humans use the lanes round the pillar.
+    Layout l;
+    l.key = "open_wide";
+    l.map_file = "open.yaml";
+    l.width_m = 6.0;
+    l.centre_y_m = 6.5;
+    l.robot_start_x_m = 2.5;
+    l.robot_goal_x_m = 20.5;
+    l.lateral_min_y_m = 6.2;
+    l.lateral_max_y_m = 6.8;
+    l.head_start_min_m = 0.3;
+    l.head_start_max_m = 0.8;
+    l.head_goal_x_m = 2.0;
+    l.follower_goal_x_m = 1.5;
+    l.same_way_goal_x_m = 30.0;
+    l.extra_lanes_y_m = {{4.2, 4.7}, {8.3, 8.8}};
+    out.push_back(l);
+  }
+  {
+    Layout l;  // junctions.pgm, 2.0 m corridor y 25.00-27.00
+    l.key = "junctions_2.00";
+    l.map_file = "junctions.yaml";
+    l.width_m = 2.0;
+    l.centre_y_m = 26.0;
+    l.robot_start_x_m = 8.0;
+    l.robot_goal_x_m = 33.0;
+    l.lateral_min_y_m = 25.0 + kHumanRadiusM + kStartMarginM;
+    l.lateral_max_y_m = 27.0 - kHumanRadiusM - kStartMarginM;
+    l.head_start_max_m = 2.0;
+    l.head_goal_x_m = 7.0;
+    l.follower_goal_x_m = 5.0;
+    l.same_way_goal_x_m = 37.0;
+    out.push_back(l);
+  }
+  return out;
+}
+
+/// Every layout the generator draws from, synthetic first.
+inline std::vector<Layout> allLayouts() {
+  std::vector<Layout> out;
+  for (double w : syntheticWidthsM()) out.push_back(syntheticCorridor(w));
+  for (auto& l : mapLayouts()) out.push_back(l);
+  return out;
+}
+
+/// One simulated human: role "head_on" (towards the robot), "follower" (behind the head-on one,
+/// same direction) or "same_way" (ahead of the robot, walking its way).
+struct HumanSpec {
+  int id{1};
+  std::string role;
+  std::string behaviour;
+  double start_x_m{0.0}, start_y_m{0.0}, goal_x_m{0.0}, goal_y_m{0.0};
+  double speed_m_s{1.0};
+  double velocity_noise_m_s{0.0};
+  /// Behaviour params as (key, value); "group.key" is written nested ({group: {key: v}}).
+  std::vector<std::pair<std::string, double>> params;
+};
+
+struct Encounter {
+  std::string name;  ///< scenario name and file stem
+  std::uint64_t seed{0};
+  Layout layout;
+  std::vector<HumanSpec> humans;
+};
+
+/// Ranges the generator draws from (docs/population.md lists them). All lie inside the
+/// validated ranges of lib/include/coopnav/sim/behaviour.hpp, around its defaults.
+struct Ranges {
+  double speed_min_m_s{0.8}, speed_max_m_s{1.3};
+  double head_on_offset_m{0.3};  ///< |lateral offset| of the head-on human from the centre
+  double extra_offset_m{0.4};    ///< of the extra humans
+  double noise_max_m_s{0.05};    ///< velocity_noise_m_s in [0, this]
+  double follower_gap_min_m{2.0}, follower_gap_max_m{2.8};      ///< behind the head-on human
+  double same_way_ahead_min_m{2.5}, same_way_ahead_max_m{4.5};  ///< ahead of the robot
+  double two_humans_p{0.3}, three_humans_p{0.2};
+};
+
+/// Draws a behaviour's params (2 decimals).
+inline std::vector<std::pair<std::string, double>> drawParams(const std::string& behaviour,
+                                                              Rng& rng) {
+  auto u = [&](double lo, double hi) { return quantize(rng.uniform(lo, hi), 0.01); };
+  if (behaviour == "minimal")
+    return {{"horizon_s", u(1.0, 2.0)},
+            {"trigger_gap_m", u(0.4, 0.8)},
+            {"clearance_margin_m", u(0.05, 0.15)},
+            {"max_deviation_m", u(0.15, 0.35)}};
+  if (behaviour == "oblivious") return {{"lookahead_m", u(0.6, 1.5)}};
+  if (behaviour == "social_force")
+    return {{"relaxation_time_s", u(0.4, 0.7)},
+            {"social_weight", u(1.5, 2.7)},
+            {"robot_weight", u(3.0, 7.0)}};
+  if (behaviour == "facilitating")
+    return {{"trigger_ttc_s", u(4.0, 6.0)},
+            {"trigger_distance_m", u(5.0, 8.0)},
+            {"yield.offset_m", u(0.6, 1.0)}};
+  if (behaviour == "late_facilitating")
+    return {{"trigger_ttc_s", u(2.0, 3.5)},
+            {"minimal.max_deviation_m", u(0.2, 0.35)},
+            {"yield.offset_m", u(0.45, 0.75)}};
+  if (behaviour == "responsive")
+    return {{"reaction_time_s", u(0.5, 1.2)},
+            {"repeat_increment_m", u(0.1, 0.3)},
+            {"yield.offset_m", u(0.6, 0.9)}};
+  return {};
+}
+
+inline std::string encounterName(std::size_t index) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "pop_%04zu", index + 1);
+  return buf;
+}
+
+/// The n encounters of `seed`. The head-on human's behaviour runs through the six in a seeded
+/// order per block of six (every behaviour equally often); everything else is drawn.
+inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t seed,
+                                                 const Ranges& r = {}) {
+  const std::vector<Layout> layouts = allLayouts();
+  const auto& names = behaviourNames();
+  Rng rng(seed ^ 0xC00B0A7ULL);
+  std::vector<Encounter> out;
+  std::array<std::size_t, 6> order{0, 1, 2, 3, 4, 5};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % order.size() == 0) {
+      for (std::size_t k = order.size() - 1; k > 0; --k)  // Fisher-Yates
+        std::swap(order[k], order[rng.index(k + 1)]);
+    }
+    Encounter e;
+    e.name = encounterName(i);
+    e.seed = rng.next() >> 11;  // within the scenario's [0, 2^53]
+    e.layout = layouts[rng.index(layouts.size())];
+    const Layout& l = e.layout;
+    auto clampY = [&](double y) { return std::clamp(y, l.lateral_min_y_m, l.lateral_max_y_m); };
+    auto speed = [&] { return quantize(rng.uniform(r.speed_min_m_s, r.speed_max_m_s), 0.01); };
+    auto noise = [&] { return quantize(rng.uniform(0.0, r.noise_max_m_s), 0.01); };
+    auto extraY = [&] {
+      if (l.extra_lanes_y_m.empty())
+        return quantize(clampY(l.centre_y_m + rng.uniform(-r.extra_offset_m, r.extra_offset_m)),
+                        0.005);
+      const auto& lane = l.extra_lanes_y_m[rng.index(l.extra_lanes_y_m.size())];
+      return quantize(rng.uniform(lane.first, lane.second), 0.005);
+    };
+
+    HumanSpec h;
+    h.id = 1;
+    h.role = "head_on";
+    h.behaviour = names[order[i % order.size()]];
+    h.start_x_m =
+        quantize(l.robot_goal_x_m + rng.uniform(l.head_start_min_m, l.head_start_max_m), 0.005);
+    h.start_y_m = quantize(
+        clampY(l.centre_y_m + rng.uniform(-r.head_on_offset_m, r.head_on_offset_m)), 0.005);
+    h.goal_x_m = l.head_goal_x_m;
+    h.goal_y_m = h.start_y_m;
+    h.speed_m_s = speed();
+    h.velocity_noise_m_s = noise();
+    h.params = drawParams(h.behaviour, rng);
+    e.humans.push_back(h);
+
+    const double p = rng.unit();
+    const std::size_t count =
+        p < r.three_humans_p ? 3 : (p < r.three_humans_p + r.two_humans_p ? 2 : 1);
+    std::vector<std::string> roles;
+    if (count == 3) roles = {"follower", "same_way"};
+    if (count == 2) roles = {rng.unit() < 0.5 ? "follower" : "same_way"};
+    for (const auto& role : roles) {
+      HumanSpec x;
+      x.id = static_cast<int>(e.humans.size()) + 1;
+      x.role = role;
+      x.behaviour = names[rng.index(names.size())];
+      x.start_y_m = extraY();
+      x.goal_y_m = x.start_y_m;
+      if (role == "follower") {
+        x.start_x_m =
+            quantize(h.start_x_m + rng.uniform(r.follower_gap_min_m, r.follower_gap_max_m), 0.005);
+        x.goal_x_m = l.follower_goal_x_m;
+      } else {
+        x.start_x_m = quantize(
+            l.robot_start_x_m + rng.uniform(r.same_way_ahead_min_m, r.same_way_ahead_max_m), 0.005);
+        x.goal_x_m = l.same_way_goal_x_m;
+      }
+      x.speed_m_s = speed();
+      x.velocity_noise_m_s = noise();
+      x.params = drawParams(x.behaviour, rng);
+      e.humans.push_back(x);
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+/// Flow mapping of params, "group.key" entries nested under their group in first-seen order.
+inline std::string paramsYaml(const std::vector<std::pair<std::string, double>>& params) {
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> groups;
+  std::vector<std::pair<std::string, double>> top;
+  std::vector<std::string> order;  // "k:" top-level key, "g:" group
+  for (const auto& [key, v] : params) {
+    const auto dot = key.find('.');
+    if (dot == std::string::npos) {
+      top.emplace_back(key, v);
+      order.push_back("k:" + key);
+      continue;
+    }
+    const std::string g = key.substr(0, dot);
+    auto it = std::find_if(groups.begin(), groups.end(), [&](auto& x) { return x.first == g; });
+    if (it == groups.end()) {
+      groups.push_back({g, {}});
+      order.push_back("g:" + g);
+      it = groups.end() - 1;
+    }
+    it->second.emplace_back(key.substr(dot + 1), v);
+  }
+  std::string s = "{";
+  bool first = true;
+  for (const auto& o : order) {
+    if (!first) s += ", ";
+    first = false;
+    const std::string name = o.substr(2);
+    if (o[0] == 'k') {
+      for (const auto& [k, v] : top)
+        if (k == name) s += k + ": " + fmt("%.2f", v);
+    } else {
+      for (const auto& [g, kv] : groups) {
+        if (g != name) continue;
+        s += g + ": {";
+        for (std::size_t j = 0; j < kv.size(); ++j)
+          s += (j ? ", " : "") + kv[j].first + ": " + fmt("%.2f", kv[j].second);
+        s += "}";
+      }
+    }
+  }
+  return s + "}";
+}
+
+inline std::string pose(double x, double y, const char* theta = nullptr) {
+  std::string s = "{x_m: " + fmt("%.3f", x) + ", y_m: " + fmt("%.3f", y);
+  if (theta) s += std::string(", theta_rad: ") + theta;
+  return s + "}";
+}
+
+/// Scenario YAML of an encounter (with_humans false: the same run without anyone, the baseline
+/// of the time to goal). Map files are referenced as ../maps/<file>, beside the scenarios folder.
+inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
+                                const std::string& name_override = "") {
+  const Layout& l = e.layout;
+  std::string y;
+  y += "# Generated by coopnav_population (tools/population): layout " + l.key + ", " +
+       std::to_string(with_humans ? e.humans.size() : 0) + " human(s).\n";
+  y += "name: " + (name_override.empty() ? e.name : name_override) + "\n";
+  y += "seed: " + std::to_string(with_humans ? e.seed : 1) + "\n";
+  y += "time_limit_s: 90.0\n";
+  y += "map:\n";
+  if (!l.map_file.empty()) {
+    y += "  file: ../maps/" + l.map_file + "\n";
+  } else {
+    const std::string x0 = fmt("%.2f", l.wall_x0_m), x1 = fmt("%.2f", l.wall_x1_m);
+    const std::string lo = "-0.10", hi = fmt("%.2f", l.width_m + 0.1);
+    y += "  resolution_m: 0.05\n  walls:\n";
+    y += "    - {x0_m: " + x0 + ", y0_m: " + lo + ", x1_m: " + x1 + ", y1_m: " + lo +
+         ", thickness_m: 0.2}\n";
+    y += "    - {x0_m: " + x0 + ", y0_m: " + hi + ", x1_m: " + x1 + ", y1_m: " + hi +
+         ", thickness_m: 0.2}\n";
+    y += "    - {x0_m: " + x0 + ", y0_m: " + lo + ", x1_m: " + x0 + ", y1_m: " + hi +
+         ", thickness_m: 0.2}\n";
+    y += "    - {x0_m: " + x1 + ", y0_m: " + lo + ", x1_m: " + x1 + ", y1_m: " + hi +
+         ", thickness_m: 0.2}\n";
+  }
+  y += "rates: {physics_hz: 20, publish_hz: 10}\n";
+  y += "lockstep:\n  enabled: true\n";
+  y += "  participants: [band_source, situation_assessor, path_assessor, dialogue_manager]\n";
+  y += "  step_timeout_s: 20\n";
+  y += "robot:\n";
+  y += "  start: " + pose(l.robot_start_x_m, l.centre_y_m, "0.0") + "\n";
+  y += "  goal: " + pose(l.robot_goal_x_m, l.centre_y_m, "0.0") + "\n";
+  y += "  kinematics: holonomic\n";
+  y += "  limits: {max_forward_m_s: 0.7, max_lateral_m_s: 0.7}\n";
+  if (!with_humans || e.humans.empty()) {
+    y += "humans: []\n";
+    return y;
+  }
+  y += "humans:\n";
+  for (const auto& h : e.humans) {
+    const bool towards = h.goal_x_m < h.start_x_m;
+    y += "  - id: " + std::to_string(h.id) + "  # " + h.role + "\n";
+    y += "    start: " + pose(h.start_x_m, h.start_y_m, towards ? "3.14159" : "0.0") + "\n";
+    y += "    goal: " + pose(h.goal_x_m, h.goal_y_m) + "\n";
+    y += "    behaviour: " + h.behaviour + "\n";
+    y += "    speed_m_s: " + fmt("%.2f", h.speed_m_s) + "\n";
+    y += "    velocity_noise_m_s: " + fmt("%.2f", h.velocity_noise_m_s) + "\n";
+    if (!h.params.empty()) y += "    params: " + paramsYaml(h.params) + "\n";
+  }
+  return y;
+}
+
+/// Name of the run without humans of a layout.
+inline std::string baselineName(const Layout& l) {
+  std::string s = "base_" + l.key;
+  std::replace(s.begin(), s.end(), '.', '_');
+  return s;
+}
+
+}  // namespace coopnav::population

@@ -1,0 +1,183 @@
+// coopnav_population: the generator and the aggregation of scripts/population.sh
+// (docs/population.md).
+//   coopnav_population generate --n N --seed S --out DIR --maps-dir config/maps
+//     DIR/scenarios/*.yaml (encounters and one run without humans per layout), DIR/maps/ (the
+//     maps they use), DIR/plan.json, DIR/jobs.txt (one "name<TAB>scenario" line per run)
+//   coopnav_population aggregate --dir DIR
+//     reads DIR/plan.json and DIR/runs/<name>/summary.json, writes DIR/population.json and
+//     DIR/population.txt, prints the totals.
+//   coopnav_population check --dir DIR
+//     reads population.json back and checks it against plan.json and population.txt.
+// Exit codes: 0 fine; 1 a contact with the robot at fault (or one the summaries cannot clear);
+// 2 bad arguments or files; 3 runs without a summary (and no contact of exit 1).
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+
+#include "aggregate.hpp"
+#include "json.hpp"
+#include "summary.hpp"
+
+namespace fs = std::filesystem;
+namespace pop = coopnav::population;
+
+namespace {
+
+void writeFile(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+}
+
+std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  if (!f) throw std::runtime_error("cannot read " + p.string());
+  std::ostringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::path& maps_dir) {
+  const auto encounters = pop::generatePopulation(n, seed);
+  fs::create_directories(out / "scenarios");
+  fs::create_directories(out / "maps");
+  // Stale files of an earlier, larger population in the same folder would be run again.
+  for (const auto& f : fs::directory_iterator(out / "scenarios")) fs::remove(f.path());
+  std::set<std::string> maps, baselines;
+  std::string jobs;
+  for (const auto& e : encounters) {
+    if (!e.layout.map_file.empty()) maps.insert(e.layout.map_file);
+    const std::string base = pop::baselineName(e.layout);
+    if (baselines.insert(base).second) {
+      writeFile(out / "scenarios" / (base + ".yaml"), pop::scenarioYaml(e, false, base));
+      jobs += base + "\tscenarios/" + base + ".yaml\n";
+    }
+  }
+  for (const auto& e : encounters) {
+    writeFile(out / "scenarios" / (e.name + ".yaml"), pop::scenarioYaml(e));
+    jobs += e.name + "\tscenarios/" + e.name + ".yaml\n";
+  }
+  for (const auto& m : maps) {
+    // The map YAML names its image; copy both so the run folder stands on its own.
+    const std::string yaml = readFile(maps_dir / m);
+    fs::copy_file(maps_dir / m, out / "maps" / m, fs::copy_options::overwrite_existing);
+    const auto at = yaml.find("image:");
+    if (at == std::string::npos) throw std::runtime_error(m + ": no image: key");
+    std::string image = yaml.substr(at + 6, yaml.find('\n', at) - at - 6);
+    image.erase(0, image.find_first_not_of(" \t\""));
+    image.erase(image.find_last_not_of(" \t\r\"") + 1);
+    fs::copy_file(maps_dir / image, out / "maps" / image, fs::copy_options::overwrite_existing);
+  }
+  writeFile(out / "jobs.txt", jobs);
+  writeFile(out / "plan.json", coopnav::ctl::dumpJson(pop::planJson(encounters, seed)));
+  std::cout << "coopnav_population: " << encounters.size() << " encounters and " << baselines.size()
+            << " runs without humans in " << out.string() << "\n";
+  return 0;
+}
+
+int aggregate(const fs::path& dir) {
+  const pop::Json plan = coopnav::ctl::parseJson(readFile(dir / "plan.json"));
+  if (plan.value("format", "") != pop::kPlanFormat)
+    throw std::runtime_error((dir / "plan.json").string() + " is not a population plan");
+  std::map<std::string, pop::Json> summaries;
+  std::vector<std::string> names;
+  for (const auto& e : plan.at("encounters")) names.push_back(e.at("name").get<std::string>());
+  for (const auto& b : plan.at("baselines")) names.push_back(b.at("name").get<std::string>());
+  for (const auto& name : names) {
+    const fs::path p = dir / "runs" / name / "summary.json";
+    if (!fs::exists(p)) continue;
+    try {
+      const pop::Json doc = coopnav::ctl::readSummaryFile(p.string());
+      const pop::Json& list = doc.at("scenarios");
+      if (!list.empty()) summaries[name] = list.at(0);
+    } catch (const std::exception& ex) {
+      std::cerr << "coopnav_population: " << ex.what() << " (counted as a run without summary)\n";
+    }
+  }
+  const pop::Json population = pop::aggregatePopulation(plan, summaries);
+  const std::string table = pop::formatTable(population);
+  writeFile(dir / "population.json", coopnav::ctl::dumpJson(population));
+  writeFile(dir / "population.txt", table);
+  std::cout << table.substr(table.find("# totals"));
+  if (pop::populationFails(population)) {
+    std::cerr << "coopnav_population: contacts with the robot at fault (or unattributed): see "
+              << (dir / "population.txt").string() << "\n";
+    return 1;
+  }
+  if (population.at("totals").at("failed_runs").get<int>() > 0) return 3;
+  return 0;
+}
+
+// Reads population.json back with the strict parser and checks it against plan.json and
+// population.txt: one record per encounter in plan order, totals that add up, one table line per
+// run. Prints each problem; returns 0 when there is none.
+int check(const fs::path& dir) {
+  const pop::Json plan = coopnav::ctl::parseJson(readFile(dir / "plan.json"));
+  const pop::Json doc = coopnav::ctl::parseJson(readFile(dir / "population.json"));
+  const std::string table = readFile(dir / "population.txt");
+  std::vector<std::string> problems;
+  auto want = [&](bool ok, const std::string& what) {
+    if (!ok) problems.push_back(what);
+  };
+  want(doc.value("format", "") == pop::kPopulationFormat, "format is not coopnav-population/1");
+  const pop::Json& runs = doc.at("runs");
+  const pop::Json& encounters = plan.at("encounters");
+  want(runs.size() == encounters.size(), "runs: " + std::to_string(runs.size()) + " records for " +
+                                             std::to_string(encounters.size()) + " encounters");
+  for (std::size_t i = 0; i < std::min(runs.size(), encounters.size()); ++i) {
+    const std::string name = encounters[i].at("name").get<std::string>();
+    want(runs[i].at("name") == name, "runs[" + std::to_string(i) + "] is not " + name);
+    want(runs[i].at("humans").size() == encounters[i].at("humans").size(),
+         name + ": humans differ from the plan");
+    want(table.find("\n" + name + " ") != std::string::npos, name + ": no line in the table");
+    for (const char* key : {"outcome", "contact", "min_clearance_m", "docks", "retreats",
+                            "guard_steps", "time_to_goal_ratio"})
+      want(runs[i].contains(key), name + ": no '" + key + "'");
+  }
+  const pop::Json& t = doc.at("totals");
+  int outcomes = 0, contacts = 0, from_runs = 0;
+  for (const auto& [k, v] : t.at("outcomes").items()) outcomes += v.get<int>();
+  for (const auto& [k, v] : t.at("contacts_by_cause").items()) contacts += v.get<int>();
+  for (const auto& r : runs) {
+    const std::string cause = r.at("contact").at("cause").get<std::string>();
+    from_runs += cause != "none" && cause != "no_run" ? 1 : 0;
+  }
+  want(outcomes == static_cast<int>(runs.size()), "outcomes do not add up to the runs");
+  want(contacts == t.at("contacts").get<int>(), "contacts_by_cause do not add up to contacts");
+  want(contacts == from_runs, "contacts do not match the runs' contact causes");
+  for (const auto& p : problems) std::cerr << "coopnav_population check: " << p << "\n";
+  if (problems.empty())
+    std::cout << "coopnav_population check: " << runs.size() << " runs, well formed\n";
+  return problems.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"coopnav_population: generates a population of encounters and tabulates its runs"};
+  app.require_subcommand(1);
+  std::size_t n = 200;
+  std::uint64_t seed = 1;
+  std::string out, maps_dir, dir;
+  auto* gen = app.add_subcommand("generate", "write the scenario files of a population");
+  gen->add_option("--n", n, "number of encounters")->check(CLI::Range(1, 100000));
+  gen->add_option("--seed", seed, "population seed");
+  gen->add_option("--out", out, "output folder")->required();
+  gen->add_option("--maps-dir", maps_dir, "folder of the maps (config/maps)")->required();
+  auto* agg = app.add_subcommand("aggregate", "write population.json and population.txt");
+  agg->add_option("--dir", dir, "the population folder")->required();
+  auto* chk = app.add_subcommand("check", "check population.json against the plan and the table");
+  chk->add_option("--dir", dir, "the population folder")->required();
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*gen) return generate(n, seed, out, maps_dir);
+    if (*chk) return check(dir);
+    return aggregate(dir);
+  } catch (const std::exception& ex) {
+    std::cerr << "coopnav_population: " << ex.what() << "\n";
+    return 2;
+  }
+}

@@ -35,14 +35,6 @@ constexpr std::int64_t kStart_us = 1'000'000'000;
 constexpr std::int64_t kStep_us = 100'000;  // 10 Hz lockstep
 constexpr double kDt_s = 0.1;
 
-std::string writeConfig() {
-  const auto p = std::filesystem::temp_directory_path() /
-                 ("band_source_guard_test_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(p) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
-                   << "step_gate_timeout_s: 0.5\n";
-  return p.string();
-}
-
 struct Probe {
   Runtime rt{"band_source_guard_probe", test::testLcmUrl()};
   std::map<std::int64_t, velocity_command_t> cmds;
@@ -99,7 +91,7 @@ goals_t robotGoalAt(double x, double y) {
 class BandSourceGuardTest : public ::testing::TestWithParam<bool> {
  protected:
   void SetUp() override {
-    config_ = writeConfig();
+    config_ = test::writeBandSourceTestConfig("band_source_guard_test");
     dut_ = std::make_unique<test::ChildProcess>(
         test::daemonPath("band_source"),
         std::vector<std::string>{"--config", config_, "--lcm-url", test::testLcmUrl()});

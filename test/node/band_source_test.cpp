@@ -37,14 +37,6 @@ constexpr std::int64_t kStart_us = 1'000'000'000;  // any epoch: only difference
 constexpr std::int64_t kStep_us = 100'000;         // 10 Hz lockstep
 constexpr int kHumanId = 1;
 
-std::string writeConfig() {
-  const auto p = std::filesystem::temp_directory_path() /
-                 ("band_source_test_" + std::to_string(::getpid()) + ".yaml");
-  std::ofstream(p) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
-                   << "step_gate_timeout_s: 0.5\n";
-  return p.string();
-}
-
 /// Everything the daemon publishes, in arrival order.
 struct Probe {
   Runtime rt{"band_source_probe", test::testLcmUrl()};
@@ -157,7 +149,7 @@ Eigen::Vector2d positionAt(const Band& b, double t) {
 class BandSourceNodeTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    config_ = writeConfig();
+    config_ = test::writeBandSourceTestConfig("band_source_test");
     dut_ = std::make_unique<test::ChildProcess>(
         test::daemonPath("band_source"),
         std::vector<std::string>{"--config", config_, "--lcm-url", test::testLcmUrl()});

@@ -9,6 +9,8 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <thread>
@@ -20,6 +22,16 @@ namespace coopnav::test {
 inline std::string testLcmUrl() {
   const char* url = std::getenv("COOPNAV_TEST_LCM_URL");
   return url ? url : "udpm://239.255.76.67:7799?ttl=0&recv_buf_size=4194304";
+}
+
+/// A band_source config for node tests (the open.pgm test map, a short step gate timeout) in the
+/// temp directory, named after `test_name` and this process; returns its path.
+inline std::string writeBandSourceTestConfig(const std::string& test_name) {
+  const auto p = std::filesystem::temp_directory_path() /
+                 (test_name + "_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(p) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+                   << "step_gate_timeout_s: 0.5\n";
+  return p.string();
 }
 
 inline std::string daemonPath(const std::string& name) {

@@ -8,8 +8,8 @@
 namespace coopnav {
 
 Velocity2 toBodyFrame(const Velocity2& w, double theta_rad) {
-  const double c = std::cos(theta_rad), s = std::sin(theta_rad);
-  return {c * w.vx_m_s + s * w.vy_m_s, -s * w.vx_m_s + c * w.vy_m_s, w.omega_rad_s};
+  const Eigen::Vector2d b = worldToBody({w.vx_m_s, w.vy_m_s}, theta_rad);
+  return {b.x(), b.y(), w.omega_rad_s};
 }
 
 Velocity2 bandCommand(const TimedElasticBand& band, const AgentKinematics& k) {

@@ -25,11 +25,6 @@ constexpr double kAligned_rad = 0.5;
 /// Distances from the grid field are good to about half a cell.
 constexpr double kEps_m = 1e-3;
 
-Eigen::Vector2d rotateToBody(const Eigen::Vector2d& w, double theta_rad) {
-  const double c = std::cos(theta_rad), s = std::sin(theta_rad);
-  return {c * w.x() + s * w.y(), -s * w.x() + c * w.y()};
-}
-
 /// Point at arc length s along a polyline (clamped to its ends).
 Eigen::Vector2d pointAt(const Path2& path, double s_m) {
   if (path.empty()) return {0.0, 0.0};
@@ -61,7 +56,7 @@ bool straightClear(const DistanceMap& map, const Eigen::Vector2d& a, const Eigen
 
 Velocity2 bodyFromWorld(const Pose2& robot, const Eigen::Vector2d& v_world, double omega_rad_s,
                         const RobotLimits& limits) {
-  const Eigen::Vector2d b = rotateToBody(v_world, robot.theta_rad);
+  const Eigen::Vector2d b = worldToBody(v_world, robot.theta_rad);
   return clampToLimits({b.x(), limits.holonomic ? b.y() : 0.0, omega_rad_s}, limits);
 }
 
@@ -96,7 +91,7 @@ double travelTime(double distance_m, const Eigen::Vector2d& dir, double theta_ra
   constexpr double kInf = std::numeric_limits<double>::infinity();
   // A holonomic robot just moves (keeping its heading): the speed along dir within the
   // body-frame limits.
-  const Eigen::Vector2d b = rotateToBody(dir.normalized(), theta_rad);
+  const Eigen::Vector2d b = worldToBody(dir.normalized(), theta_rad);
   if (l.holonomic) {
     const Velocity2 v = clampToLimits({b.x() * 1e3, b.y() * 1e3, 0.0}, l);
     const double speed = std::hypot(v.vx_m_s, v.vy_m_s);

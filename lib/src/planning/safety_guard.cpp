@@ -168,10 +168,9 @@ GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const Gua
   double best_gap = sent_gap + kGain_m;
   bool found = false;
   for (const Eigen::Vector2d& d : dirs) {
-    const double c = std::cos(in.robot.theta_rad), s = std::sin(in.robot.theta_rad);
     constexpr double kFar = 1e3;  // clampToLimits scales it down to the fastest allowed
-    const Velocity2 cmd = clampToLimits(
-        {(c * d.x() + s * d.y()) * kFar, (-s * d.x() + c * d.y()) * kFar, 0.0}, in.limits);
+    const Eigen::Vector2d b = worldToBody(d, in.robot.theta_rad);
+    const Velocity2 cmd = clampToLimits({b.x() * kFar, b.y() * kFar, 0.0}, in.limits);
     if (atRest(cmd) || !roomFor(map, in, o, cmd)) continue;
     const double g = pr.minGap(cmd);
     if (g > best_gap) {

@@ -19,6 +19,12 @@ inline double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double a_rad);
 
+/// A world-frame vector in the frame of a body with heading theta_rad (x forward, y left).
+inline Eigen::Vector2d worldToBody(const Eigen::Vector2d& w, double theta_rad) {
+  const double c = std::cos(theta_rad), s = std::sin(theta_rad);
+  return {c * w.x() + s * w.y(), -s * w.x() + c * w.y()};
+}
+
 /// Unit heading vector of an angle.
 inline Eigen::Vector2d headingVector(double theta_rad) {
   return {std::cos(theta_rad), std::sin(theta_rad)};

@@ -449,8 +449,15 @@ void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
                stamp.human_id);
   }
   for (const auto c : out.recorder_commands) {
-    run.publish(channels::kPathAssessorControl,
-                toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, c, why}));
+    const bool start = c == dialogue::RecorderCommand::kStart;
+    const RecorderControl control{stamp.utime,
+                                  stamp.step,
+                                  stamp.human_id,
+                                  c,
+                                  why,
+                                  start ? out.start_d_oh_m : std::nullopt,
+                                  start ? out.start_d_h_m : std::nullopt};
+    run.publish(channels::kPathAssessorControl, toLcm(control));
     log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
                 stamp.human_id);
   }

@@ -187,7 +187,7 @@ void PathAssessorNode::applyControl(const RecorderControl& c) {
         if (!ref)
           throw DroppedMessage("START for human " + std::to_string(c.human_id) +
                                " without a reference path: recording not started");
-        if (!h.recorder.start(t_s, *ref))
+        if (!h.recorder.start(t_s, *ref, assessment::lateralRoom(c.d_oh_m, c.d_h_m)))
           throw RejectedMessage("START for human " + std::to_string(c.human_id) +
                                 ": unusable reference path or time");
         log().info("path_assessor: human {} recording started at step {} ({})", c.human_id, c.step,
@@ -252,7 +252,6 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
     rec.snapshot = h.recorder.snapshot();
     rec.window_ca_m = h.recorder.windowCa();
     rec.gamma = config_.recorder.gamma;
-    rec.tau_m = config_.recorder.tau_m;
     step.publish(channels::kPathAssessment, toLcm(rec));
   }
   // After the step's humans are heard: those absent for a minute are forgotten now.

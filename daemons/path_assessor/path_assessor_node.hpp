@@ -30,6 +30,8 @@ namespace coopnav {
 struct PathAssessorNodeConfig {
   /// The lib recorder's own settings, read in place: its initialisers are the only defaults.
   assessment::PathAssessorConfig recorder;
+  /// recorder.tau_mode by name ("fixed" | "room"); its default is the lib's.
+  std::string tau_mode{assessment::toString(assessment::PathAssessorConfig{}.tau_mode)};
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
@@ -41,13 +43,25 @@ struct PathAssessorNodeConfig {
     v("sample_period_s", recorder.sample_period_s, Range{1e-3, 10.0});
     v("gamma", recorder.gamma, Range{1e-6, 1.0});
     v("tau_m", recorder.tau_m, Range{-10.0, 10.0});
+    v("tau_mode", tau_mode,
+      OneOf{{assessment::toString(assessment::TauMode::kFixed),
+             assessment::toString(assessment::TauMode::kRoom)}});
+    v("room_fraction", recorder.room_fraction, Range{1e-3, 1.0});
+    v("room_tau_floor_m", recorder.room_tau_floor_m, Range{0.0, 10.0});
     v("side_deadband_m", recorder.side_deadband_m, Range{0.0, 5.0});
     v("history_s", recorder.history_s, Range{0.0, 60.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
     v("limits", limits);
   }
 
-  const assessment::PathAssessorConfig& recorderConfig() const { return recorder; }
+  /// The recorder's settings with tau_mode applied.
+  assessment::PathAssessorConfig recorderConfig() const {
+    assessment::PathAssessorConfig c = recorder;
+    c.tau_mode = tau_mode == assessment::toString(assessment::TauMode::kRoom)
+                     ? assessment::TauMode::kRoom
+                     : assessment::TauMode::kFixed;
+    return c;
+  }
 };
 
 class PathAssessorNode {

@@ -181,6 +181,9 @@ path_assessor_control_t control(std::int8_t command) {
   m.human_id = 1;
   m.command = command;
   m.reason = "round 1";
+  const bool start = command == path_assessor_control_t::COMMAND_START;
+  m.d_oh_m = start ? 0.8 : kNaN;
+  m.d_h_m = start ? 0.35 : kNaN;
   return m;
 }
 
@@ -236,6 +239,10 @@ path_assessment_t pathAssessment(int num_samples) {
   m.is_contributing_interaction = m.is_contributing;
   m.gamma = 0.98;
   m.tau_m = 0.4;
+  m.tau_mode = path_assessment_t::TAU_FIXED;
+  m.tau_fixed_m = 0.4;
+  m.room_m = 1.15;
+  m.tau_room_m = 0.4;
   return m;
 }
 

@@ -244,6 +244,9 @@ TEST_F(DialogueManagerTest, RoundOneAtSevenSecondsSpeaksDirAndStartsTheRecorder)
   EXPECT_EQ(controls_[0].human_id, 1);
   EXPECT_EQ(controls_[0].step, 2);
   EXPECT_EQ(controls_[0].utime, utimeOf(2));
+  // The START carries the situation it was decided on (the path assessor's room, tau_mode).
+  EXPECT_DOUBLE_EQ(controls_[0].d_oh_m, 1.0);
+  EXPECT_DOUBLE_EQ(controls_[0].d_h_m, 0.6);
   EXPECT_TRUE(actions_.empty());
   EXPECT_EQ(events_, "UCK") << "utterance, control, then the ack";
   // t_CROSS keeps falling (and jitters back over 7 s): round 1 does not fire again.

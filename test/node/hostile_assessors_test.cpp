@@ -303,7 +303,7 @@ class HostilePathAssessor : public ::testing::Test {
   /// A lockstep control of step k (applied when step k + 1 runs).
   void control(std::int64_t k, dialogue::RecorderCommand c, std::int64_t utime) {
     probe_->publish(channels::kPathAssessorControl,
-                    toLcm(RecorderControl{utime, k, 1, c, "hostile_assessors_test"}));
+                    toLcm(RecorderControl{utime, k, 1, c, "hostile_assessors_test", {}, {}}));
     flush(*dut_rt_, *probe_);
   }
 

@@ -73,13 +73,17 @@ class PathAssessorTest : public ::testing::Test {
 
   void publishStates(std::int64_t k) { probe_->publish(channels::kAgentStates, toLcm(scene(k))); }
 
-  void publishControl(std::int64_t step, std::int32_t id, dialogue::RecorderCommand c) {
+  void publishControl(std::int64_t step, std::int32_t id, dialogue::RecorderCommand c,
+                      std::optional<double> d_oh_m = std::nullopt,
+                      std::optional<double> d_h_m = std::nullopt) {
     RecorderControl rc;
     rc.utime = utimeOf(step);
     rc.step = step;
     rc.human_id = id;
     rc.command = c;
     rc.reason = "test";
+    rc.d_oh_m = d_oh_m;
+    rc.d_h_m = d_h_m;
     probe_->publish(channels::kPathAssessorControl, toLcm(rc));
   }
 
@@ -190,7 +194,7 @@ TEST_F(PathAssessorTest, BadControlsAreDroppedOrRejectedAndCounted) {
   publishControl(0, 77, dialogue::RecorderCommand::kStart);  // unknown id
   publishControl(0, 1, dialogue::RecorderCommand::kStart);   // no reference path yet
   path_assessor_control_t bad =
-      toLcm(RecorderControl{utimeOf(0), 0, 1, dialogue::RecorderCommand::kStop, ""});
+      toLcm(RecorderControl{utimeOf(0), 0, 1, dialogue::RecorderCommand::kStop, "", {}, {}});
   bad.command = 9;
   probe_->publish(channels::kPathAssessorControl, bad);
   // Lockstep controls of step 0 take effect at the start of step 1 (docs/lockstep.md "Loss and
@@ -232,6 +236,42 @@ TEST(PathAssessorProcessTest, StopsOnSigtermWithin1s) {
   ASSERT_TRUE(test::waitFor([&] { return up; }, 5000ms, [&] { probe.spinFor(5); }));
   dut.signal(SIGTERM);
   EXPECT_EQ(dut.waitExit(1000ms), 0);
+}
+
+/// tau_mode: room, from the config key the daemon reads.
+class PathAssessorRoomTest : public PathAssessorTest {
+ protected:
+  void SetUp() override {
+    config_.tau_mode = "room";
+    PathAssessorTest::SetUp();
+  }
+};
+
+TEST_F(PathAssessorRoomTest, TheStartsSituationSetsTheThresholdAndBothAreReported) {
+  publishReference();
+  for (std::int64_t k = 0; k <= 2; ++k) publishStates(k);
+  ASSERT_TRUE(waitAck(2));
+  // Round 1 saw d_OH 0.3 m and d_h 0.1 m: 0.4 m of room, half of it is the threshold.
+  publishControl(2, 1, dialogue::RecorderCommand::kStart, 0.3, 0.1);
+  for (std::int64_t k = 3; k <= 10; ++k) publishStates(k);
+  ASSERT_TRUE(waitAck(10));
+  const path_assessment_t* m = latest(10, 1);
+  ASSERT_NE(m, nullptr);
+  EXPECT_EQ(m->tau_mode, path_assessment_t::TAU_ROOM);
+  EXPECT_NEAR(m->room_m, 0.4, 1e-12);
+  EXPECT_NEAR(m->tau_room_m, 0.2, 1e-12);
+  EXPECT_NEAR(m->tau_m, 0.2, 1e-12);
+  EXPECT_DOUBLE_EQ(m->tau_fixed_m, config_.recorder.tau_m);
+  EXPECT_EQ(m->is_contributing, m->cm_m > 0.2 ? situation_t::PRED_TRUE : situation_t::PRED_FALSE);
+
+  // A new START without a known situation: the paper's τ.
+  publishControl(10, 1, dialogue::RecorderCommand::kStart);
+  for (std::int64_t k = 11; k <= 12; ++k) publishStates(k);
+  ASSERT_TRUE(waitAck(12));
+  m = latest(12, 1);
+  ASSERT_NE(m, nullptr);
+  EXPECT_TRUE(std::isnan(m->room_m));
+  EXPECT_DOUBLE_EQ(m->tau_m, config_.recorder.tau_m);
 }
 
 }  // namespace

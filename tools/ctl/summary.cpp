@@ -84,13 +84,18 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
     o["is_contributing_interaction"] = tristateJson(p->is_contributing_interaction);
     o["gamma"] = numberOrNull(p->gamma);
     o["tau_m"] = numberOrNull(p->tau_m);
+    o["tau_mode"] = p->tau_mode == path_assessment_t::TAU_ROOM ? "room" : "fixed";
+    o["tau_fixed_m"] = numberOrNull(p->tau_fixed_m);
+    o["room_m"] = numberOrNull(p->room_m);  // null: unknown, or unbounded (+inf)
+    o["tau_room_m"] = numberOrNull(p->tau_room_m);
     o["recording"] = recordingName(p->recording);
     o["cm_by_gamma"] = cmByGamma(p->ca_m);
     o["cm_by_gamma_complete"] = p->num_samples == p->window_samples;
   } else {
-    for (const char* k : {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
-                          "interaction_samples", "is_contributing_interaction", "gamma", "tau_m",
-                          "recording", "cm_by_gamma"})
+    for (const char* k :
+         {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
+          "interaction_samples", "is_contributing_interaction", "gamma", "tau_m", "tau_mode",
+          "tau_fixed_m", "room_m", "tau_room_m", "recording", "cm_by_gamma"})
       o[k] = nullptr;
     o["cm_by_gamma_complete"] = false;
   }

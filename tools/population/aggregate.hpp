@@ -161,6 +161,9 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   std::map<std::string, std::map<std::string, int>> causes_by_behaviour;
   struct Tally {
     int judged = 0, correct = 0, no_verdict = 0, judged_w = 0, correct_w = 0;
+    // The interaction CM against each threshold the path assessor reports, whichever was in
+    // force: the paper's fixed τ and τ judged against the room the human had (tau_mode).
+    int judged_fixed = 0, correct_fixed = 0, judged_room = 0, correct_room = 0;
   };
   std::map<std::string, Tally> accuracy;
   std::map<std::string, std::vector<double>> cm_by_behaviour;
@@ -236,6 +239,9 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       hr["is_contributing_interaction"] = boolOrNull(field(found, "is_contributing_interaction"));
       hr["cm_window_m"] = numberOrNull(field(found, "cm_window_m"));
       hr["is_contributing"] = boolOrNull(field(found, "is_contributing"));
+      hr["room_m"] = numberOrNull(field(found, "room_m"));
+      hr["tau_fixed_m"] = numberOrNull(field(found, "tau_fixed_m"));
+      hr["tau_room_m"] = numberOrNull(field(found, "tau_room_m"));
       const Json expected = expectedContributing(behaviour);
       hr["expected_contributing"] = expected;
       // The oncoming humans are the assessed encounters; one walking the robot's way is not.
@@ -254,6 +260,16 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
             ++t.judged_w;
             t.correct_w += w == expected ? 1 : 0;
           }
+          const Json& cm = hr["cm_interaction_m"];
+          // Paper §II-C: IsContributing = CM > τ, for each τ.
+          auto judge = [&](const char* tau_key, int& judged, int& correct) {
+            const Json& tau = hr[tau_key];
+            if (!cm.is_number() || !tau.is_number()) return;
+            ++judged;
+            correct += Json(cm.get<double>() > tau.get<double>()) == expected ? 1 : 0;
+          };
+          judge("tau_fixed_m", t.judged_fixed, t.correct_fixed);
+          judge("tau_room_m", t.judged_room, t.correct_room);
         }
         if (hr["cm_interaction_m"].is_number())
           cm_by_behaviour[behaviour].push_back(hr["cm_interaction_m"].get<double>());
@@ -294,7 +310,11 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   for (const auto& [key, sum] : sums) totals[key] = sum ? Json(*sum) : Json();
 
   Json acc = Json::object();
-  int all_judged = 0, all_correct = 0;
+  auto share = [](int correct, int judged) {
+    return judged ? Json(static_cast<double>(correct) / judged) : Json();
+  };
+  int all_judged = 0, all_correct = 0, all_fixed = 0, all_fixed_ok = 0, all_room = 0,
+      all_room_ok = 0;
   for (const char* b : {"facilitating", "late_facilitating", "minimal", "oblivious"}) {
     const Tally t = accuracy.count(b) ? accuracy.at(b) : Tally{};
     Json a;
@@ -302,17 +322,23 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
     a["judged"] = t.judged;
     a["correct"] = t.correct;
     a["no_verdict"] = t.no_verdict;
-    a["accuracy"] = t.judged ? Json(static_cast<double>(t.correct) / t.judged) : Json();
-    a["accuracy_window"] =
-        t.judged_w ? Json(static_cast<double>(t.correct_w) / t.judged_w) : Json();
+    a["accuracy"] = share(t.correct, t.judged);
+    a["accuracy_window"] = share(t.correct_w, t.judged_w);
+    a["accuracy_fixed_tau"] = share(t.correct_fixed, t.judged_fixed);
+    a["accuracy_room_tau"] = share(t.correct_room, t.judged_room);
     acc[b] = std::move(a);
     all_judged += t.judged;
     all_correct += t.correct;
+    all_fixed += t.judged_fixed;
+    all_fixed_ok += t.correct_fixed;
+    all_room += t.judged_room;
+    all_room_ok += t.correct_room;
   }
-  acc["all"] =
-      Json{{"judged", all_judged},
-           {"correct", all_correct},
-           {"accuracy", all_judged ? Json(static_cast<double>(all_correct) / all_judged) : Json()}};
+  acc["all"] = Json{{"judged", all_judged},
+                    {"correct", all_correct},
+                    {"accuracy", share(all_correct, all_judged)},
+                    {"accuracy_fixed_tau", share(all_fixed_ok, all_fixed)},
+                    {"accuracy_room_tau", share(all_room_ok, all_room)}};
   totals["is_contributing_accuracy"] = std::move(acc);
 
   std::vector<double> negatives = cm_by_behaviour["minimal"];
@@ -420,11 +446,15 @@ inline std::string formatTable(const Json& population) {
     s += "  " + pad(b, 18) + "expected " + tri(a.at("expected")) + "  correct " +
          a.at("correct").dump() + "/" + a.at("judged").dump() + " = " +
          num(a.at("accuracy"), "%.3f") + "  (window CM: " + num(a.at("accuracy_window"), "%.3f") +
-         "), no verdict " + a.at("no_verdict").dump() + "\n";
+         "), no verdict " + a.at("no_verdict").dump() + "; fixed tau " +
+         num(a.at("accuracy_fixed_tau"), "%.3f") + ", room tau " +
+         num(a.at("accuracy_room_tau"), "%.3f") + "\n";
   }
   const Json& all = t.at("is_contributing_accuracy").at("all");
   s += "  all               correct " + all.at("correct").dump() + "/" + all.at("judged").dump() +
-       " = " + num(all.at("accuracy"), "%.3f") + "\n";
+       " = " + num(all.at("accuracy"), "%.3f") + "; fixed tau " +
+       num(all.at("accuracy_fixed_tau"), "%.3f") + ", room tau " +
+       num(all.at("accuracy_room_tau"), "%.3f") + "\n";
   const Json& auc = t.at("cm_auc_facilitating_vs_minimal_oblivious");
   s += "AUC of CM, facilitating (" + auc.at("positives").dump() + ") vs minimal/oblivious (" +
        auc.at("negatives").dump() + "): " + num(auc.at("auc"), "%.3f") + "\n";

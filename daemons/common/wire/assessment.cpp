@@ -152,6 +152,7 @@ dialogue::SituationSnapshot situationSnapshotFromLcm(const situation_t& msg) {
   s.robot_is_constrained = r.assessment.robot_is_constrained;
   s.dir = r.crossing.dir;
   s.d_h_m = r.assessment.d_h_m;
+  s.d_oh_m = r.assessment.d_oh_m;
   s.reason = r.assessment.reason;
   s.room_plan = static_cast<dialogue::RoomPlan>(r.room_plan);
   s.robot_retreating = r.robot_mode == velocity_command_t::MODE_RETREATING;
@@ -177,7 +178,11 @@ path_assessment_t toLcm(const PathAssessmentRecord& r) {
   m.cm_interaction_m = orNaN(s.cm_interaction_m);
   m.is_contributing_interaction = static_cast<std::int8_t>(s.is_contributing_interaction);
   m.gamma = r.gamma;
-  m.tau_m = r.tau_m;
+  m.tau_m = s.tau_m;
+  m.tau_mode = static_cast<std::int8_t>(s.tau_mode);
+  m.tau_fixed_m = s.tau_fixed_m;
+  m.room_m = orNaN(s.room_m);
+  m.tau_room_m = s.tau_room_m;
   return m;
 }
 
@@ -190,6 +195,8 @@ PathAssessmentRecord fromLcm(const path_assessment_t& msg) {
   if (msg.interaction_samples < msg.window_samples) reject("interaction_samples < window_samples");
   if (!(msg.gamma > 0.0 && msg.gamma <= 1.0)) reject("gamma outside (0, 1]");
   if (!std::isfinite(msg.tau_m)) reject("tau_m is not finite");
+  if (!std::isfinite(msg.tau_fixed_m)) reject("tau_fixed_m is not finite");
+  if (!std::isfinite(msg.tau_room_m)) reject("tau_room_m is not finite");
   PathAssessmentRecord r;
   r.utime = msg.utime;
   r.step = msg.step;
@@ -223,7 +230,20 @@ PathAssessmentRecord fromLcm(const path_assessment_t& msg) {
   r.snapshot.is_contributing_interaction =
       tristateFromWire(msg.is_contributing_interaction, "is_contributing_interaction");
   r.gamma = msg.gamma;
-  r.tau_m = msg.tau_m;
+  switch (msg.tau_mode) {
+    case path_assessment_t::TAU_FIXED:
+      r.snapshot.tau_mode = assessment::TauMode::kFixed;
+      break;
+    case path_assessment_t::TAU_ROOM:
+      r.snapshot.tau_mode = assessment::TauMode::kRoom;
+      break;
+    default:
+      reject("tau_mode has an unknown value " + std::to_string(msg.tau_mode));
+  }
+  r.snapshot.tau_m = msg.tau_m;
+  r.snapshot.tau_fixed_m = msg.tau_fixed_m;
+  r.snapshot.room_m = distanceFromWire(msg.room_m, "room_m");
+  r.snapshot.tau_room_m = msg.tau_room_m;
   return r;
 }
 
@@ -249,6 +269,8 @@ path_assessor_control_t toLcm(const RecorderControl& c) {
   m.human_id = c.human_id;
   m.command = static_cast<std::int8_t>(c.command);
   m.reason = c.reason;
+  m.d_oh_m = orNaN(c.d_oh_m);
+  m.d_h_m = orNaN(c.d_h_m);
   return m;
 }
 
@@ -271,6 +293,9 @@ RecorderControl fromLcm(const path_assessor_control_t& msg) {
       reject("unknown recorder command " + std::to_string(msg.command));
   }
   c.reason = msg.reason;
+  c.d_oh_m = distanceFromWire(msg.d_oh_m, "d_oh_m");
+  c.d_h_m = distanceFromWire(msg.d_h_m, "d_h_m");
+  if (c.d_h_m && std::isinf(*c.d_h_m)) reject("d_h_m is infinite");
   return c;
 }
 

@@ -56,7 +56,6 @@ struct PathAssessmentRecord {
   /// the newest path_assessment_t::MAX_SAMPLES of them; fromLcm gives what the message carried.
   std::vector<double> window_ca_m;
   double gamma{0.98};
-  double tau_m{0.4};
 };
 
 path_assessment_t toLcm(const PathAssessmentRecord& r);
@@ -80,10 +79,13 @@ struct RecorderControl {
   std::int32_t human_id{0};
   dialogue::RecorderCommand command{dialogue::RecorderCommand::kStart};
   std::string reason;
+  /// [m] START: the decision's d_OH and d_h (the room TauMode::kRoom judges by); nullopt unknown.
+  std::optional<double> d_oh_m;
+  std::optional<double> d_h_m;
 };
 
 path_assessor_control_t toLcm(const RecorderControl& c);
-/// Rejects an unknown command value.
+/// Rejects an unknown command value and a negative (or -inf) d_OH / d_h, or an infinite d_h.
 RecorderControl fromLcm(const path_assessor_control_t& msg);
 
 }  // namespace coopnav

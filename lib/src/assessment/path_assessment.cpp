@@ -43,6 +43,27 @@ Tristate isContributing(std::optional<double> cm_m, double tau_m) {
   return toTristate(*cm_m > tau_m);
 }
 
+const char* toString(TauMode m) {
+  switch (m) {
+    case TauMode::kFixed:
+      return "fixed";
+    case TauMode::kRoom:
+      return "room";
+  }
+  return "?";
+}
+
+std::optional<double> lateralRoom(std::optional<double> d_oh_m, std::optional<double> d_h_m) {
+  if (!d_oh_m || !d_h_m || std::isnan(*d_oh_m) || std::isnan(*d_h_m)) return std::nullopt;
+  if (*d_oh_m < 0.0 || *d_h_m < 0.0 || std::isinf(*d_h_m)) return std::nullopt;
+  return *d_oh_m + *d_h_m;  // +inf stays +inf: no obstacle within range on that side
+}
+
+double roomTau(double tau_m, std::optional<double> room_m, double room_fraction, double floor_m) {
+  if (!room_m || std::isnan(*room_m)) return tau_m;
+  return std::min(tau_m, std::max(floor_m, room_fraction * *room_m));
+}
+
 std::optional<ContributionSample> contributionAt(const Path2& reference_path,
                                                  const Eigen::Vector2d& human_m,
                                                  const Eigen::Vector2d& robot_m,
@@ -73,13 +94,14 @@ std::optional<ContributionSample> contributionAt(const Path2& reference_path,
 
 PathRecorder::PathRecorder(const PathAssessorConfig& config) : config_(config) {}
 
-bool PathRecorder::start(double t_s, const Path2& reference_path) {
+bool PathRecorder::start(double t_s, const Path2& reference_path, std::optional<double> room_m) {
   if (reference_path.empty() || !std::isfinite(t_s)) return false;
   for (const auto& p : reference_path) {
     if (!p.allFinite()) return false;
   }
   state_ = RecorderState::kRecording;
   reference_ = reference_path;
+  room_m_ = room_m && !std::isnan(*room_m) && *room_m >= 0.0 ? room_m : std::nullopt;
   samples_.clear();
   start_t_s_ = t_s;
   next_k_ = 0;
@@ -185,11 +207,17 @@ PathAssessmentSnapshot PathRecorder::snapshot() const {
   snap.state = state_;
   const std::vector<double> window = windowCa();
   snap.window_samples = window.size();
+  snap.tau_mode = config_.tau_mode;
+  snap.tau_fixed_m = config_.tau_m;
+  snap.room_m = room_m_;
+  snap.tau_room_m =
+      roomTau(config_.tau_m, room_m_, config_.room_fraction, config_.room_tau_floor_m);
+  snap.tau_m = config_.tau_mode == TauMode::kRoom ? snap.tau_room_m : snap.tau_fixed_m;
   snap.cm_window_m = discountedMean(window, config_.gamma);
-  snap.is_contributing_window = isContributing(snap.cm_window_m, config_.tau_m);
+  snap.is_contributing_window = isContributing(snap.cm_window_m, snap.tau_m);
   snap.interaction_samples = samples_.size();
   snap.cm_interaction_m = discountedMean(interactionCa(), config_.gamma);
-  snap.is_contributing_interaction = isContributing(snap.cm_interaction_m, config_.tau_m);
+  snap.is_contributing_interaction = isContributing(snap.cm_interaction_m, snap.tau_m);
   return snap;
 }
 

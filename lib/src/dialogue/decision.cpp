@@ -171,6 +171,8 @@ void HumanDecision::round1(const DecisionInput& in, DecisionOutput& out) {
   RoundOutcome r{1, in.t_s, s.t_cross_s, "", ""};
   // The recording starts whatever is said: round 2 and round 3 read it.
   out.recorder_commands.push_back(RecorderCommand::kStart);
+  out.start_d_oh_m = s.d_oh_m;
+  out.start_d_h_m = s.d_h_m;
   recorder_started_ = true;
 
   auto sayDir = [&](SpeechAct act, Side side, const char* branch) {

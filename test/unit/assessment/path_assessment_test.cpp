@@ -204,5 +204,66 @@ TEST(PathRecorder, AGapOrAClockJumpIsSkippedInOneStepNotInterpolatedOver) {
   EXPECT_TRUE(std::isfinite(*rec.snapshot().cm_window_m));
 }
 
+TEST(LateralRoom, IsDohPlusDhAndUnknownWhenEitherIs) {
+  EXPECT_NEAR(*lateralRoom(0.3, 0.3), 0.6, 1e-15);
+  EXPECT_NEAR(*lateralRoom(0.8, 0.0), 0.8, 1e-15);
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(*lateralRoom(inf, 0.2), inf);  // nothing within range on that side
+  EXPECT_FALSE(lateralRoom(std::nullopt, 0.2));
+  EXPECT_FALSE(lateralRoom(0.2, std::nullopt));
+  EXPECT_FALSE(lateralRoom(kNaN, 0.2));
+  EXPECT_FALSE(lateralRoom(-0.1, 0.2));
+  EXPECT_FALSE(lateralRoom(0.2, inf));
+}
+
+TEST(RoomTau, KeepsThePapersTauWhereThereIsRoomAndShrinksItWhereThereIsNot) {
+  const double inf = std::numeric_limits<double>::infinity();
+  // The paper's corridors: 6 m (unbounded for this purpose) and 2.25 m (room ~0.825 m).
+  EXPECT_EQ(roomTau(0.4, inf, 0.5, 0.1), 0.4);
+  EXPECT_EQ(roomTau(0.4, 0.825, 0.5, 0.1), 0.4);
+  // A 1.8 m corridor, human in the middle: 0.6 m of room -> half of it.
+  EXPECT_NEAR(roomTau(0.4, 0.6, 0.5, 0.1), 0.3, 1e-15);
+  // No room at all: the floor, never below it.
+  EXPECT_EQ(roomTau(0.4, 0.0, 0.5, 0.1), 0.1);
+  // Unknown room: the paper's τ.
+  EXPECT_EQ(roomTau(0.4, std::nullopt, 0.5, 0.1), 0.4);
+  EXPECT_EQ(roomTau(0.4, kNaN, 0.5, 0.1), 0.4);
+  // A floor above τ never raises it.
+  EXPECT_EQ(roomTau(0.4, 0.0, 0.5, 0.7), 0.4);
+}
+
+TEST(PathRecorder, RoomModeJudgesCmAgainstTheRoomGivenAtStart) {
+  // CA 0.25 throughout: below the paper's τ, above half of a 0.4 m room.
+  auto run = [](TauMode mode, std::optional<double> room_m) {
+    PathAssessorConfig config;
+    config.tau_mode = mode;
+    PathRecorder rec(config);
+    EXPECT_TRUE(rec.start(0.0, kPath, room_m));
+    for (int i = 0; i <= 20; ++i) {
+      const double t = 0.1 * i;
+      rec.observe(t, {t, -0.25}, {10 - t, 1});
+    }
+    return rec.snapshot();
+  };
+  const PathAssessmentSnapshot fixed = run(TauMode::kFixed, 0.4);
+  EXPECT_EQ(fixed.tau_m, 0.4);
+  EXPECT_NEAR(fixed.tau_room_m, 0.2, 1e-15);  // reported in both modes
+  EXPECT_EQ(fixed.is_contributing_window, Tristate::kFalse);
+  EXPECT_EQ(fixed.is_contributing_interaction, Tristate::kFalse);
+
+  const PathAssessmentSnapshot room = run(TauMode::kRoom, 0.4);
+  EXPECT_NEAR(room.tau_m, 0.2, 1e-15);
+  EXPECT_EQ(room.tau_fixed_m, 0.4);
+  EXPECT_NEAR(*room.room_m, 0.4, 1e-15);
+  EXPECT_EQ(room.is_contributing_window, Tristate::kTrue);
+  EXPECT_EQ(room.is_contributing_interaction, Tristate::kTrue);
+
+  // Without a room the room mode is the paper's.
+  const PathAssessmentSnapshot unknown = run(TauMode::kRoom, std::nullopt);
+  EXPECT_FALSE(unknown.room_m);
+  EXPECT_EQ(unknown.tau_m, 0.4);
+  EXPECT_EQ(unknown.is_contributing_window, Tristate::kFalse);
+}
+
 }  // namespace
 }  // namespace coopnav::assessment

@@ -141,6 +141,10 @@ PathAssessmentRecord pathRecord(std::vector<double> ca) {
   r.snapshot.interaction_samples = ca.size() + 2;
   r.snapshot.cm_interaction_m = 0.2;
   r.snapshot.is_contributing_interaction = Tristate::kFalse;
+  r.snapshot.tau_mode = assessment::TauMode::kRoom;
+  r.snapshot.room_m = 0.5;
+  r.snapshot.tau_room_m = 0.25;
+  r.snapshot.tau_m = 0.25;
   r.window_ca_m = std::move(ca);
   return r;
 }
@@ -158,6 +162,11 @@ TEST(ConversionsAssessmentTest, PathAssessmentRoundTrip) {
   EXPECT_EQ(b.snapshot.is_contributing_window, r.snapshot.is_contributing_window);
   EXPECT_DOUBLE_EQ(*b.snapshot.cm_interaction_m, 0.2);
   EXPECT_EQ(b.snapshot.state, assessment::RecorderState::kRecording);
+  EXPECT_EQ(b.snapshot.tau_mode, r.snapshot.tau_mode);
+  EXPECT_EQ(b.snapshot.tau_m, r.snapshot.tau_m);
+  EXPECT_EQ(b.snapshot.tau_fixed_m, r.snapshot.tau_fixed_m);
+  EXPECT_EQ(b.snapshot.tau_room_m, r.snapshot.tau_room_m);
+  EXPECT_EQ(b.snapshot.room_m, r.snapshot.room_m);
   const auto snap = pathSnapshotFromLcm(m);
   EXPECT_DOUBLE_EQ(*snap.cm_window_m, *r.snapshot.cm_window_m);
 }
@@ -213,6 +222,18 @@ TEST(ConversionsAssessmentTest, GarbagePathAssessmentsAreRejected) {
   bad = m;
   bad.window_samples = 1;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.tau_mode = 2;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.tau_room_m = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.room_m = -0.5;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  auto unbounded = m;  // +inf room: nothing within range on that side, a known value
+  unbounded.room_m = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(std::isinf(*fromLcm(unbounded).snapshot.room_m));
 }
 
 TEST(ConversionsAssessmentTest, ControlRoundTripAndUnknownCommand) {
@@ -229,8 +250,24 @@ TEST(ConversionsAssessmentTest, ControlRoundTripAndUnknownCommand) {
   EXPECT_EQ(b.human_id, 2);
   EXPECT_EQ(b.step, 4);
   EXPECT_EQ(b.reason, "round 2");
+  EXPECT_TRUE(std::isnan(m.d_oh_m));  // unknown travels as NaN
+  EXPECT_FALSE(b.d_oh_m);
+  EXPECT_FALSE(b.d_h_m);
   auto bad = m;
   bad.command = 0;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+
+  c.command = dialogue::RecorderCommand::kStart;
+  c.d_oh_m = std::numeric_limits<double>::infinity();
+  c.d_h_m = 0.25;
+  const auto start = fromLcm(toLcm(c));
+  EXPECT_TRUE(std::isinf(*start.d_oh_m));
+  EXPECT_EQ(*start.d_h_m, 0.25);
+  bad = toLcm(c);
+  bad.d_h_m = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = toLcm(c);
+  bad.d_oh_m = -1.0;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
 }
 

@@ -140,6 +140,38 @@ TEST(PopulationAggregate, AccuracyAndAucFollowTheStatedExpectations) {
   EXPECT_EQ(auc["negatives"], 3);
 }
 
+TEST(PopulationAggregate, AccuracyIsReportedAgainstTheFixedAndTheRoomTau) {
+  // Interaction CM 0.3 in a narrow corridor (τ against the room 0.25) and 0.3 in a wide one
+  // (τ 0.4 both ways), both facilitating; a minimal human at 0.2 with τ against the room 0.15.
+  const std::vector<std::tuple<const char*, double, double>> cases{
+      {"facilitating", 0.3, 0.25}, {"facilitating", 0.3, 0.4}, {"minimal", 0.2, 0.15}};
+  Json encounters = Json::array();
+  std::map<std::string, Json> s;
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const std::string name = "r" + std::to_string(i);
+    const auto& [b, cm, tau_room] = cases[i];
+    encounters.push_back(encounter(name.c_str(), Json::array({human(1, "head_on", b)})));
+    Json h = assessed(1, cm, false);
+    h["tau_fixed_m"] = 0.4;
+    h["tau_room_m"] = tau_room;
+    h["room_m"] = 2.0 * tau_room;
+    s[name] = run("GOAL_REACHED", nullptr, Json::array({h}));
+  }
+  // A summary without the thresholds (older builds) is judged by neither.
+  encounters.push_back(encounter("old", Json::array({human(1, "head_on", "minimal")})));
+  s["old"] = run("GOAL_REACHED", nullptr, Json::array({assessed(1, 0.1, false)}));
+  const Json out = pop::aggregatePopulation(plan(encounters), s);
+  const Json& acc = out["totals"]["is_contributing_accuracy"];
+  EXPECT_DOUBLE_EQ(acc["facilitating"]["accuracy_fixed_tau"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(acc["facilitating"]["accuracy_room_tau"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(acc["minimal"]["accuracy_fixed_tau"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(acc["minimal"]["accuracy_room_tau"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(acc["all"]["accuracy_fixed_tau"].get<double>(), 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(acc["all"]["accuracy_room_tau"].get<double>(), 1.0 / 3.0);
+  EXPECT_EQ(acc["minimal"]["judged"], 2);  // the in-force verdict counts the old summary too
+  EXPECT_NEAR(out["runs"][0]["humans"][0]["room_m"].get<double>(), 0.5, 1e-15);
+}
+
 TEST(PopulationStats, MannWhitneyAuc) {
   EXPECT_DOUBLE_EQ(pop::mannWhitneyAuc({2, 3}, {0, 1}), 1.0);
   EXPECT_DOUBLE_EQ(pop::mannWhitneyAuc({0, 1}, {2, 3}), 0.0);

@@ -29,6 +29,28 @@ std::optional<double> discountedMean(const std::vector<double>& ca_m, double gam
 /// Paper §II-C: IsContributing = CM > τ; unknown when CM is (no samples).
 Tristate isContributing(std::optional<double> cm_m, double tau_m);
 
+/// Which threshold IsContributing compares CM with.
+///  - kFixed: the paper's τ (§III), whatever room the human had.
+///  - kRoom (beyond the paper, opt-in): τ shrunk to the room the human had. In a 1.8 m corridor
+///    a facilitating human can move at most ~0.3 m from its path, below the paper's τ = 0.4 m,
+///    so under kFixed every human there is "not contributing" whatever they do.
+enum class TauMode : std::int8_t { kFixed = 0, kRoom = 1 };
+const char* toString(TauMode m);
+
+/// [m] Lateral room the human had on the side away from the robot, measured from its reference
+/// path at the crossing: d_OH (body clearance at CP_h, away from the robot, paper §II-B) plus d_h
+/// (how far CP_h already lies from the reference path). CM is measured from the reference path,
+/// so its room is the sum: a joint band that already moved CP_h aside has used part of the room
+/// d_OH alone would not show. +inf when d_OH is (nothing within the server's range); nullopt
+/// when either is unknown or negative.
+std::optional<double> lateralRoom(std::optional<double> d_oh_m, std::optional<double> d_h_m);
+
+/// [m] τ judged against the room (TauMode::kRoom): min(τ, max(floor, fraction · room)). With
+/// fraction 0.5 the paper's narrow corridor (2.25 m, room ~0.8 m) keeps τ = 0.4 m and a wide one
+/// keeps it too; a human with less room is contributing once CM exceeds that fraction of what
+/// they had. The floor keeps shifts within tracking noise from counting. τ when room is unknown.
+double roomTau(double tau_m, std::optional<double> room_m, double room_fraction, double floor_m);
+
 /// One CA evaluation.
 struct ContributionSample {
   double ca_m{0.0};                   ///< [m] signed contribution (0 when robot_side undefined)
@@ -47,9 +69,12 @@ std::optional<ContributionSample> contributionAt(const Path2& reference_path,
 
 /// Path assessor tuning. Defaults in this one place.
 struct PathAssessorConfig {
-  double sample_period_s{0.1};  ///< CA sampling period (10 Hz, CoHAN's control rate), > 0
-  double gamma{0.98};           ///< γ, paper §III
-  double tau_m{0.4};            ///< [m] τ on CM, paper §III
+  double sample_period_s{0.1};        ///< CA sampling period (10 Hz, CoHAN's control rate), > 0
+  double gamma{0.98};                 ///< γ, paper §III
+  double tau_m{0.4};                  ///< [m] τ on CM, paper §III
+  TauMode tau_mode{TauMode::kFixed};  ///< which threshold IsContributing uses (see TauMode)
+  double room_fraction{0.5};          ///< kRoom: share of the lateral room CM must exceed, (0, 1]
+  double room_tau_floor_m{0.1};       ///< [m] kRoom: lowest threshold (the side deadband's 0.1 m)
   double side_deadband_m{0.1};  ///< [m] robot this close to the path: side undecided (see @file)
   double history_s{2.0};        ///< [s] observations kept for commands stamped in the past
   /// [s] observations farther apart are a tracking gap (or a clock jump): the grid times inside it
@@ -75,6 +100,11 @@ struct PathAssessmentSnapshot {
   std::size_t interaction_samples{0};      ///< samples since start (no reset)
   std::optional<double> cm_interaction_m;  ///< [m] CM since start (Table I reporting)
   Tristate is_contributing_interaction{Tristate::kUnknown};
+  double tau_m{0.4};             ///< [m] threshold in force (config τ, or τ_room in kRoom)
+  double tau_fixed_m{0.4};       ///< [m] the paper's τ (config)
+  std::optional<double> room_m;  ///< [m] lateral room given at start; nullopt = unknown
+  double tau_room_m{0.4};        ///< [m] roomTau() of it (= tau_fixed_m when room unknown)
+  TauMode tau_mode{TauMode::kFixed};
 };
 
 /// Per-human CA recorder (paper §II-C). Fed observations (time, human and robot positions) at any
@@ -87,9 +117,10 @@ class PathRecorder {
   explicit PathRecorder(const PathAssessorConfig& config = {});
 
   /// Starts a new interaction at t_s against reference_path (the human's INITIAL shortest path,
-  /// kept until the next start). Clears both windows. Returns false (and stays as it was) when the
-  /// path is empty or non-finite.
-  bool start(double t_s, const Path2& reference_path);
+  /// kept until the next start). Clears both windows. room_m: the lateral room the human had
+  /// (lateralRoom() of the decision's situation), used by TauMode::kRoom. Returns false (and
+  /// stays as it was) when the path is empty or non-finite.
+  bool start(double t_s, const Path2& reference_path, std::optional<double> room_m = std::nullopt);
   /// Stops sampling at t_s (samples after t_s are dropped). Data stay readable.
   void stop(double t_s);
   /// Starts a new decision window: samples at or before t_s leave the window (not the interaction).
@@ -121,6 +152,7 @@ class PathRecorder {
   PathAssessorConfig config_;
   RecorderState state_{RecorderState::kIdle};
   Path2 reference_;
+  std::optional<double> room_m_;
   std::deque<Observation> history_;
   std::vector<CaSample> samples_;
   double start_t_s_{0.0};

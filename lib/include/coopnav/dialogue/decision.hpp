@@ -102,9 +102,10 @@ struct SituationSnapshot {
   Tristate human_needs_to_contribute{Tristate::kUnknown};
   Tristate human_is_constrained{Tristate::kUnknown};
   Tristate robot_is_constrained{Tristate::kUnknown};
-  Side dir{Side::kUndefined};   ///< side the robot passes on, as the human sees it
-  std::optional<double> d_h_m;  ///< [m] nullopt = unknown
-  std::string reason;           ///< the assessor's why for anything unknown ("" = all known)
+  Side dir{Side::kUndefined};    ///< side the robot passes on, as the human sees it
+  std::optional<double> d_h_m;   ///< [m] nullopt = unknown
+  std::optional<double> d_oh_m;  ///< [m] body clearance away from the robot; nullopt = unknown
+  std::string reason;            ///< the assessor's why for anything unknown ("" = all known)
   RoomPlan room_plan{RoomPlan::kUnknown};  ///< what a dock for this human would do now
   bool robot_retreating{false};            ///< the band source is backing away (any human)
 };
@@ -146,6 +147,10 @@ struct RoundOutcome {
 struct DecisionOutput {
   std::vector<Utterance> utterances;
   std::vector<RecorderCommand> recorder_commands;  ///< in order of issue
+  /// With a kStart: the situation it was decided on, whose d_OH and d_h the path assessor judges
+  /// the room by (its tau_mode); nullopt when unknown.
+  std::optional<double> start_d_oh_m;
+  std::optional<double> start_d_h_m;
   std::vector<RobotAction> robot_actions;
   std::vector<RoundOutcome> rounds;  ///< rounds fired at this step (0, 1 or 2 entries)
   bool empty() const {

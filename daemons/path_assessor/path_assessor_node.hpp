@@ -32,6 +32,8 @@ struct PathAssessorNodeConfig {
   assessment::PathAssessorConfig recorder;
   /// recorder.tau_mode by name ("fixed" | "room"); its default is the lib's.
   std::string tau_mode{assessment::toString(assessment::PathAssessorConfig{}.tau_mode)};
+  /// recorder.side_rule by name ("path_side" | "human_side"); its default is the lib's.
+  std::string side_rule{assessment::toString(assessment::PathAssessorConfig{}.side_rule)};
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
@@ -49,17 +51,23 @@ struct PathAssessorNodeConfig {
     v("room_fraction", recorder.room_fraction, Range{1e-3, 1.0});
     v("room_tau_floor_m", recorder.room_tau_floor_m, Range{0.0, 10.0});
     v("side_deadband_m", recorder.side_deadband_m, Range{0.0, 5.0});
+    v("side_rule", side_rule,
+      OneOf{{assessment::toString(assessment::SideRule::kPathSide),
+             assessment::toString(assessment::SideRule::kHumanSide)}});
     v("history_s", recorder.history_s, Range{0.0, 60.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
     v("limits", limits);
   }
 
-  /// The recorder's settings with tau_mode applied.
+  /// The recorder's settings with tau_mode and side_rule applied.
   assessment::PathAssessorConfig recorderConfig() const {
     assessment::PathAssessorConfig c = recorder;
     c.tau_mode = tau_mode == assessment::toString(assessment::TauMode::kRoom)
                      ? assessment::TauMode::kRoom
                      : assessment::TauMode::kFixed;
+    c.side_rule = side_rule == assessment::toString(assessment::SideRule::kHumanSide)
+                      ? assessment::SideRule::kHumanSide
+                      : assessment::SideRule::kPathSide;
     return c;
   }
 };

@@ -64,17 +64,36 @@ double roomTau(double tau_m, std::optional<double> room_m, double room_fraction,
   return std::min(tau_m, std::max(floor_m, room_fraction * *room_m));
 }
 
+const char* toString(SideRule r) {
+  switch (r) {
+    case SideRule::kPathSide:
+      return "path_side";
+    case SideRule::kHumanSide:
+      return "human_side";
+  }
+  return "?";
+}
+
 std::optional<ContributionSample> contributionAt(const Path2& reference_path,
                                                  const Eigen::Vector2d& human_m,
                                                  const Eigen::Vector2d& robot_m,
-                                                 Side previous_robot_side, double side_deadband_m) {
+                                                 Side previous_robot_side, double side_deadband_m,
+                                                 SideRule rule) {
   const auto proj_h = projectOntoPath(reference_path, human_m);
   const auto proj_r = projectOntoPath(reference_path, robot_m);
   if (!proj_h || !proj_r) return std::nullopt;
   ContributionSample s;
   s.human_offset_m = proj_h->signed_distance_m;
   const double robot_offset_m = proj_r->signed_distance_m;
-  if (std::abs(robot_offset_m) > side_deadband_m) {
+  if (rule == SideRule::kHumanSide) {
+    const double rel_m = robot_offset_m - s.human_offset_m;  // robot relative to the human
+    if (std::abs(rel_m) > side_deadband_m) {
+      s.robot_side = rel_m > 0.0 ? Side::kLeft : Side::kRight;
+      s.side_from_path = true;
+    } else {
+      s.robot_side = previous_robot_side;  // hysteresis: level with the human across the path
+    }
+  } else if (std::abs(robot_offset_m) > side_deadband_m) {
     s.robot_side = robot_offset_m > 0.0 ? Side::kLeft : Side::kRight;
     s.side_from_path = true;
   } else if (previous_robot_side != Side::kUndefined) {
@@ -87,6 +106,7 @@ std::optional<ContributionSample> contributionAt(const Path2& reference_path,
   // Paper §II-C / Fig. 4, CA_i: distance from the initial shortest path, signed > 0 on the side
   // away from the robot (design-readings, "CA sign"). Left offsets are > 0, so a robot on the left
   // makes right (negative) offsets positive contributions.
+  // Under kHumanSide the same: the human's offset signed away from the side the robot is on.
   if (s.robot_side == Side::kLeft) s.ca_m = -s.human_offset_m;
   if (s.robot_side == Side::kRight) s.ca_m = s.human_offset_m;
   return s;
@@ -172,8 +192,8 @@ void PathRecorder::sampleDue() {
       human_m = oa.human_m + s * (ob.human_m - oa.human_m);
       robot_m = oa.robot_m + s * (ob.robot_m - oa.robot_m);
     }
-    const auto c =
-        contributionAt(reference_, human_m, robot_m, robot_side_memory_, config_.side_deadband_m);
+    const auto c = contributionAt(reference_, human_m, robot_m, robot_side_memory_,
+                                  config_.side_deadband_m, config_.side_rule);
     if (c) {
       if (c->side_from_path) robot_side_memory_ = c->robot_side;
       samples_.push_back({t_k, c->ca_m, c->robot_side});

@@ -97,6 +97,27 @@ TEST(ContributionAt, RobotOnThePathKeepsItsLastSideOrUsesTheHumanRelativeSide) {
 
 // Scene for the recorder: human h(t) = (t, −0.1 t) drifting right, robot r(t) = (10 − t, 1) on
 // the left of the path, so CA(t) = 0.1 t exactly (linear motion: interpolation is exact).
+TEST(ContributionAt, HumanSideRuleSignsAwayFromTheRobotAsSeenFromTheHuman) {
+  // Open space: the robot is already right of the human's path (y = -0.5) and the human has
+  // stepped further right (y = -0.8), away from it.
+  const auto path_side = contributionAt(kPath, {3, -0.8}, {5, -0.5}, Side::kUndefined, 0.1);
+  const auto human_side =
+      contributionAt(kPath, {3, -0.8}, {5, -0.5}, Side::kUndefined, 0.1, SideRule::kHumanSide);
+  // The robot is right of the path: under the paper's reading the human's right step is towards
+  // it; seen from the human the robot is on its LEFT, so the same step is away from it.
+  EXPECT_NEAR(path_side->ca_m, -0.8, 1e-12);
+  EXPECT_NEAR(human_side->ca_m, 0.8, 1e-12);
+  EXPECT_EQ(human_side->robot_side, Side::kLeft);
+  // Level with the human (within the deadband): the last side is kept, or none.
+  const auto level =
+      contributionAt(kPath, {3, -0.8}, {5, -0.75}, Side::kLeft, 0.1, SideRule::kHumanSide);
+  EXPECT_NEAR(level->ca_m, 0.8, 1e-12);
+  EXPECT_FALSE(level->side_from_path);
+  const auto none =
+      contributionAt(kPath, {3, -0.8}, {5, -0.75}, Side::kUndefined, 0.1, SideRule::kHumanSide);
+  EXPECT_EQ(none->ca_m, 0.0);
+}
+
 Eigen::Vector2d humanAt(double t) { return {t, -0.1 * t}; }
 Eigen::Vector2d robotAt(double t) { return {10 - t, 1}; }
 

@@ -51,6 +51,16 @@ std::optional<double> lateralRoom(std::optional<double> d_oh_m, std::optional<do
 /// they had. The floor keeps shifts within tracking noise from counting. τ when room is unknown.
 double roomTau(double tau_m, std::optional<double> room_m, double room_fraction, double floor_m);
 
+/// Which side of the human the robot is taken to be on when CA is signed.
+///  - kPathSide (the paper's reading, @file): the side of the reference path the robot is on.
+///  - kHumanSide (beyond the paper): the side of the HUMAN the robot is on, measured across the
+///    reference path's direction at each sample (robot offset minus human offset), with the same
+///    deadband and memory. Real walkers meet in open space where the other is often already off
+///    the human's initial line on the side the human steps to: the path side then calls a step
+///    away from the other "towards the robot" (issue 31, ETH/UCY head-on pairs).
+enum class SideRule : std::int8_t { kPathSide = 0, kHumanSide = 1 };
+const char* toString(SideRule r);
+
 /// One CA evaluation.
 struct ContributionSample {
   double ca_m{0.0};                   ///< [m] signed contribution (0 when robot_side undefined)
@@ -59,13 +69,14 @@ struct ContributionSample {
   bool side_from_path{false};  ///< robot_side is the robot's own side of the path (memory-able)
 };
 
-/// Paper §II-C, CA_i for one sample (see @file for the sign reading). previous_robot_side: the
-/// robot's path side decided at an earlier sample (kUndefined if none). nullopt when the path is
-/// empty or a position is non-finite.
+/// Paper §II-C, CA_i for one sample (see @file for the sign reading, SideRule for the other).
+/// previous_robot_side: the robot's side decided at an earlier sample (kUndefined if none).
+/// nullopt when the path is empty or a position is non-finite.
 std::optional<ContributionSample> contributionAt(const Path2& reference_path,
                                                  const Eigen::Vector2d& human_m,
                                                  const Eigen::Vector2d& robot_m,
-                                                 Side previous_robot_side, double side_deadband_m);
+                                                 Side previous_robot_side, double side_deadband_m,
+                                                 SideRule rule = SideRule::kPathSide);
 
 /// Path assessor tuning. Defaults in this one place.
 struct PathAssessorConfig {
@@ -76,7 +87,8 @@ struct PathAssessorConfig {
   double room_fraction{0.5};          ///< kRoom: share of the lateral room CM must exceed, (0, 1]
   double room_tau_floor_m{0.1};       ///< [m] kRoom: lowest threshold (the side deadband's 0.1 m)
   double side_deadband_m{0.1};  ///< [m] robot this close to the path: side undecided (see @file)
-  double history_s{2.0};        ///< [s] observations kept for commands stamped in the past
+  SideRule side_rule{SideRule::kPathSide};  ///< how CA is signed (SideRule)
+  double history_s{2.0};  ///< [s] observations kept for commands stamped in the past
   /// [s] observations farther apart are a tracking gap (or a clock jump): the grid times inside it
   /// get no sample instead of positions interpolated over the gap, and skipping them costs O(1)
   /// however long the gap.

@@ -1,9 +1,12 @@
 #include "ctl_commands.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "log_reader.hpp"
+#include "pedestrians.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
 #include "svg_figures.hpp"
@@ -20,6 +23,8 @@ struct LogCommandOptions {
   CLI::App* figures{nullptr};
   CLI::App* cm_table{nullptr};
   CLI::App* summary_figures{nullptr};
+  CLI::App* pedestrians{nullptr};
+  CLI::App* calibrate{nullptr};
   std::string log;
   std::string scenario;
   std::string out;
@@ -31,6 +36,10 @@ struct LogCommandOptions {
   bool with_status{false};
   double sample_period_s{0.1};
   std::vector<std::string> inputs;
+  // pedestrians: the paper profile unless given (γ 0.98 per 0.1 s sample, τ 0.4 m, path side).
+  std::optional<double> gamma_per_s;
+  double tau_m{0.4};
+  std::string side_rule{"path_side"};
 };
 
 LogCommandOptions& opts() {
@@ -127,6 +136,24 @@ int cmTableCommand() {
   return 0;
 }
 
+int pedestriansCommand() {
+  const auto& o = opts();
+  assessment::PathAssessorConfig config;  // γ 0.98 per sample exactly when no --gamma-per-s
+  if (o.gamma_per_s) config.gamma = ctl::gammaPerSample(*o.gamma_per_s, config.sample_period_s);
+  config.tau_m = o.tau_m;
+  config.side_rule = o.side_rule == "human_side" ? assessment::SideRule::kHumanSide
+                                                 : assessment::SideRule::kPathSide;
+  const auto e = ctl::evaluateWalkers(ctl::loadPedestrianPairs(o.log), config);
+  std::cout << ctl::formatPedestrianEvaluation(
+      e, o.gamma_per_s.value_or(std::pow(config.gamma, 1.0 / config.sample_period_s)));
+  return 0;
+}
+
+int calibrateCommand() {
+  std::cout << ctl::formatCalibration(ctl::calibrate(ctl::loadPedestrianPairs(opts().log)));
+  return 0;
+}
+
 }  // namespace
 
 void addCtlCommands(CLI::App& app) {
@@ -173,6 +200,19 @@ void addCtlCommands(CLI::App& app) {
 
   o.cm_table = app.add_subcommand("cm-table", "print the CM table beside the paper's Table I");
   o.cm_table->add_option("summary", o.out, "summary.json")->required();
+
+  o.pedestrians = app.add_subcommand("pedestrians",
+                                     "score CM / IsContributing on real head-on pedestrian pairs");
+  o.pedestrians->add_option("pairs", o.log, "headon_pairs.json")->required();
+  o.pedestrians->add_option("--gamma-per-s", o.gamma_per_s, "gamma per second (default 0.98^10)")
+      ->check(CLI::PositiveNumber);
+  o.pedestrians->add_option("--tau", o.tau_m, "tau [m] (default 0.4)");
+  o.pedestrians->add_option("--side-rule", o.side_rule, "CA sign rule (default path_side)")
+      ->check(CLI::IsMember({"path_side", "human_side"}));
+
+  o.calibrate = app.add_subcommand(
+      "calibrate", "fit gamma, tau and the side rule on pedestrian pairs (leave one sequence out)");
+  o.calibrate->add_option("pairs", o.log, "headon_pairs.json")->required();
 }
 
 int runCtlCommands(CLI::App&, const std::string&) {
@@ -183,6 +223,8 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.figures) return figuresCommand();
   if (*o.cm_table) return cmTableCommand();
   if (*o.summary_figures) return summaryFiguresCommand();
+  if (*o.pedestrians) return pedestriansCommand();
+  if (*o.calibrate) return calibrateCommand();
   return 2;
 }
 

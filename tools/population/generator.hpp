@@ -117,9 +117,9 @@ inline Layout syntheticCorridor(double width_m) {
   return l;
 }
 
-/// The straight stretches of the real maps (geometry measured from the pixels:
-/// ../shared/maps/README.md; junctions: y 25.00-27.00 free from x 6.85 to 37.50, crossed by a
-/// 1.5 m corridor at x 23.50-25.00).
+/// The straight stretches of the real maps (geometry measured from the pixels of the maps the
+/// population reads, their credit in test/data/maps/CREDIT.md; junctions: y 25.00-27.00 free from
+/// x 6.85 to 37.50, crossed by a 1.5 m corridor at x 23.50-25.00).
 inline std::vector<Layout> mapLayouts() {
   std::vector<Layout> out;
   {

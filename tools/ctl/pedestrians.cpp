@@ -239,7 +239,13 @@ Fit gridSearch(const std::vector<PedestrianPair>& pairs, const PathAssessorConfi
         e.config.tau_m = tau_m;
         score(e);
         const CalibrationScore s = scoreOf(e);
-        if (!have || s.objective > best.score.objective) {
+        // Within one γ and side rule, a tie goes to the larger τ: where the walkers cannot tell
+        // the thresholds apart, the verdict that claims cooperation less often (the robot then
+        // keeps its own margin rather than count on the human).
+        const bool same_curve =
+            have && best.setting.gamma_per_s == gamma_per_s && best.setting.side_rule == rules[r];
+        if (!have || s.objective > best.score.objective ||
+            (same_curve && s.objective == best.score.objective)) {
           best = {{gamma_per_s, rules[r], tau_m}, s};
           have = true;
         }

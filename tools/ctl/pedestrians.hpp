@@ -123,9 +123,10 @@ struct CalibrationResult {
 std::vector<double> calibrationGammasPerS();
 std::vector<double> calibrationTausM();
 
-/// Grid search maximising the objective (mean of ranking and agreement); ties keep the earliest
-/// grid point. Leave-one-sequence-out cross-validation, then a final fit on all pairs. base: the
-/// other PathAssessorConfig members (sample period, deadband, ...). Deterministic.
+/// Grid search maximising the objective (mean of ranking and agreement); a tie within one γ and
+/// side rule goes to the larger τ (the verdict claiming cooperation less often), other ties keep
+/// the earliest grid point. Leave-one-sequence-out cross-validation, then a final fit on all pairs.
+/// base: the other PathAssessorConfig members (sample period, deadband, ...). Deterministic.
 CalibrationResult calibrate(const std::vector<PedestrianPair>& pairs,
                             const assessment::PathAssessorConfig& base = {});
 

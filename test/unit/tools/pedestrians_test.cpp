@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -164,6 +165,16 @@ TEST(PedestriansRealData, CalibrationBeatsPaperProfileOnHeldOutSequences) {
   EXPECT_EQ(again.final_setting.gamma_per_s, r.final_setting.gamma_per_s);
   EXPECT_EQ(again.final_setting.side_rule, r.final_setting.side_rule);
   EXPECT_EQ(again.final_setting.tau_m, r.final_setting.tau_m);
+
+  // The shipped `calibrated` profile is this fit.
+  const YAML::Node profile =
+      YAML::LoadFile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_calibrated.yaml");
+  const double period_s = profile["sample_period_s"].as<double>();
+  EXPECT_NEAR(profile["gamma"].as<double>(), gammaPerSample(r.final_setting.gamma_per_s, period_s),
+              1e-12);
+  EXPECT_DOUBLE_EQ(profile["tau_m"].as<double>(), r.final_setting.tau_m);
+  EXPECT_EQ(profile["side_rule"].as<std::string>(),
+            assessment::toString(r.final_setting.side_rule));
 }
 
 }  // namespace

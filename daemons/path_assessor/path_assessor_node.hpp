@@ -59,15 +59,11 @@ struct PathAssessorNodeConfig {
     v("limits", limits);
   }
 
-  /// The recorder's settings with tau_mode and side_rule applied.
+  /// The recorder's settings with tau_mode and side_rule applied (both validated by OneOf).
   assessment::PathAssessorConfig recorderConfig() const {
     assessment::PathAssessorConfig c = recorder;
-    c.tau_mode = tau_mode == assessment::toString(assessment::TauMode::kRoom)
-                     ? assessment::TauMode::kRoom
-                     : assessment::TauMode::kFixed;
-    c.side_rule = side_rule == assessment::toString(assessment::SideRule::kHumanSide)
-                      ? assessment::SideRule::kHumanSide
-                      : assessment::SideRule::kPathSide;
+    c.tau_mode = assessment::tauModeFromString(tau_mode).value_or(c.tau_mode);
+    c.side_rule = assessment::sideRuleFromString(side_rule).value_or(c.side_rule);
     return c;
   }
 };

@@ -141,8 +141,7 @@ int pedestriansCommand() {
   assessment::PathAssessorConfig config;  // γ 0.98 per sample exactly when no --gamma-per-s
   if (o.gamma_per_s) config.gamma = ctl::gammaPerSample(*o.gamma_per_s, config.sample_period_s);
   config.tau_m = o.tau_m;
-  config.side_rule = o.side_rule == "human_side" ? assessment::SideRule::kHumanSide
-                                                 : assessment::SideRule::kPathSide;
+  config.side_rule = assessment::sideRuleFromString(o.side_rule).value_or(config.side_rule);
   const auto e = ctl::evaluateWalkers(ctl::loadPedestrianPairs(o.log), config);
   std::cout << ctl::formatPedestrianEvaluation(
       e, o.gamma_per_s.value_or(std::pow(config.gamma, 1.0 / config.sample_period_s)));

@@ -53,6 +53,12 @@ const char* toString(TauMode m) {
   return "?";
 }
 
+std::optional<TauMode> tauModeFromString(const std::string& name) {
+  for (const TauMode m : {TauMode::kFixed, TauMode::kRoom})
+    if (name == toString(m)) return m;
+  return std::nullopt;
+}
+
 std::optional<double> lateralRoom(std::optional<double> d_oh_m, std::optional<double> d_h_m) {
   if (!d_oh_m || !d_h_m || std::isnan(*d_oh_m) || std::isnan(*d_h_m)) return std::nullopt;
   if (*d_oh_m < 0.0 || *d_h_m < 0.0 || std::isinf(*d_h_m)) return std::nullopt;
@@ -72,6 +78,12 @@ const char* toString(SideRule r) {
       return "human_side";
   }
   return "?";
+}
+
+std::optional<SideRule> sideRuleFromString(const std::string& name) {
+  for (const SideRule r : {SideRule::kPathSide, SideRule::kHumanSide})
+    if (name == toString(r)) return r;
+  return std::nullopt;
 }
 
 std::optional<ContributionSample> contributionAt(const Path2& reference_path,

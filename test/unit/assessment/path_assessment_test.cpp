@@ -253,6 +253,15 @@ TEST(RoomTau, KeepsThePapersTauWhereThereIsRoomAndShrinksItWhereThereIsNot) {
   EXPECT_EQ(roomTau(0.4, 0.0, 0.5, 0.7), 0.4);
 }
 
+TEST(AssessmentNames, RoundTripAndUnknownNames) {
+  for (const TauMode m : {TauMode::kFixed, TauMode::kRoom})
+    EXPECT_EQ(*tauModeFromString(toString(m)), m);
+  for (const SideRule r : {SideRule::kPathSide, SideRule::kHumanSide})
+    EXPECT_EQ(*sideRuleFromString(toString(r)), r);
+  EXPECT_FALSE(tauModeFromString("Room"));
+  EXPECT_FALSE(sideRuleFromString(""));
+}
+
 TEST(PathRecorder, RoomModeJudgesCmAgainstTheRoomGivenAtStart) {
   // CA 0.25 throughout: below the paper's τ, above half of a 0.4 m room.
   auto run = [](TauMode mode, std::optional<double> room_m) {

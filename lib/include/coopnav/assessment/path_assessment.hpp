@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "coopnav/geometry/types.hpp"
@@ -36,6 +37,8 @@ Tristate isContributing(std::optional<double> cm_m, double tau_m);
 ///    so under kFixed every human there is "not contributing" whatever they do.
 enum class TauMode : std::int8_t { kFixed = 0, kRoom = 1 };
 const char* toString(TauMode m);
+/// The mode named by toString(); nullopt for any other name.
+std::optional<TauMode> tauModeFromString(const std::string& name);
 
 /// [m] Lateral room the human had on the side away from the robot, measured from its reference
 /// path at the crossing: d_OH (body clearance at CP_h, away from the robot, paper §II-B) plus d_h
@@ -60,6 +63,8 @@ double roomTau(double tau_m, std::optional<double> room_m, double room_fraction,
 ///    away from the other "towards the robot" (issue 31, ETH/UCY head-on pairs).
 enum class SideRule : std::int8_t { kPathSide = 0, kHumanSide = 1 };
 const char* toString(SideRule r);
+/// The rule named by toString(); nullopt for any other name.
+std::optional<SideRule> sideRuleFromString(const std::string& name);
 
 /// One CA evaluation.
 struct ContributionSample {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../population/stats.hpp"
 #include "json.hpp"
 
 namespace coopnav::ctl {
@@ -194,12 +195,7 @@ void score(PedestrianEvaluation& e) {
   }
   e.ranking = ratio(e.pairs_ranked_right, e.pairs_judged);
   e.agreement = ratio(e.true_positive + e.true_negative, e.walkers_judged);
-  double wins = 0.0;
-  for (const double p : pos_cm)
-    for (const double n : neg_cm) wins += p > n ? 1.0 : (p == n ? 0.5 : 0.0);
-  e.auc = pos_cm.empty() || neg_cm.empty()
-              ? kNaN
-              : wins / (static_cast<double>(pos_cm.size()) * static_cast<double>(neg_cm.size()));
+  e.auc = population::mannWhitneyAuc(pos_cm, neg_cm);
 }
 
 CalibrationScore scoreOf(const PedestrianEvaluation& e) {

@@ -2,14 +2,120 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "config/config.hpp"
 #include "config/file_read.hpp"
 
 namespace coopnav::world_sim {
+
+namespace {
+
+/// Largest track file read [bytes]: the whole pedestrians JSON (0.6 MB) with room to spare.
+constexpr std::size_t kMaxTrackFileBytes = std::size_t{64} << 20;
+
+/// Walker `walker` of pair `pair` of a "headon_pairs/2" file.
+std::vector<sim::TrackSample> pedestrianWalker(const std::string& text, const std::string& file,
+                                               int pair, const std::string& walker) {
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw sim::TrackError(file + ": not JSON: " + e.what());
+  }
+  const std::string schema =
+      root.is_object() && root.contains("schema") && root["schema"].is_string()
+          ? root["schema"].get<std::string>()
+          : std::string();
+  if (schema != "headon_pairs/2")
+    throw sim::TrackError(file + ": schema '" + schema +
+                          "' is not 'headon_pairs/2' (test/data/pedestrians/README.md)");
+  const auto& pairs = root["pairs"];
+  if (!pairs.is_array() || pair < 0 || static_cast<std::size_t>(pair) >= pairs.size())
+    throw sim::TrackError(file + ": pair " + std::to_string(pair) + " is not in its 'pairs' (" +
+                          std::to_string(pairs.is_array() ? pairs.size() : 0) + " pairs)");
+  const std::string where = file + ": pairs[" + std::to_string(pair) + "].traj_" + walker;
+  const auto& pr = pairs[static_cast<std::size_t>(pair)];
+  if (!pr.is_object() || !pr.contains("traj_" + walker) || !pr["traj_" + walker].is_object())
+    throw sim::TrackError(where + " is missing");
+  const auto& traj = pr["traj_" + walker];
+  auto numbers = [&](const char* key) {
+    std::vector<double> out;
+    if (!traj.contains(key) || !traj[key].is_array())
+      throw sim::TrackError(where + "." + key + " is missing or not a list");
+    for (const auto& x : traj[key]) {
+      if (!x.is_number())
+        throw sim::TrackError(where + "." + key + " has an entry that is no number");
+      out.push_back(x.get<double>());
+    }
+    return out;
+  };
+  const std::vector<double> t = numbers("t"), x = numbers("x"), y = numbers("y");
+  if (t.size() != x.size() || t.size() != y.size())
+    throw sim::TrackError(where + ": t, x and y differ in length");
+  std::vector<sim::TrackSample> track;
+  for (std::size_t i = 0; i < t.size(); ++i) track.push_back({t[i], x[i], y[i]});
+  sim::checkTrack(track, where);
+  return track;
+}
+
+bool endsWithJson(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".json";
+}
+
+/// Resolves each recorded human's file, loads its track and sets its start and goal from it.
+void loadRecordedTracks(Scenario& sc, const std::string& base_dir, ConfigReader& r) {
+  for (std::size_t i = 0; i < sc.humans.size() && i < sc.recorded_sources.size(); ++i) {
+    sim::HumanSpec& h = sc.humans[i];
+    RecordedSource& src = sc.recorded_sources[i];
+    if (h.behaviour.type != sim::BehaviourType::kRecorded || src.file.empty()) continue;
+    const std::string key = "humans[" + std::to_string(i) + "].params.";
+    std::filesystem::path p(src.file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    src.file = p.lexically_normal().string();
+    const bool json = endsWithJson(src.file);
+    if (json) {
+      if (src.pair < 0) r.require(false, key + "pair", "is missing (required for a .json track)");
+      if (src.walker != "a" && src.walker != "b")
+        r.require(false, key + "walker",
+                  src.walker.empty() ? "is missing (required for a .json track: a or b)"
+                                     : notOneOfMessage(src.walker, {"a", "b"}));
+      if (src.pair < 0 || (src.walker != "a" && src.walker != "b")) continue;
+    } else if (src.pair >= 0 || !src.walker.empty()) {
+      r.require(false, key + (src.pair >= 0 ? "pair" : "walker"),
+                "is for a .json track only; '" + src.file + "' is read as CSV (t x y)");
+      continue;
+    }
+    try {
+      h.behaviour.recorded.track = loadTrack(src);
+    } catch (const sim::TrackError& e) {
+      r.require(false, key + "file", std::string("could not be used: ") + e.what());
+      continue;
+    }
+    h.start = sim::recordedStart(h.behaviour.recorded);
+    h.goal = sim::recordedGoal(h.behaviour.recorded);
+  }
+}
+
+}  // namespace
+
+std::vector<sim::TrackSample> loadTrack(const RecordedSource& source) {
+  std::string text;
+  try {
+    text = readFileCapped(source.file, kMaxTrackFileBytes, "track file");
+  } catch (const FileReadError& e) {
+    throw sim::TrackError(e.what());
+  }
+  if (endsWithJson(source.file))
+    return pedestrianWalker(text, source.file, source.pair, source.walker);
+  return sim::parseTrackCsv(text, source.file);
+}
 
 Scenario parseScenario(const std::string& yaml_text, const std::string& source,
                        const std::string& base_dir) {
@@ -43,6 +149,7 @@ Scenario parseScenario(const std::string& yaml_text, const std::string& source,
       r.require(false, "map.file", "= '" + map.file + "' is not a regular file");
     }
   }
+  loadRecordedTracks(sc, base_dir, r);
   r.rejectUnknownKeys();
   if (!r.errors().empty()) {
     std::string all;

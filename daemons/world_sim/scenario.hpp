@@ -21,7 +21,9 @@
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
+#include "coopnav/sim/recorded.hpp"
 #include "coopnav/sim/simulation.hpp"
+#include "coopnav/sim/tracker.hpp"
 #include "maps/map_loader.hpp"
 
 namespace coopnav::world_sim {
@@ -184,6 +186,60 @@ struct ViaPointYaml {
   }
 };
 
+/// Where a recorded human's track comes from (`params` of behaviour `recorded`); the loaded
+/// samples go to sim::RecordedParams::track.
+struct RecordedSource {
+  /// CSV of `t x y` rows, or a pedestrians JSON ("headon_pairs/2", test/data/pedestrians) when it
+  /// ends in .json. Resolved against the scenario's folder by parseScenario().
+  std::string file;
+  int pair{-1};        ///< JSON only: index into its `pairs` (required there)
+  std::string walker;  ///< JSON only: "a" or "b", the walker of the pair (required there)
+};
+
+/// `params` of a `recorded` human: the source, the time offset and the rigid transform.
+struct RecordedParamsYaml {
+  sim::RecordedParams* params{nullptr};
+  RecordedSource* source{nullptr};
+  template <class V>
+  void visit(V& v) {
+    v("file", source->file, Required{});
+    v("pair", source->pair, Range{-1.0, 1e9});
+    v("walker", source->walker);
+    v("time_offset_s", params->time_offset_s, Range{-86400.0, 86400.0});
+    TransformYaml transform{&params->transform};
+    v("transform", transform);
+  }
+
+ private:
+  /// Recording frame -> world; each key may be left out (identity).
+  struct TransformYaml {
+    Pose2* pose{nullptr};
+    template <class V>
+    void visit(V& v) {
+      const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+      v("x_m", pose->x_m, xy);
+      v("y_m", pose->y_m, xy);
+      v("theta_rad", pose->theta_rad, Range{-2.0 * M_PI, 2.0 * M_PI});
+    }
+  };
+};
+
+/// The `tracker` section (scenario) over lib/sim's TrackerParams, whose initialisers are the
+/// defaults; the ranges are TrackerParams::validate()'s.
+struct TrackerParamsYaml {
+  sim::TrackerParams* p{nullptr};
+  template <class V>
+  void visit(V& v) {
+    v("position_sigma_m", p->position_sigma_m, Range{0.0, 2.0});
+    v("velocity_window_steps", p->velocity_window_steps, Range{1.0, 100.0});
+    v("miss_probability", p->miss_probability, Range{0.0, 0.99});
+    v("drop_after_s", p->drop_after_s, Range{0.0, 3600.0});
+    v("id_switches", p->id_switches, Range{0.0, 1000.0});
+    v("id_switch_window_s", p->id_switch_window_s, Range{0.0, 86400.0});
+    v("range_m", p->range_m, Range{0.0, 1e6});
+  }
+};
+
 struct RobotSpecYaml {
   sim::RobotSpec* robot{nullptr};
   template <class V>
@@ -210,9 +266,10 @@ struct HumanSpecYaml {
   sim::HumanSpec spec;
   double id{0.0};         ///< as read: must be an integer >= 1 (0: not read)
   std::string behaviour;  ///< as read: empty until read, then one of behaviourTypeNames()
+  RecordedSource source;  ///< behaviour recorded: where its track comes from
 
-  static HumanSpecYaml of(const sim::HumanSpec& h) {
-    return {h, static_cast<double>(h.id), sim::toString(h.behaviour.type)};
+  static HumanSpecYaml of(const sim::HumanSpec& h, const RecordedSource& source = {}) {
+    return {h, static_cast<double>(h.id), sim::toString(h.behaviour.type), source};
   }
 
   template <class V>
@@ -221,17 +278,21 @@ struct HumanSpecYaml {
     if (id != std::floor(id))
       v.require(false, "id", "= " + scenarioNumber(id) + " must be an integer >= 1");
     spec.id = static_cast<std::int32_t>(id);
-    PoseYaml start{&spec.start};
-    PoseYaml goal{&spec.goal};
-    v("start", start, Required{});
-    v("goal", goal, Required{});
-    std::vector<ViaPointYaml> via;
-    for (const auto& p : spec.via) via.push_back({p.x(), p.y()});
-    v("via", via);
-    spec.via.clear();
-    for (const auto& p : via) spec.via.emplace_back(p.x_m, p.y_m);
     v("behaviour", behaviour, OneOf{sim::behaviourTypeNames()}, Required{});
     const bool known = sim::parseBehaviourType(behaviour, spec.behaviour.type);
+    // A recorded human's start and goal are its track's (parseScenario() sets them): for it
+    // start, goal and via are no keys.
+    if (!known || spec.behaviour.type != sim::BehaviourType::kRecorded) {
+      PoseYaml start{&spec.start};
+      PoseYaml goal{&spec.goal};
+      v("start", start, Required{});
+      v("goal", goal, Required{});
+      std::vector<ViaPointYaml> via;
+      for (const auto& p : spec.via) via.push_back({p.x(), p.y()});
+      v("via", via);
+      spec.via.clear();
+      for (const auto& p : via) spec.via.emplace_back(p.x_m, p.y_m);
+    }
     v("speed_m_s", spec.speed_m_s, Range{0.0, 3.0});
     v("speed_stddev_m_s", spec.speed_stddev_m_s, Range{0.0, 1.0});
     v("velocity_noise_m_s", spec.velocity_noise_m_s, Range{0.0, 1.0});
@@ -270,6 +331,11 @@ struct HumanSpecYaml {
         return params(v, b.responsive);
       case sim::BehaviourType::kFacilitating:
         return params(v, b.facilitating);
+      case sim::BehaviourType::kRecorded: {
+        RecordedParamsYaml yaml{&b.recorded, &source};
+        v("params", yaml, Required{});
+        return;
+      }
     }
   }
 };
@@ -287,6 +353,12 @@ struct Scenario {
   LockstepSpec lockstep;
   sim::RobotSpec robot;
   std::vector<sim::HumanSpec> humans;
+  /// Per human (same order): where a recorded human's track came from; empty file for the others.
+  std::vector<RecordedSource> recorded_sources;
+  /// What a people tracker would make of the humans (off by default: the true states).
+  sim::TrackerParams tracker;
+  /// false: COOPNAV_GOALS carries only the robot's goal (the humans' goals are to be inferred).
+  bool publish_human_goals{true};
   std::string source;  ///< file the scenario came from (for messages)
 
   /// Every key of a scenario file (format: docs/scenario-format.md). map.file is read as written;
@@ -306,10 +378,15 @@ struct Scenario {
     v("map", map, Required{});
     v("rates", rates);
     v("lockstep", lockstep);
+    TrackerParamsYaml tracker_yaml{&tracker};
+    v("tracker", tracker_yaml);
+    v("publish_human_goals", publish_human_goals);
     RobotSpecYaml robot_yaml{&robot};
     v("robot", robot_yaml, Required{});
     std::vector<HumanSpecYaml> items;
-    for (const auto& h : humans) items.push_back(HumanSpecYaml::of(h));
+    for (std::size_t i = 0; i < humans.size(); ++i)
+      items.push_back(HumanSpecYaml::of(
+          humans[i], i < recorded_sources.size() ? recorded_sources[i] : RecordedSource{}));
     v("humans", items);
     if (items.size() > kMaxScenarioHumans)
       v.require(false, "humans",
@@ -317,7 +394,11 @@ struct Scenario {
                     std::to_string(kMaxScenarioHumans) +
                     " a message carries (agent_states_t::MAX_HUMANS)");
     humans.clear();
-    for (const auto& item : items) humans.push_back(item.spec);
+    recorded_sources.clear();
+    for (const auto& item : items) {
+      humans.push_back(item.spec);
+      recorded_sources.push_back(item.source);
+    }
     for (std::size_t i = 0; i < items.size(); ++i) {
       if (!(items[i].id >= 1.0)) continue;  // not read (reported)
       for (std::size_t j = 0; j < i; ++j) {
@@ -331,6 +412,11 @@ struct Scenario {
     }
   }
 };
+
+/// The samples of a recorded human's track (source.file already resolved): a CSV of `t x y` rows,
+/// or walker `walker` of pair `pair` of a pedestrians JSON ("headon_pairs/2") when the file ends
+/// in .json. Throws sim::TrackError naming the file (and the line of a CSV, the member of a JSON).
+std::vector<sim::TrackSample> loadTrack(const RecordedSource& source);
 
 /// Reads and validates a scenario file. Throws ScenarioError.
 Scenario loadScenario(const std::string& path);

@@ -93,6 +93,20 @@ std::string contactDetail(const sim::RobotHumanContact& c, double fault_speed_m_
   return human + " walked into the robot at rest" + at;
 }
 
+sim::TrackerParams TrackerOverrides::apply(sim::TrackerParams p) const {
+  auto set = [](auto& field, auto value) {
+    if (static_cast<double>(value) != -1.0) field = value;
+  };
+  set(p.position_sigma_m, position_sigma_m);
+  set(p.velocity_window_steps, velocity_window_steps);
+  set(p.miss_probability, miss_probability);
+  set(p.drop_after_s, drop_after_s);
+  set(p.id_switches, id_switches);
+  set(p.id_switch_window_s, id_switch_window_s);
+  set(p.range_m, range_m);
+  return p;
+}
+
 void WorldSimConfig::resolvePaths(const std::string& base_dir) {
   scenario = resolvePath(base_dir, scenario);
 }
@@ -108,6 +122,11 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     sim_ = std::make_unique<sim::Simulation>(
         world_sim::toWorldSpec(scenario_), field_.get(),
         sim::dualBandAdapterFactory(config_.human_planner.config, field_));
+    std::vector<std::int32_t> ids;
+    for (const auto& h : scenario_.humans) ids.push_back(h.id);
+    // Its own random streams from the seed: the humans' draws are the same with it on or off.
+    tracker_ = std::make_unique<sim::Tracker>(config_.tracker.apply(scenario_.tracker),
+                                              scenario_.seed, ids, scenario_.time_limit_s);
   } catch (const world_sim::ScenarioError& e) {
     throw StartupError(e.what());
   } catch (const MapLoadError& e) {
@@ -120,6 +139,9 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
       config_.real_time_factor > 0.0 ? config_.real_time_factor : scenario_.rates.real_time_factor;
   step_period_s_ = 1.0 / scenario_.rates.publish_hz;
   agents_ = sim_->agents();
+  publish_human_goals_ = config_.publish_human_goals == "scenario"
+                             ? scenario_.publish_human_goals
+                             : config_.publish_human_goals == "true";
 
   runtime_.subscribe<daemon_status_t>(
       channels::kStatus, [this](const daemon_status_t& m, std::int64_t) { onStatus(m); });
@@ -160,6 +182,14 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
   const std::string mode = lockstep_ ? "lockstep" : "real time x" + fmt(real_time_factor_);
   log().info("world_sim: scenario '{}' ({}), {} human(s), {}, participants: {}", scenario_.name,
              scenario_.source, scenario_.humans.size(), mode, who.empty() ? "none" : who);
+  const sim::TrackerParams& tp = tracker_->params();
+  if (tp.active())
+    log().info(
+        "world_sim: tracker model on: position sigma {} m, velocity over {} samples, miss "
+        "probability {}, drop after {} s, {} id switch(es), range {} m",
+        tp.position_sigma_m, tp.velocity_window_steps, tp.miss_probability, tp.drop_after_s,
+        tp.id_switches, tp.range_m > 0.0 ? fmt(tp.range_m) : std::string("unlimited"));
+  if (!publish_human_goals_) log().info("world_sim: the humans' goals are not published");
   runtime_.setRunning("scenario " + scenario_.name + ", " + mode +
                       (lockstep_ && gate_ ? ", waiting for " + who : ""));
 }
@@ -205,9 +235,9 @@ void WorldSimNode::hear(const utterance_t& msg) {
   if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
       msg.direction != situation_t::DIR_UNDEFINED)
     throw RejectedMessage("utterance with unknown direction " + std::to_string(msg.direction));
-  const sim::HumanSpec* human = nullptr;
-  for (const auto& h : scenario_.humans)
-    if (h.id == msg.human_id) human = &h;
+  // Addressed by the id the tracker published the person under (its own after a switch).
+  const std::optional<std::size_t> person = tracker_->personOf(msg.human_id);
+  const sim::HumanSpec* human = person ? &scenario_.humans[*person] : nullptr;
   if (human == nullptr)
     throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) +
                          ", who is not in the scenario");
@@ -225,7 +255,7 @@ void WorldSimNode::hear(const utterance_t& msg) {
     return;
   }
   PendingCue c;
-  c.cue.human_id = msg.human_id;
+  c.cue.human_id = human->id;
   c.cue.side = msg.direction == situation_t::DIR_LEFT ? Side::kLeft : Side::kRight;
   c.step = msg.step;
   cues_.push_back(c);
@@ -388,7 +418,10 @@ void WorldSimNode::announce() {
   GoalsSnapshot goals;
   goals.utime = secondsToUtime(sim_->time_s());
   goals.goals.push_back({sim::kRobotId, AgentKind::kRobot, scenario_.robot.goal});
-  for (const auto& h : scenario_.humans) goals.goals.push_back({h.id, AgentKind::kHuman, h.goal});
+  if (publish_human_goals_) {
+    for (std::size_t i = 0; i < scenario_.humans.size(); ++i)
+      goals.goals.push_back({tracker_->currentId(i), AgentKind::kHuman, scenario_.humans[i].goal});
+  }
   runtime_.publish(channels::kGoals, toLcm(goals));
   step_ack_t here{};
   here.utime = goals.utime;
@@ -400,17 +433,25 @@ void WorldSimNode::announce() {
 void WorldSimNode::publishStep() {
   const std::int64_t utime = secondsToUtime(sim_->time_s());
   const std::int64_t step = lockstep_ ? step_ : -1;
+  // What a tracker makes of the true humans (the truth itself while its model is off); the goals
+  // are those of the persons behind the published ids.
+  const std::vector<AgentState> truth(agents_.begin() + 1, agents_.end());
+  const std::vector<sim::TrackedHuman> seen =
+      tracker_->observe(sim_->time_s(), agents_.front(), truth);
   GoalsSnapshot goals;
   goals.utime = utime;
   goals.goals.push_back({sim::kRobotId, AgentKind::kRobot, scenario_.robot.goal});
-  for (const auto& h : scenario_.humans) goals.goals.push_back({h.id, AgentKind::kHuman, h.goal});
+  if (publish_human_goals_) {
+    for (const sim::TrackedHuman& h : seen)
+      goals.goals.push_back({h.state.id, AgentKind::kHuman, scenario_.humans[h.person].goal});
+  }
   outputs_.publish(step, channels::kGoals, toLcm(goals));
 
   AgentStatesSnapshot s;
   s.utime = utime;
   s.step = step;
   s.robot = agents_.front();
-  s.humans.assign(agents_.begin() + 1, agents_.end());
+  for (const sim::TrackedHuman& h : seen) s.humans.push_back(h.state);
   outputs_.publish(step, channels::kAgentStates, toLcm(s));
   // The world's own ack: the daemons check with it that they have this step's goals and states.
   outputs_.ack(utime, step);
@@ -483,6 +524,13 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
             : std::string("no robot-human contact"));
   if (retransmits_ > 0)
     log().info("world_sim: steps published again {} times (acks overdue)", retransmits_);
+  if (tracker_->params().active()) {
+    const sim::TrackerStats& ts = tracker_->stats();
+    log().info(
+        "world_sim: tracker published {} human entries; missed {}, out of range {}, tracks "
+        "dropped and renewed {}, id switches {}",
+        ts.published, ts.missed, ts.out_of_range, ts.dropped, ts.switches);
+  }
   if (config_.exit_at_end) runtime_.requestStop();
 }
 

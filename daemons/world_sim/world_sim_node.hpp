@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/simulation.hpp"
+#include "coopnav/sim/tracker.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/limits.hpp"
@@ -29,6 +31,43 @@
 #include "wire/conversions.hpp"
 
 namespace coopnav {
+
+/// The scenario's `tracker` section, key by key overridden from the config: -1 (the default)
+/// keeps the scenario's value (lib/include/coopnav/sim/tracker.hpp, docs/scenario-format.md).
+struct TrackerOverrides {
+  double position_sigma_m{-1.0};
+  int velocity_window_steps{-1};
+  double miss_probability{-1.0};
+  double drop_after_s{-1.0};
+  int id_switches{-1};
+  double id_switch_window_s{-1.0};
+  double range_m{-1.0};
+
+  template <class V>
+  void visit(V& v) {
+    key(v, "position_sigma_m", position_sigma_m, 0.0, 2.0);
+    key(v, "velocity_window_steps", velocity_window_steps, 1.0, 100.0);
+    key(v, "miss_probability", miss_probability, 0.0, 0.99);
+    key(v, "drop_after_s", drop_after_s, 0.0, 3600.0);
+    key(v, "id_switches", id_switches, 0.0, 1000.0);
+    key(v, "id_switch_window_s", id_switch_window_s, 0.0, 86400.0);
+    key(v, "range_m", range_m, 0.0, 1e6);
+  }
+  /// The scenario's parameters with every key given here (not -1) replaced.
+  sim::TrackerParams apply(sim::TrackerParams p) const;
+
+ private:
+  template <class V, class T>
+  static void key(V& v, const char* name, T& field, double min, double max) {
+    v(name, field, Range{-1.0, max});
+    const auto x = static_cast<double>(field);
+    if (x != -1.0 && x < min) {
+      std::ostringstream s;
+      s << "= " << x << " must be -1 (the scenario's value) or in [" << min << ", " << max << "]";
+      v.require(false, name, s.str());
+    }
+  }
+};
 
 struct WorldSimConfig {
   /// Scenario file (docs/scenario-format.md). Relative to this config file's folder (to the
@@ -54,6 +93,13 @@ struct WorldSimConfig {
   /// their anticipated other (defaults: lib/include/coopnav/band/band_config.hpp).
   BandPlannerConfigYaml human_planner;
 
+  /// What a people tracker would publish of the humans: overrides of the scenario's `tracker`
+  /// section, key by key (-1 = the scenario's value), e.g. --set tracker.position_sigma_m=0.05.
+  TrackerOverrides tracker;
+  /// scenario: the scenario's publish_human_goals decides; true / false override it (false:
+  /// COOPNAV_GOALS carries only the robot's goal).
+  std::string publish_human_goals{"scenario"};
+
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
 
@@ -66,6 +112,8 @@ struct WorldSimConfig {
     v("wait_ready_timeout_s", wait_ready_timeout_s, Range{0.01, 3600.0});
     v("retransmit_period_s", retransmit_period_s, Range{0.0, 3600.0});
     v("human_planner", human_planner);
+    v("tracker", tracker);
+    v("publish_human_goals", publish_human_goals, OneOf{{"scenario", "true", "false"}});
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
     v("limits", limits);
   }
@@ -84,6 +132,9 @@ class WorldSimNode {
   WorldSimNode(const Config& config, Runtime& runtime);
 
   bool lockstep() const { return lockstep_; }
+  /// The tracker model in force (the scenario's, with the config's overrides).
+  const sim::Tracker& tracker() const { return *tracker_; }
+  bool publishHumanGoals() const { return publish_human_goals_; }
   bool ended() const { return phase_ == Phase::kEnded; }
   const world_sim::Scenario& scenario() const { return scenario_; }
 
@@ -135,6 +186,9 @@ class WorldSimNode {
   world_sim::Scenario scenario_;
   std::shared_ptr<GridDistanceField> field_;
   std::unique_ptr<sim::Simulation> sim_;
+  /// Between the true humans and COOPNAV_AGENT_STATES / COOPNAV_GOALS; physics uses the truth.
+  std::unique_ptr<sim::Tracker> tracker_;
+  bool publish_human_goals_{true};
   bool lockstep_{true};
   double real_time_factor_{1.0};
   double step_period_s_{0.1};

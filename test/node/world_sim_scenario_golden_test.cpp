@@ -93,6 +93,21 @@ std::string print(Scenario sc, const std::string& source_dir = "") {
   for (const auto& s : sc.lockstep.participants) parts += (parts.empty() ? "" : ", ") + s;
   p.line("lockstep.participants", "[" + parts + "]");
   p.line("lockstep.step_timeout_s", num(sc.lockstep.step_timeout_s));
+  // Keys added since (issue 31): printed only when not at their defaults, so that the entries
+  // of the scenarios without them stay as they were.
+  if (!sc.publish_human_goals) p.line("publish_human_goals", "false");
+  const sim::TrackerParams& tr = sc.tracker;
+  const sim::TrackerParams tr0;
+  if (tr.position_sigma_m != tr0.position_sigma_m ||
+      tr.velocity_window_steps != tr0.velocity_window_steps ||
+      tr.miss_probability != tr0.miss_probability || tr.drop_after_s != tr0.drop_after_s ||
+      tr.id_switches != tr0.id_switches || tr.id_switch_window_s != tr0.id_switch_window_s ||
+      tr.range_m != tr0.range_m) {
+    p.line("tracker", num(tr.position_sigma_m) + " " + std::to_string(tr.velocity_window_steps) +
+                          " " + num(tr.miss_probability) + " " + num(tr.drop_after_s) + " " +
+                          std::to_string(tr.id_switches) + " " + num(tr.id_switch_window_s) + " " +
+                          num(tr.range_m));
+  }
   p.pose("robot.start", sc.robot.start);
   p.pose("robot.goal", sc.robot.goal);
   p.line("robot.radius_m", num(sc.robot.radius_m));
@@ -122,6 +137,22 @@ std::string print(Scenario sc, const std::string& source_dir = "") {
     hp.nested("late_facilitating", h.behaviour.late_facilitating);
     hp.nested("responsive", h.behaviour.responsive);
     hp.nested("facilitating", h.behaviour.facilitating);
+    if (h.behaviour.type == sim::BehaviourType::kRecorded) {
+      const sim::RecordedParams& r = h.behaviour.recorded;
+      const RecordedSource& src = sc.recorded_sources[i];
+      hp.line("recorded.file", "'" + rel(src.file) + "'");
+      hp.line("recorded.pair", std::to_string(src.pair));
+      hp.line("recorded.walker", "'" + src.walker + "'");
+      hp.line("recorded.time_offset_s", num(r.time_offset_s));
+      hp.pose("recorded.transform", r.transform);
+      hp.line("recorded.samples", std::to_string(r.track.size()));
+      if (!r.track.empty()) {
+        hp.line("recorded.first", num(r.track.front().t_s) + " " + num(r.track.front().x_m) + " " +
+                                      num(r.track.front().y_m));
+        hp.line("recorded.last", num(r.track.back().t_s) + " " + num(r.track.back().x_m) + " " +
+                                     num(r.track.back().y_m));
+      }
+    }
   }
   return out.str();
 }

@@ -249,5 +249,107 @@ TEST(Scenario, LoadsFromFileAndResolvesTheMapPath) {
   fs::remove_all(dir);
 }
 
+TEST(Scenario, TrackerAndGoalKeysLoadAndAreChecked) {
+  // Left out: the tracker is off and the goals are published.
+  const Scenario plain = parseScenario(kValid, "ok.yaml", ".");
+  EXPECT_FALSE(plain.tracker.active());
+  EXPECT_TRUE(plain.publish_human_goals);
+  const std::string text = replaced(
+      kValid, "time_limit_s: 40.0\n",
+      "time_limit_s: 40.0\npublish_human_goals: false\n"
+      "tracker: {position_sigma_m: 0.05, miss_probability: 0.05, id_switches: 1, range_m: 12,\n"
+      "          velocity_window_steps: 4, drop_after_s: 0.5, id_switch_window_s: 20}\n");
+  const Scenario sc = parseScenario(text, "ok.yaml", ".");
+  EXPECT_FALSE(sc.publish_human_goals);
+  EXPECT_TRUE(sc.tracker.active());
+  EXPECT_DOUBLE_EQ(sc.tracker.position_sigma_m, 0.05);
+  EXPECT_DOUBLE_EQ(sc.tracker.miss_probability, 0.05);
+  EXPECT_EQ(sc.tracker.id_switches, 1);
+  EXPECT_EQ(sc.tracker.velocity_window_steps, 4);
+  EXPECT_DOUBLE_EQ(sc.tracker.range_m, 12.0);
+  EXPECT_DOUBLE_EQ(sc.tracker.drop_after_s, 0.5);
+  EXPECT_DOUBLE_EQ(sc.tracker.id_switch_window_s, 20.0);
+  std::string msg = errorOf(replaced(text, "miss_probability: 0.05", "miss_probability: 1.5"));
+  EXPECT_NE(msg.find("'tracker.miss_probability' = 1.5"), std::string::npos) << msg;
+  msg = errorOf(replaced(text, "id_switches: 1", "id_switches: 1.5"));
+  EXPECT_NE(msg.find("'tracker.id_switches'"), std::string::npos) << msg;
+  msg = errorOf(replaced(text, "range_m: 12", "range: 12"));
+  EXPECT_NE(msg.find("'tracker.range'"), std::string::npos) << msg;
+  msg = errorOf(replaced(text, "publish_human_goals: false", "publish_human_goals: maybe"));
+  EXPECT_NE(msg.find("'publish_human_goals'"), std::string::npos) << msg;
+}
+
+TEST(Scenario, RecordedHumansTakeTheirStartAndGoalFromTheirTracks) {
+  const std::string path = std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/recorded_zara01.yaml";
+  const Scenario sc = loadScenario(path);
+  ASSERT_EQ(sc.humans.size(), 2u);
+  for (const auto& h : sc.humans) EXPECT_EQ(h.behaviour.type, sim::BehaviourType::kRecorded);
+  // Walker a (CSV, 33 samples) and walker b (JSON, 32 samples), rotated by 90 degrees and moved
+  // by (22, 3): a's first point (-1.505478, 17.34706) -> (4.65294, 1.494522).
+  EXPECT_EQ(sc.humans[0].behaviour.recorded.track.size(), 33u);
+  EXPECT_EQ(sc.humans[1].behaviour.recorded.track.size(), 32u);
+  EXPECT_NEAR(sc.humans[0].start.x_m, 22.0 - 17.34706, 1e-9);
+  EXPECT_NEAR(sc.humans[0].start.y_m, 3.0 - 1.505478, 1e-9);
+  EXPECT_NEAR(sc.humans[0].goal.x_m, 22.0 - 5.563478, 1e-9);
+  EXPECT_NEAR(sc.humans[1].goal.x_m, 22.0 - 20.42463, 1e-9);
+  EXPECT_DOUBLE_EQ(sc.humans[1].behaviour.recorded.time_offset_s, 4.8);
+  EXPECT_NE(sc.recorded_sources[1].file.find("zara01_pair0.json"), std::string::npos);
+  EXPECT_EQ(sc.recorded_sources[1].walker, "b");
+  // The track of the JSON is the pedestrians file's own.
+  const auto full =
+      loadTrack({std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json", 0, "b"});
+  ASSERT_EQ(full.size(), 32u);
+  EXPECT_DOUBLE_EQ(full[5].x_m, sc.humans[1].behaviour.recorded.track[5].x_m);
+  // A loaded recorded scenario is a valid world on its map.
+  const GridDistanceField map(loadScenarioMap(sc).grid);
+  EXPECT_NO_THROW(checkScenarioAgainstMap(sc, map));
+  sim::Simulation simulation(toWorldSpec(sc), &map);
+  EXPECT_EQ(simulation.agents().size(), 3u);
+}
+
+TEST(Scenario, RecordedHumanMistakesAreNamed) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("coopnav_recorded_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "walk.csv") << "t x y\n0 1 1\n0.5 2 1\n0.5 3 1\n";
+  std::ofstream(dir / "ok.csv") << "0 1 1\n1 2 1\n";
+  const std::string tracks = std::string(COOPNAV_TEST_DATA_DIR) + "/tracks/zara01_pair0.json";
+  auto scenario = [&](const std::string& human) {
+    return "name: r\nseed: 1\ntime_limit_s: 10\nmap: {walls: [{x0_m: -5, y0_m: -5, x1_m: 5, "
+           "y1_m: -5}]}\nrobot: {start: {x_m: 0, y_m: 3}, goal: {x_m: 0, y_m: 3}}\nhumans:\n  - " +
+           human + "\n";
+  };
+  auto error = [&](const std::string& human) {
+    try {
+      parseScenario(scenario(human), "rec.yaml", dir.string());
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("{id: 1, behaviour: recorded, params: {file: ok.csv}}"), "");
+  // A CSV row out of order: the file and its line.
+  std::string msg = error("{id: 1, behaviour: recorded, params: {file: walk.csv}}");
+  EXPECT_NE(msg.find("'humans[0].params.file'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("walk.csv:4:"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded, params: {file: none.csv}}");
+  EXPECT_NE(msg.find("none.csv"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded}");
+  EXPECT_NE(msg.find("'humans[0].params' is missing"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded, params: {file: " + tracks + ", walker: c, pair: 0}}");
+  EXPECT_NE(msg.find("'humans[0].params.walker' = 'c'"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded, params: {file: " + tracks + ", walker: a}}");
+  EXPECT_NE(msg.find("'humans[0].params.pair' is missing"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded, params: {file: " + tracks + ", walker: a, pair: 3}}");
+  EXPECT_NE(msg.find("pair 3 is not in"), std::string::npos) << msg;
+  msg = error("{id: 1, behaviour: recorded, params: {file: ok.csv, pair: 0}}");
+  EXPECT_NE(msg.find("'humans[0].params.pair' is for a .json track only"), std::string::npos)
+      << msg;
+  // Its start and goal are the track's: no keys of a recorded human.
+  msg = error("{id: 1, behaviour: recorded, start: {x_m: 0, y_m: 0}, params: {file: ok.csv}}");
+  EXPECT_NE(msg.find("'humans[0].start' is not a known key"), std::string::npos) << msg;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace coopnav::world_sim

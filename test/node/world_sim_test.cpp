@@ -14,6 +14,7 @@
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -147,6 +148,7 @@ class Harness {
   const std::vector<std::string>& stateBytes() const { return state_bytes_; }
   const std::vector<sim_status_t>& simStatus() const { return sim_status_; }
   std::size_t goals() const { return goals_; }
+  const std::vector<goals_t>& goalMessages() const { return goal_msgs_; }
   std::size_t repeats() const { return repeats_; }
   /// The final SIM_STATUS, or nullptr while the run goes on.
   const sim_status_t* final() const {
@@ -179,7 +181,11 @@ class Harness {
     if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0 && m.name == "world_sim")
       ++world_sim_status_;
   }
-  void onGoals(const lcm::ReceiveBuffer*, const std::string&) { ++goals_; }
+  void onGoals(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    ++goals_;
+    goals_t m;
+    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0) goal_msgs_.push_back(m);
+  }
 
   lcm::LCM lcm_;
   std::vector<agent_states_t> states_;
@@ -187,6 +193,7 @@ class Harness {
   std::vector<sim_status_t> sim_status_;
   int world_sim_status_{0};
   std::size_t goals_{0};
+  std::vector<goals_t> goal_msgs_;
   std::size_t repeats_{0};
 };
 
@@ -588,6 +595,143 @@ TEST(WorldSimNode, AnEncounterNobodyResolvesEndsInStandstillWithoutContact) {
   EXPECT_EQ(fin->detail,
             "standstill: no agent moved more than 0.1 m for 5 s; the robot was navigating (at its "
             "goal), had said nothing");
+}
+
+// ---- issue 31: tracker model, withheld goals, recorded humans
+
+namespace issue31 {
+
+std::vector<std::string> trackerArgs() {
+  return {"--set", "tracker.position_sigma_m=0.05", "--set", "tracker.id_switches=1",
+          "--set", "tracker.id_switch_window_s=2"};
+}
+
+}  // namespace issue31
+
+TEST(WorldSimNode, TrackerNoiseFromTheConfigPublishesNoisyPositionsAndNewIds) {
+  // Given the same scenario run with the truth and with the tracker model set on the command
+  // line (sigma 5 cm, one id switch within the first 2 s).
+  Harness truth;
+  ASSERT_EQ(runWithParticipant(truth, "tiny_lockstep.yaml", Participant{}).exit_code, 0);
+  std::vector<std::string> bytes[2];
+  std::vector<agent_states_t> noisy;
+  std::vector<goals_t> goals;
+  for (auto& run : bytes) {
+    Harness h;
+    ASSERT_EQ(runWithParticipant(h, "tiny_lockstep.yaml", Participant{}, issue31::trackerArgs())
+                  .exit_code,
+              0);
+    run = h.stateBytes();
+    noisy = h.states();
+    goals = h.goalMessages();
+  }
+  // Then the run repeats to the byte with the tracker on too.
+  EXPECT_EQ(bytes[0], bytes[1]);
+  // And the world is the same (the tracker draws from streams of its own): the robot exactly,
+  // each human within 5 sigma of its true position, with a spread of about sigma.
+  ASSERT_EQ(noisy.size(), truth.states().size());
+  double sum2 = 0.0;
+  std::size_t n = 0;
+  std::set<std::int32_t> ids;
+  for (std::size_t k = 0; k < noisy.size(); ++k) {
+    SCOPED_TRACE(k);
+    const agent_states_t& a = truth.states()[k];
+    const agent_states_t& b = noisy[k];
+    EXPECT_EQ(b.robot.x_m, a.robot.x_m);
+    EXPECT_EQ(b.robot.y_m, a.robot.y_m);
+    ASSERT_EQ(b.num_humans, 1);
+    const double e =
+        std::hypot(b.humans[0].x_m - a.humans[0].x_m, b.humans[0].y_m - a.humans[0].y_m);
+    EXPECT_LT(e, 5 * 0.05 * std::sqrt(2.0));
+    sum2 += e * e;
+    ++n;
+    ids.insert(b.humans[0].id);
+  }
+  EXPECT_NEAR(std::sqrt(sum2 / static_cast<double>(n)), 0.05 * std::sqrt(2.0), 0.02);
+  // And the person was published under its own id, then under a new one from 1000 on.
+  EXPECT_EQ(ids, (std::set<std::int32_t>{1, 1000}));
+  EXPECT_EQ(noisy.front().humans[0].id, 1);
+  EXPECT_EQ(noisy.back().humans[0].id, 1000);
+  // And the goal of the new id is the person's goal.
+  ASSERT_FALSE(goals.empty());
+  const goals_t& last = goals.back();
+  ASSERT_EQ(last.num_goals, 2);
+  EXPECT_EQ(last.goals[1].agent_id, 1000);
+  EXPECT_DOUBLE_EQ(last.goals[1].x_m, 7.0);
+  EXPECT_DOUBLE_EQ(last.goals[1].y_m, 3.0);
+}
+
+TEST(WorldSimNode, WithheldHumanGoalsLeaveOnlyTheRobotsGoal) {
+  Harness h;
+  ASSERT_EQ(runWithParticipant(h, "tiny_lockstep.yaml", Participant{},
+                               {"--set", "publish_human_goals=false"})
+                .exit_code,
+            0);
+  ASSERT_FALSE(h.goalMessages().empty());
+  for (const goals_t& g : h.goalMessages()) {
+    ASSERT_EQ(g.num_goals, 1);
+    EXPECT_EQ(g.goals[0].agent_id, 0);
+    EXPECT_DOUBLE_EQ(g.goals[0].x_m, 4.0);
+  }
+  ASSERT_FALSE(h.states().empty());
+  EXPECT_EQ(h.states().back().num_humans, 1);  // the human is still published
+  // A bad value stops the daemon at start naming the key.
+  const auto [code, out] = runCapture("tiny_lockstep.yaml", "--set publish_human_goals=perhaps");
+  EXPECT_EQ(code, 2) << out;
+  EXPECT_NE(out.find("publish_human_goals"), std::string::npos) << out;
+  const auto [code2, out2] =
+      runCapture("tiny_lockstep.yaml", "--set tracker.miss_probability=-0.5");
+  EXPECT_EQ(code2, 2) << out2;
+  EXPECT_NE(out2.find("tracker.miss_probability"), std::string::npos) << out2;
+}
+
+TEST(WorldSimNode, AnUtteranceToASwitchedIdReachesThePerson) {
+  // Given the responsive human published under a new id from within the first 0.5 s, asked to
+  // move left under that id at step 5.
+  Harness h;
+  Participant p;
+  std::int32_t asked = -1;
+  p.before_command = [&](Harness& hh, const agent_states_t& s) {
+    if (s.step != 5) return;
+    asked = s.humans[0].id;
+    hh.sendAskToMove(s.step, s.utime, asked, situation_t::DIR_LEFT);
+  };
+  EXPECT_EQ(runWithParticipant(
+                h, "tiny_responsive.yaml", p,
+                {"--set", "tracker.id_switches=1", "--set", "tracker.id_switch_window_s=0.5"})
+                .exit_code,
+            0);
+  EXPECT_EQ(asked, 1000);
+  ASSERT_FALSE(h.states().empty());
+  // Then it yields to its left (-y), as when asked under its scenario id.
+  EXPECT_LT(h.states().back().humans[0].y_m, 3.0 - 0.5);
+}
+
+TEST(WorldSimNode, RecordedHumansReplayTheirTracks) {
+  // Given both walkers of a real encounter replayed (test/data/tracks), and a robot at its goal.
+  Harness h;
+  // Paced (10x real time): free-running as fast as the CPU allows, its bursts overflow the
+  // test's receive buffer.
+  ChildProcess sim(daemonPath("world_sim"),
+                   daemonArgs("recorded_zara01.yaml",
+                              {"--set", "mode=real_time", "--set", "real_time_factor=10"}));
+  ASSERT_TRUE(h.spinUntil([&] { return h.final() != nullptr; }, 60s));
+  EXPECT_EQ(sim.waitExit(5s), 0);
+  // Then they walk their tracks to their ends (walker a's lasts 12.8 s, b's 12.4 s) and the run
+  // ends with every goal reached, without contact.
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_GOAL_REACHED) << h.final()->detail;
+  EXPECT_EQ(h.final()->contact, sim_status_t::CONTACT_NONE);
+  EXPECT_GT(h.final()->utime, 12000000);
+  // At 6 s walker a is where its track puts it: its sample at 6.0 s, (-0.9171303, 10.9087), in
+  // the map frame (x, y) -> (22 - y, 3 + x), within 2 cm.
+  const auto it = std::find_if(h.states().begin(), h.states().end(),
+                               [](const agent_states_t& s) { return s.utime == 6000000; });
+  ASSERT_NE(it, h.states().end());
+  const agent_states_t& at6 = *it;
+  ASSERT_EQ(at6.num_humans, 2);
+  EXPECT_EQ(at6.humans[0].id, 1);
+  EXPECT_NEAR(at6.humans[0].x_m, 22.0 - 10.9087, 0.02);
+  EXPECT_NEAR(at6.humans[0].y_m, 3.0 - 0.9171303, 0.02);
 }
 
 }  // namespace

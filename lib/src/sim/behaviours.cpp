@@ -423,6 +423,8 @@ std::unique_ptr<HumanBehaviour> makeModel(const BehaviourConfig& config,
       }
       return std::make_unique<FacilitatingBehaviour>(config.facilitating, std::move(planner));
     }
+    case BehaviourType::kRecorded:
+      return makeRecordedBehaviour(config.recorded);
   }
   throw std::invalid_argument("unknown behaviour type");
 }
@@ -518,19 +520,21 @@ const char* toString(BehaviourType t) {
       return "responsive";
     case BehaviourType::kFacilitating:
       return "facilitating";
+    case BehaviourType::kRecorded:
+      return "recorded";
   }
   return "?";
 }
 
 std::vector<std::string> behaviourTypeNames() {
-  return {"minimal",           "oblivious",  "social_force",
-          "late_facilitating", "responsive", "facilitating"};
+  return {"minimal",    "oblivious",    "social_force", "late_facilitating",
+          "responsive", "facilitating", "recorded"};
 }
 
 bool parseBehaviourType(const std::string& s, BehaviourType& out) {
   for (auto t : {BehaviourType::kMinimal, BehaviourType::kOblivious, BehaviourType::kSocialForce,
                  BehaviourType::kLateFacilitating, BehaviourType::kResponsive,
-                 BehaviourType::kFacilitating}) {
+                 BehaviourType::kFacilitating, BehaviourType::kRecorded}) {
     if (s == toString(t)) {
       out = t;
       return true;
@@ -542,8 +546,9 @@ bool parseBehaviourType(const std::string& s, BehaviourType& out) {
 std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory) {
   std::unique_ptr<HumanBehaviour> model = makeModel(config, planner_factory);
-  // Only the oblivious human walks into a robot in its way.
-  if (config.type == BehaviourType::kOblivious) return model;
+  // Only the oblivious human walks into a robot in its way; a recorded one is a replay.
+  if (config.type == BehaviourType::kOblivious || config.type == BehaviourType::kRecorded)
+    return model;
   return std::make_unique<BodyCheckedBehaviour>(std::move(model), config.body_check);
 }
 

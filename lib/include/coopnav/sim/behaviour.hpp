@@ -16,6 +16,7 @@
 
 #include "coopnav/distance/distance_map.hpp"
 #include "coopnav/geometry/types.hpp"
+#include "coopnav/sim/recorded.hpp"
 
 namespace coopnav::sim {
 
@@ -244,10 +245,11 @@ enum class BehaviourType : std::uint8_t {
   kLateFacilitating,
   kResponsive,
   kFacilitating,
+  kRecorded,  ///< replays a recorded track (recorded.hpp); ignores the robot
 };
 
 /// Scenario spelling of a type: minimal, oblivious, social_force, late_facilitating,
-/// responsive, facilitating.
+/// responsive, facilitating, recorded.
 const char* toString(BehaviourType t);
 /// Parses the scenario spelling; false when unknown.
 bool parseBehaviourType(const std::string& s, BehaviourType& out);
@@ -263,7 +265,8 @@ struct BehaviourConfig {
   LateFacilitatingParams late_facilitating;
   ResponsiveParams responsive;
   FacilitatingParams facilitating;
-  BodyCheckParams body_check;  ///< every type but kOblivious
+  RecordedParams recorded;
+  BodyCheckParams body_check;  ///< every type but kOblivious and kRecorded
 };
 
 /// Plans a human's motion with an external planner (the planner-backed facilitating mode).
@@ -278,8 +281,9 @@ class HumanPlannerAdapter {
 using PlannerAdapterFactory =
     std::function<std::unique_ptr<HumanPlannerAdapter>(const FacilitatingParams&)>;
 
-/// Creates a behaviour; every type but kOblivious with the body check (body_check.hpp) on its
-/// desired velocity. Throws std::invalid_argument for planner: band without an adapter factory.
+/// Creates a behaviour; every type but kOblivious and kRecorded with the body check
+/// (body_check.hpp) on its desired velocity. Throws std::invalid_argument for planner: band without
+/// an adapter factory.
 std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory = {});
 

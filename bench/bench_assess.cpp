@@ -3,24 +3,32 @@
 // (the path includes the batched SIDE-query round trip to the server), beside a bare LCM echo of
 // the same bytes measured in the same run, interleaved so machine load hits both alike.
 //
+// Also: the cost of goal inference (lib/planning/goal_inference.hpp) per cycle, for 1 and 20
+// humans on open.pgm's corridors (candidates from the map, geodesic distance fields);
+// `bench_assess --goals-only` runs only that part (no processes, no network).
+//
 // Executables come from the build tree: $COOPNAV_BUILD_DIR, else the directory above this binary
 // (build/bench/bench_assess -> build/), else the configure-time build dir. Isolated port 7950.
-#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "bench_util.hpp"
 #include "coopnav/channels.hpp"
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/planning/goal_inference.hpp"
 #include "coopnav/situation_t.hpp"
+#include "maps/map_loader.hpp"
 #include "wire/conversions.hpp"
 
 namespace {
@@ -39,7 +47,7 @@ std::string buildDir() {
   if (n > 0) {
     std::string exe(buf, static_cast<std::size_t>(n));
     const auto bench_dir = exe.substr(0, exe.rfind('/'));
-    const auto root = bench_dir.substr(0, bench_dir.rfind('/'));
+    auto root = bench_dir.substr(0, bench_dir.rfind('/'));
     if (::access((root + "/daemons").c_str(), F_OK) == 0) return root;
   }
   return COOPNAV_BINARY_DIR;
@@ -97,12 +105,85 @@ double echoRoundTrip(lcm::LCM& lcm, Sink& sink, const std::vector<std::uint8_t>&
   return -1.0;
 }
 
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+/// Goal inference on map_yaml: prints the set-up costs and the per-cycle cost of
+/// GoalBelief::observe for 1 and 20 humans; returns the 20-human median [us per human].
+double benchGoalInference(const std::string& map_yaml) {
+  auto t0 = Clock::now();
+  const auto field = std::make_shared<GridDistanceField>(loadMap(map_yaml).grid);
+  std::printf("goal inference: map %s loaded in %.1f ms\n", map_yaml.c_str(), msSince(t0));
+  t0 = Clock::now();
+  std::vector<Eigen::Vector2d> goals = mapGoalCandidates(*field);
+  const double candidates_ms = msSince(t0);
+  const std::size_t from_map = goals.size();
+  // open.pgm's hall has no dead end and no opening: the configured list (the paper scenarios'
+  // start and goal poses, README of the maps) supplies the goals, as COOPNAV_GOALS would.
+  for (const Eigen::Vector2d& g :
+       {Eigen::Vector2d(6.5, 6.5), Eigen::Vector2d(20.5, 6.5), Eigen::Vector2d(15.5, 1.575),
+        Eigen::Vector2d(29.5, 1.575), Eigen::Vector2d(4.0, 4.0), Eigen::Vector2d(37.0, 5.0)})
+    goals.push_back(g);
+  t0 = Clock::now();
+  const auto distances = std::make_shared<GoalDistances>(field, goals);
+  const double fields_ms = msSince(t0);
+  std::printf(
+      "goal inference: %zu map candidates in %.1f ms, %zu goals in all, distance fields in %.1f "
+      "ms:",
+      from_map, candidates_ms, goals.size(), fields_ms);
+  for (const auto& g : goals) std::printf(" (%.2f, %.2f)", g.x(), g.y());
+  std::printf("\n");
+
+  constexpr int kCycles = 2000;
+  constexpr double kDt_s = 0.1;
+  double us_per_human_20 = 0.0;
+  for (const int humans : {1, 20}) {
+    // Walkers along the two corridors, both directions, spread along x.
+    std::vector<GoalBelief> beliefs;
+    std::vector<Eigen::Vector2d> start;
+    std::vector<double> phase;
+    for (int h = 0; h < humans; ++h) {
+      beliefs.emplace_back(distances);
+      start.emplace_back(14.0 + 0.9 * h, h % 2 == 0 ? 6.5 : 1.6);
+      phase.push_back(0.7 * h);
+    }
+    std::vector<double> cycle_us;
+    cycle_us.reserve(kCycles);
+    int sink = 0;
+    for (int c = 0; c < kCycles; ++c) {
+      const double t = c * kDt_s;
+      const auto c0 = Clock::now();
+      for (int h = 0; h < humans; ++h) {
+        // Walking back and forth along the corridor at up to 1 m/s (every step a real one).
+        const double x = 4.0 * std::sin(0.25 * t + phase[h]);
+        beliefs[h].observe(t, start[h] + Eigen::Vector2d(x, 0.0));
+        sink += beliefs[h].mostLikely();
+      }
+      cycle_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - c0).count());
+    }
+    const double p50 = coopnav::bench::percentile(cycle_us, 0.5);
+    const double p99 = coopnav::bench::percentile(cycle_us, 0.99);
+    std::printf(
+        "goal inference, %2d human(s), %zu goals: cycle p50 %.2f us, p99 %.2f us, %.3f us per "
+        "human (checksum %d)\n",
+        humans, goals.size(), p50, p99, p50 / humans, sink);
+    if (humans == 20) us_per_human_20 = p50 / humans;
+  }
+  return us_per_human_20;
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char** argv) {
   const std::string build = buildDir();
   const std::string map = std::string(COOPNAV_SOURCE_DIR) + "/test/data/maps/open.yaml";
   std::printf("build dir %s, url %s\n", build.c_str(), kBenchUrl);
+  const double goal_us = benchGoalInference(map);
+  if (argc > 1 && std::string(argv[1]) == "--goals-only") {  // no processes, no network
+    std::printf("RESULT goal_inference_us_per_human %.3f\n", goal_us);
+    return 0;
+  }
 
   // One human crossing the robot in the bottom corridor of open.pgm, 10 s bands at 0.1 s.
   BandsSnapshot snap;
@@ -182,5 +263,6 @@ int main() {
   std::printf("RESULT assess_latency_p50_ms %.3f\n", a50);
   std::printf("RESULT assess_latency_p99_ms %.3f\n", a99);
   std::printf("RESULT assess_latency_ratio_vs_echo %.2f\n", a50 / e50);
+  std::printf("RESULT goal_inference_us_per_human %.3f\n", goal_us);
   return lost > 0 && assess_us.empty() ? 1 : 0;
 }

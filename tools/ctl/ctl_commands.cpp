@@ -5,8 +5,10 @@
 #include <iostream>
 #include <optional>
 
+#include "goals.hpp"
 #include "log_reader.hpp"
 #include "pedestrians.hpp"
+#include "pedestrians_daemon.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
 #include "svg_figures.hpp"
@@ -25,6 +27,8 @@ struct LogCommandOptions {
   CLI::App* summary_figures{nullptr};
   CLI::App* pedestrians{nullptr};
   CLI::App* calibrate{nullptr};
+  CLI::App* goals{nullptr};
+  std::optional<double> goals_beta_per_m;  // goals: fit leave-one-sequence-out unless given
   std::string log;
   std::string scenario;
   std::string out;
@@ -38,8 +42,12 @@ struct LogCommandOptions {
   std::vector<std::string> inputs;
   // pedestrians: the paper profile unless given (γ 0.98 per 0.1 s sample, τ 0.4 m, path side).
   std::optional<double> gamma_per_s;
-  double tau_m{0.4};
-  std::string side_rule{"path_side"};
+  std::optional<double> tau_m;
+  std::optional<std::string> side_rule;
+  std::string window{"round1"};
+  double lead_s{2.0};
+  bool daemon{false};
+  ctl::DaemonRunOptions daemon_options;
 };
 
 LogCommandOptions& opts() {
@@ -138,18 +146,51 @@ int cmTableCommand() {
 
 int pedestriansCommand() {
   const auto& o = opts();
+  ctl::WindowSetting window;
+  window.kind = ctl::windowKindFromString(o.window).value_or(window.kind);
+  window.lead_s = o.lead_s;
+  const auto pairs = ctl::loadPedestrianPairs(o.log);
+  if (o.daemon) {
+    // The daemon runs with its config file; the settings given here become its --set overrides.
+    ctl::DaemonRunOptions d = o.daemon_options;
+    std::vector<std::string> sets;
+    char buf[64];
+    if (o.gamma_per_s) {
+      std::snprintf(
+          buf, sizeof buf, "gamma=%.17g",
+          ctl::gammaPerSample(*o.gamma_per_s, assessment::PathAssessorConfig{}.sample_period_s));
+      sets.emplace_back(buf);
+    }
+    if (o.tau_m) {
+      std::snprintf(buf, sizeof buf, "tau_m=%.17g", *o.tau_m);
+      sets.emplace_back(buf);
+    }
+    if (o.side_rule) sets.push_back("side_rule=" + *o.side_rule);
+    d.overrides.insert(d.overrides.begin(), sets.begin(), sets.end());
+    const auto r = ctl::runPedestriansThroughDaemon(pairs, window, d);
+    std::cout << ctl::formatDaemonRun(r, window);
+    return r.sample_mismatches == 0 && r.max_abs_dcm_m <= ctl::kDaemonAgreementM ? 0 : 1;
+  }
   assessment::PathAssessorConfig config;  // γ 0.98 per sample exactly when no --gamma-per-s
   if (o.gamma_per_s) config.gamma = ctl::gammaPerSample(*o.gamma_per_s, config.sample_period_s);
-  config.tau_m = o.tau_m;
-  config.side_rule = assessment::sideRuleFromString(o.side_rule).value_or(config.side_rule);
-  const auto e = ctl::evaluateWalkers(ctl::loadPedestrianPairs(o.log), config);
+  config.tau_m = o.tau_m.value_or(config.tau_m);
+  if (o.side_rule)
+    config.side_rule = assessment::sideRuleFromString(*o.side_rule).value_or(config.side_rule);
+  const auto e = ctl::evaluateWalkers(pairs, config, window);
   std::cout << ctl::formatPedestrianEvaluation(
-      e, o.gamma_per_s.value_or(std::pow(config.gamma, 1.0 / config.sample_period_s)));
+      e, o.gamma_per_s.value_or(std::pow(config.gamma, 1.0 / config.sample_period_s)), window);
   return 0;
 }
 
 int calibrateCommand() {
   std::cout << ctl::formatCalibration(ctl::calibrate(ctl::loadPedestrianPairs(opts().log)));
+  return 0;
+}
+
+int goalsCommand() {
+  const auto& o = opts();
+  std::cout << ctl::formatGoalReport(
+      ctl::evaluateGoalReport(ctl::loadPedestrianPairs(o.log), o.goals_beta_per_m));
   return 0;
 }
 
@@ -208,10 +249,41 @@ void addCtlCommands(CLI::App& app) {
   o.pedestrians->add_option("--tau", o.tau_m, "tau [m] (default 0.4)");
   o.pedestrians->add_option("--side-rule", o.side_rule, "CA sign rule (default path_side)")
       ->check(CLI::IsMember({"path_side", "human_side"}));
+  o.pedestrians
+      ->add_option("--window", o.window,
+                   "where the CM window starts: round1 (t0, the paper's), onset (the walker's "
+                   "avoidance onset), lead (--lead-s before the closest approach)")
+      ->check(CLI::IsMember({"round1", "onset", "lead"}));
+  o.pedestrians->add_option("--lead-s", o.lead_s, "lead window length [s] (default 2)")
+      ->check(CLI::PositiveNumber);
+  o.pedestrians->add_flag("--daemon", o.daemon,
+                          "run the walkers through a spawned coopnav_path_assessor over LCM and "
+                          "compare with the in-process replay (exit 1 when they differ)");
+  auto& d = o.daemon_options;
+  o.pedestrians->add_option("--path-assessor", d.path_assessor,
+                            "--daemon: the daemon binary (default: the build tree's)");
+  o.pedestrians
+      ->add_option("--profile", d.profile,
+                   "--daemon: config/path_assessor.yaml (paper) or "
+                   "config/path_assessor_calibrated.yaml (calibrated)")
+      ->check(CLI::IsMember({"paper", "calibrated"}));
+  o.pedestrians->add_option("--config", d.config_path, "--daemon: the daemon's config file");
+  o.pedestrians->add_option("--set", d.overrides, "--daemon: key=value for the daemon (repeatable)")
+      ->allow_extra_args(false);
+  o.pedestrians->add_option(
+      "--lcm-url", d.lcm_url,
+      std::string("--daemon: a private LCM URL (default ") + ctl::kPedestrianDaemonUrl + ")");
 
   o.calibrate = app.add_subcommand(
-      "calibrate", "fit gamma, tau and the side rule on pedestrian pairs (leave one sequence out)");
+      "calibrate",
+      "fit gamma, tau, the side rule and the window on pedestrian pairs (leave one sequence out)");
   o.calibrate->add_option("pairs", o.log, "headon_pairs.json")->required();
+
+  o.goals = app.add_subcommand(
+      "goals", "score goal inference (most likely exit at t_cross - 3 s) on pedestrian pairs");
+  o.goals->add_option("pairs", o.log, "headon_pairs.json")->required();
+  o.goals->add_option("--beta-per-m", o.goals_beta_per_m, "beta [1/m] (default: fit by sequence)")
+      ->check(CLI::PositiveNumber);
 }
 
 int runCtlCommands(CLI::App&, const std::string&) {
@@ -224,6 +296,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.summary_figures) return summaryFiguresCommand();
   if (*o.pedestrians) return pedestriansCommand();
   if (*o.calibrate) return calibrateCommand();
+  if (*o.goals) return goalsCommand();
   return 2;
 }
 

@@ -104,25 +104,21 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 // ---- replay -----------------------------------------------------------------------------------
 
-struct Replay {
-  WalkerResult walker;
-  std::vector<double> ca_m;  // interaction CA (for γ sweeps without replaying)
-};
-
 // One walker as the human, the other as the robot.
-Replay replayWalker(const PedestrianPair& p, std::size_t pair_index, bool a_is_human,
-                    const PathAssessorConfig& config) {
+WalkerRun planWalkerRun(const PedestrianPair& p, std::size_t pair_index, bool a_is_human,
+                        const WindowSetting& window) {
   const PedestrianTrack& human = a_is_human ? p.a : p.b;
   const PedestrianTrack& robot = a_is_human ? p.b : p.a;
   const double* h = a_is_human ? p.heading_a : p.heading_b;
   const Eigen::Vector2d u(h[0], h[1]);
 
-  Replay r;
-  WalkerResult& w = r.walker;
+  WalkerRun run;
+  WalkerResult& w = run.walker;
   w.pair_index = pair_index;
   w.ds = p.ds;
   w.id = human.id;
   w.other_id = robot.id;
+  w.t_cross_s = p.t_cross_s;
 
   // Loading checked that both tracks cover [t0_s, t_cross_s].
   const Eigen::Vector2d h0 = *positionAt(human, p.t0_s);
@@ -133,31 +129,71 @@ Replay replayWalker(const PedestrianPair& p, std::size_t pair_index, bool a_is_h
   w.dev_away_m = w.other_offset_m > 0.0   ? -w.lateral_m
                  : w.other_offset_m < 0.0 ? w.lateral_m
                                           : std::abs(w.lateral_m);
+  run.reference = Path2{h0, h0 + kReferenceLengthM * u};
+  run.stop_t_s = p.t_cross_s;
 
-  PathRecorder rec(config);
-  rec.start(p.t0_s, Path2{h0, h0 + kReferenceLengthM * u});
   for (std::size_t i = 0; i < human.t_s.size(); ++i) {
     const double t = human.t_s[i];
     if (t < p.t0_s - kTimeTolS || t > p.t_cross_s + kTimeTolS) continue;
     const auto rp = positionAt(robot, t);
     if (!rp) continue;
-    rec.observe(t, Eigen::Vector2d(human.x_m[i], human.y_m[i]), *rp);
+    run.observations.push_back({t, Eigen::Vector2d(human.x_m[i], human.y_m[i]), *rp});
   }
-  rec.stop(p.t_cross_s);
-  const auto snap = rec.snapshot();
-  w.cm_m = snap.cm_interaction_m;
-  w.samples = snap.interaction_samples;
-  r.ca_m = rec.interactionCa();
-  return r;
+
+  std::vector<double> ts;
+  std::vector<Eigen::Vector2d> ps;
+  for (const auto& o : run.observations) {
+    ts.push_back(o.t_s);
+    ps.push_back(o.human_m);
+  }
+  const auto onset = detectAvoidanceOnset(ts, ps, h0, u);
+  if (onset) w.onset_t_s = onset->onset_t_s;
+
+  // The first observation at or before `t_s` (at least the first: the human must be known).
+  const auto lastAtOrBefore = [&](double t_s) {
+    std::size_t k = 0;
+    while (k + 1 < run.observations.size() && run.observations[k + 1].t_s <= t_s + kTimeTolS) ++k;
+    return k;
+  };
+  switch (window.kind) {
+    case WindowKind::kRound1:
+      w.window_start_s = p.t0_s;
+      run.start_after = lastAtOrBefore(p.t0_s);
+      break;
+    case WindowKind::kLead:
+      w.window_start_s = std::max(p.t0_s, p.t_cross_s - window.lead_s);
+      run.start_after = lastAtOrBefore(w.window_start_s);
+      break;
+    case WindowKind::kOnset:
+      if (onset) {
+        w.window_start_s = onset->onset_t_s;
+        run.start_after = onset->detected_index;
+      } else {
+        w.window_start_s = p.t0_s;
+        run.start_after = lastAtOrBefore(p.t0_s);
+      }
+      break;
+  }
+  return run;
 }
 
+struct Replay {
+  WalkerResult walker;
+  std::vector<double> ca_m;  // interaction CA (for γ sweeps without replaying)
+};
+
 std::vector<Replay> replayAll(const std::vector<PedestrianPair>& pairs,
-                              const PathAssessorConfig& config) {
+                              const PathAssessorConfig& config, const WindowSetting& window) {
   std::vector<Replay> out;
   out.reserve(2 * pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    out.push_back(replayWalker(pairs[i], i, true, config));
-    out.push_back(replayWalker(pairs[i], i, false, config));
+  for (auto& run : planWalkerRuns(pairs, window)) {
+    RunOutcome o = replayRun(run, config);
+    Replay r;
+    r.walker = std::move(run.walker);
+    r.walker.cm_m = o.cm_m;
+    r.walker.samples = o.samples;
+    r.ca_m = std::move(o.ca_m);
+    out.push_back(std::move(r));
   }
   return out;
 }
@@ -166,8 +202,9 @@ double ratio(std::size_t num, std::size_t den) {
   return den == 0 ? kNaN : static_cast<double>(num) / static_cast<double>(den);
 }
 
-// Fills the metrics of e from e.walkers (pairs as consecutive walkers a, b) and e.config.tau_m.
-void score(PedestrianEvaluation& e) {
+}  // namespace
+
+void scoreEvaluation(PedestrianEvaluation& e) {
   const double tau_m = e.config.tau_m;
   e.pairs_judged = e.pairs_ranked_right = e.walkers_judged = 0;
   e.true_positive = e.false_positive = e.false_negative = e.true_negative = 0;
@@ -198,12 +235,15 @@ void score(PedestrianEvaluation& e) {
   e.auc = population::mannWhitneyAuc(pos_cm, neg_cm);
 }
 
+namespace {
+
 CalibrationScore scoreOf(const PedestrianEvaluation& e) {
   CalibrationScore s;
   s.ranking = e.ranking;
   s.agreement = e.agreement;
   s.objective = 0.5 * ((std::isnan(e.ranking) ? 0.0 : e.ranking) +
                        (std::isnan(e.agreement) ? 0.0 : e.agreement));
+  s.auc = e.auc;
   return s;
 }
 
@@ -212,48 +252,62 @@ struct Fit {
   CalibrationScore score;
 };
 
-// Grid search on `pairs`: CA is replayed once per side rule (γ and τ do not change it).
-Fit gridSearch(const std::vector<PedestrianPair>& pairs, const PathAssessorConfig& base) {
+// Grid search on `pairs`, per window of calibrationWindows() (in that order): CA is replayed once
+// per window and side rule (γ and τ do not change it).
+std::vector<Fit> gridSearchPerWindow(const std::vector<PedestrianPair>& pairs,
+                                     const PathAssessorConfig& base) {
   const SideRule rules[] = {SideRule::kPathSide, SideRule::kHumanSide};
-  std::vector<std::vector<Replay>> replays;
-  for (const SideRule rule : rules) {
-    PathAssessorConfig c = base;
-    c.side_rule = rule;
-    replays.push_back(replayAll(pairs, c));
-  }
-  Fit best;
-  bool have = false;
-  for (const double gamma_per_s : calibrationGammasPerS()) {
-    for (std::size_t r = 0; r < 2; ++r) {
-      PedestrianEvaluation e;
-      e.config = settingConfig({gamma_per_s, rules[r], 0.0}, base);
-      for (const auto& rep : replays[r]) {
-        e.walkers.push_back(rep.walker);
-        e.walkers.back().cm_m = assessment::discountedMean(rep.ca_m, e.config.gamma);
-      }
-      for (const double tau_m : calibrationTausM()) {
-        e.config.tau_m = tau_m;
-        score(e);
-        const CalibrationScore s = scoreOf(e);
-        // Within one γ and side rule, a tie goes to the larger τ: where the walkers cannot tell
-        // the thresholds apart, the verdict that claims cooperation less often (the robot then
-        // keeps its own margin rather than count on the human).
-        const bool same_curve =
-            have && best.setting.gamma_per_s == gamma_per_s && best.setting.side_rule == rules[r];
-        if (!have || s.objective > best.score.objective ||
-            (same_curve && s.objective == best.score.objective)) {
-          best = {{gamma_per_s, rules[r], tau_m}, s};
-          have = true;
+  std::vector<Fit> fits;
+  for (const WindowSetting& window : calibrationWindows()) {
+    std::vector<std::vector<Replay>> replays;
+    for (const SideRule rule : rules) {
+      PathAssessorConfig c = base;
+      c.side_rule = rule;
+      replays.push_back(replayAll(pairs, c, window));
+    }
+    Fit best;
+    bool have = false;
+    for (const double gamma_per_s : calibrationGammasPerS()) {
+      for (std::size_t r = 0; r < 2; ++r) {
+        PedestrianEvaluation e;
+        e.config = settingConfig({gamma_per_s, rules[r], 0.0, window}, base);
+        for (const auto& rep : replays[r]) {
+          e.walkers.push_back(rep.walker);
+          e.walkers.back().cm_m = assessment::discountedMean(rep.ca_m, e.config.gamma);
+        }
+        for (const double tau_m : calibrationTausM()) {
+          e.config.tau_m = tau_m;
+          scoreEvaluation(e);
+          const CalibrationScore s = scoreOf(e);
+          // Within one γ and side rule, a tie goes to the larger τ: where the walkers cannot
+          // tell the thresholds apart, the verdict that claims cooperation less often (the robot
+          // then keeps its own margin rather than count on the human).
+          const bool same_curve =
+              have && best.setting.gamma_per_s == gamma_per_s && best.setting.side_rule == rules[r];
+          if (!have || s.objective > best.score.objective ||
+              (same_curve && s.objective == best.score.objective)) {
+            best = {{gamma_per_s, rules[r], tau_m, window}, s};
+            have = true;
+          }
         }
       }
     }
+    fits.push_back(best);
   }
+  return fits;
+}
+
+// The best of the per-window fits; a tie keeps the earlier window (round 1, the paper's, first).
+Fit bestOf(const std::vector<Fit>& fits) {
+  Fit best = fits.front();
+  for (const Fit& f : fits)
+    if (f.score.objective > best.score.objective) best = f;
   return best;
 }
 
 CalibrationScore evaluateSetting(const std::vector<PedestrianPair>& pairs,
                                  const CalibrationSetting& s, const PathAssessorConfig& base) {
-  return scoreOf(evaluateWalkers(pairs, settingConfig(s, base)));
+  return scoreOf(evaluateWalkers(pairs, settingConfig(s, base), s.window));
 }
 
 std::string fmt(const char* format, double v) {
@@ -265,12 +319,13 @@ std::string fmt(const char* format, double v) {
 
 std::string settingText(const CalibrationSetting& s) {
   return "gamma_per_s " + fmt("%.4f", s.gamma_per_s) + ", side_rule " +
-         assessment::toString(s.side_rule) + ", tau " + fmt("%.3f", s.tau_m) + " m";
+         assessment::toString(s.side_rule) + ", tau " + fmt("%.3f", s.tau_m) + " m, window " +
+         toString(s.window);
 }
 
 std::string scoreText(const CalibrationScore& s) {
   return "ranking " + fmt("%.3f", s.ranking) + ", agreement " + fmt("%.3f", s.agreement) +
-         ", objective " + fmt("%.3f", s.objective);
+         ", objective " + fmt("%.3f", s.objective) + ", auc " + fmt("%.3f", s.auc);
 }
 
 }  // namespace
@@ -315,17 +370,97 @@ std::vector<PedestrianPair> loadPedestrianPairs(const std::string& path) {
   return pairs;
 }
 
+const char* toString(WindowKind k) {
+  switch (k) {
+    case WindowKind::kRound1:
+      return "round1";
+    case WindowKind::kOnset:
+      return "onset";
+    case WindowKind::kLead:
+      return "lead";
+  }
+  return "?";
+}
+
+std::optional<WindowKind> windowKindFromString(const std::string& name) {
+  for (const WindowKind k : {WindowKind::kRound1, WindowKind::kOnset, WindowKind::kLead})
+    if (name == toString(k)) return k;
+  return std::nullopt;
+}
+
+std::string toString(const WindowSetting& w) {
+  if (w.kind != WindowKind::kLead) return toString(w.kind);
+  return std::string("lead ") + fmt("%g", w.lead_s) + " s";
+}
+
+std::optional<AvoidanceOnset> detectAvoidanceOnset(const std::vector<double>& t_s,
+                                                   const std::vector<Eigen::Vector2d>& p_m,
+                                                   const Eigen::Vector2d& origin_m,
+                                                   const Eigen::Vector2d& heading,
+                                                   double threshold_m,
+                                                   double min_lateral_speed_m_s) {
+  const std::size_t n = std::min(t_s.size(), p_m.size());
+  std::vector<double> d;
+  d.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    d.push_back(cross(heading, p_m[i] - origin_m));
+    if (std::abs(d[i]) < threshold_m) continue;
+    // Sample i is the first beyond the threshold: walk back while the deviation on its side grew
+    // faster than a drift.
+    const double s = d[i] > 0.0 ? 1.0 : -1.0;
+    std::size_t j = i;
+    while (j > 0 && s * (d[j] - d[j - 1]) > min_lateral_speed_m_s * (t_s[j] - t_s[j - 1])) --j;
+    return AvoidanceOnset{t_s[j], t_s[i], i};
+  }
+  return std::nullopt;
+}
+
+std::vector<WalkerRun> planWalkerRuns(const std::vector<PedestrianPair>& pairs,
+                                      const WindowSetting& window) {
+  std::vector<WalkerRun> runs;
+  runs.reserve(2 * pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    runs.push_back(planWalkerRun(pairs[i], i, true, window));
+    runs.push_back(planWalkerRun(pairs[i], i, false, window));
+  }
+  return runs;
+}
+
+RunOutcome replayRun(const WalkerRun& run, const PathAssessorConfig& config) {
+  RunOutcome out;
+  if (run.observations.empty()) return out;
+  PathRecorder rec(config);
+  for (std::size_t i = 0; i < run.observations.size(); ++i) {
+    const auto& o = run.observations[i];
+    rec.observe(o.t_s, o.human_m, o.robot_m);
+    if (i == run.start_after) rec.start(run.walker.window_start_s, run.reference);
+  }
+  rec.stop(run.stop_t_s);
+  const auto snap = rec.snapshot();
+  out.cm_m = snap.cm_interaction_m;
+  out.samples = snap.interaction_samples;
+  out.ca_m = rec.interactionCa();
+  return out;
+}
+
 PedestrianEvaluation evaluateWalkers(const std::vector<PedestrianPair>& pairs,
-                                     const PathAssessorConfig& config) {
+                                     const PathAssessorConfig& config,
+                                     const WindowSetting& window) {
   PedestrianEvaluation e;
   e.config = config;
-  for (auto& r : replayAll(pairs, config)) e.walkers.push_back(std::move(r.walker));
-  score(e);
+  for (auto& r : replayAll(pairs, config, window)) e.walkers.push_back(std::move(r.walker));
+  scoreEvaluation(e);
   return e;
 }
 
 double gammaPerSample(double gamma_per_s, double sample_period_s) {
   return std::pow(gamma_per_s, sample_period_s);
+}
+
+std::vector<WindowSetting> calibrationWindows() {
+  std::vector<WindowSetting> w{{WindowKind::kRound1, 0.0}, {WindowKind::kOnset, 0.0}};
+  for (const double lead_s : {1.0, 2.0, 3.0, 4.0}) w.push_back({WindowKind::kLead, lead_s});
+  return w;
 }
 
 std::vector<double> calibrationGammasPerS() {
@@ -352,7 +487,7 @@ PathAssessorConfig settingConfig(const CalibrationSetting& setting,
 CalibrationResult calibrate(const std::vector<PedestrianPair>& pairs,
                             const PathAssessorConfig& base) {
   CalibrationResult r;
-  r.paper_setting = {std::pow(0.98, 10), SideRule::kPathSide, 0.4};
+  r.paper_setting = {std::pow(0.98, 10), SideRule::kPathSide, 0.4, {}};
   std::vector<std::string> sequences;
   for (const auto& p : pairs)
     if (std::find(sequences.begin(), sequences.end(), p.ds) == sequences.end())
@@ -368,27 +503,73 @@ CalibrationResult calibrate(const std::vector<PedestrianPair>& pairs,
       f.held_out_ds = ds;
       f.fit_pairs = fit_pairs.size();
       f.held_out_pairs = held_pairs.size();
-      const Fit fit = gridSearch(fit_pairs, base);
+      const std::vector<Fit> fits = gridSearchPerWindow(fit_pairs, base);
+      const Fit fit = bestOf(fits);
       f.setting = fit.setting;
       f.fit = fit.score;
       f.held_out = evaluateSetting(held_pairs, f.setting, base);
       f.paper_held_out = evaluateSetting(held_pairs, r.paper_setting, base);
+      for (const Fit& w : fits) {
+        f.window_settings.push_back(w.setting);
+        f.window_held_out.push_back(evaluateSetting(held_pairs, w.setting, base));
+      }
       r.folds.push_back(std::move(f));
     }
   }
-  const Fit all = gridSearch(pairs, base);
+  const std::vector<Fit> fits = gridSearchPerWindow(pairs, base);
+  const Fit all = bestOf(fits);
   r.final_setting = all.setting;
   r.final_score = all.score;
+  // calibrationWindows() starts with round 1: the window the dialogue manager STARTs at.
+  r.profile_setting = fits.front().setting;
+  r.profile_score = fits.front().score;
   r.paper_score = evaluateSetting(pairs, r.paper_setting, base);
+  for (const Fit& w : fits) {
+    CalibrationWindowResult wr;
+    wr.window = w.setting.window;
+    wr.fit = w.setting;
+    wr.fit_score = w.score;
+    CalibrationSetting paper = r.paper_setting;
+    paper.window = wr.window;
+    wr.paper = evaluateSetting(pairs, paper, base);
+    r.windows.push_back(wr);
+  }
   return r;
 }
 
-std::string formatPedestrianEvaluation(const PedestrianEvaluation& e, double gamma_per_s) {
+namespace {
+
+std::string padded(std::string s, std::size_t width) {
+  if (s.size() < width) s.append(width - s.size(), ' ');
+  return s;
+}
+
+}  // namespace
+
+std::string formatPedestrianEvaluation(const PedestrianEvaluation& e, double gamma_per_s,
+                                       const WindowSetting& window) {
   std::ostringstream o;
   o << "settings: gamma " << fmt("%.6f", e.config.gamma) << " per "
     << fmt("%.3f", e.config.sample_period_s) << " s sample (" << fmt("%.4f", gamma_per_s)
     << " per s), tau " << fmt("%.3f", e.config.tau_m) << " m, side_rule "
-    << assessment::toString(e.config.side_rule) << "\n";
+    << assessment::toString(e.config.side_rule) << ", window " << toString(window) << "\n";
+  std::vector<double> onset_lead_s;  // how long before the closest approach the onsets were
+  for (const auto& w : e.walkers)
+    if (w.onset_t_s) onset_lead_s.push_back(w.t_cross_s - *w.onset_t_s);
+  std::sort(onset_lead_s.begin(), onset_lead_s.end());
+  o << "avoidance onsets (|d| >= " << fmt("%.2f", kOnsetThresholdM) << " m, growing faster than "
+    << fmt("%.2f", kOnsetMinLateralSpeedMS) << " m/s) of " << onset_lead_s.size()
+    << " walkers, before the closest approach by";
+  if (onset_lead_s.empty()) {
+    o << " -\n";
+  } else {
+    const auto q = [&](double f) {
+      return onset_lead_s[static_cast<std::size_t>(f *
+                                                   static_cast<double>(onset_lead_s.size() - 1))];
+    };
+    o << " " << fmt("%.1f", q(0.25)) << " / " << fmt("%.1f", q(0.5)) << " / "
+      << fmt("%.1f", q(0.75)) << " s (quartiles)\n";
+  }
   o << "walkers " << e.walkers.size() << " (with a CM " << e.walkers_judged << ")\n";
   o << "pairs judged " << e.pairs_judged
     << " (|dev_away_a - dev_away_b| >= " << fmt("%.2f", kRankingMinDifferenceM)
@@ -401,6 +582,7 @@ std::string formatPedestrianEvaluation(const PedestrianEvaluation& e, double gam
     << e.false_negative << ", TN " << e.true_negative << "\n";
   o << "RESULT pedestrians_pair_ranking " << fmt("%.4f", e.ranking) << "\n";
   o << "RESULT pedestrians_is_contributing_agreement " << fmt("%.4f", e.agreement) << "\n";
+  o << "RESULT pedestrians_auc " << fmt("%.4f", e.auc) << "\n";
   return o.str();
 }
 
@@ -414,14 +596,38 @@ std::string formatCalibration(const CalibrationResult& r) {
     o << "    held out " << scoreText(f.held_out) << "\n";
     o << "    paper    " << scoreText(f.paper_held_out) << "\n";
   }
-  o << "final fit (all pairs): " << settingText(r.final_setting) << "\n";
+  o << "per window (calibrated: the grid's best with that window on all pairs, in-sample; held "
+       "out: that window's fit without the sequence, scored on it; paper: gamma 0.98 per "
+       "sample, tau 0.4 m, path_side with that window):\n";
+  for (std::size_t i = 0; i < r.windows.size(); ++i) {
+    const auto& w = r.windows[i];
+    o << "  " << padded(toString(w.window), 9) << " calibrated " << scoreText(w.fit_score)
+      << " (gamma_per_s " << fmt("%.4f", w.fit.gamma_per_s) << ", "
+      << assessment::toString(w.fit.side_rule) << ", tau " << fmt("%.3f", w.fit.tau_m) << ")\n";
+    for (const auto& f : r.folds)
+      if (i < f.window_held_out.size())
+        o << "  " << padded("", 9) << " held out " << f.held_out_ds << " "
+          << scoreText(f.window_held_out[i]) << "\n";
+    o << "  " << padded("", 9) << " paper      " << scoreText(w.paper) << "\n";
+  }
+  o << "final fit (all pairs, any window): " << settingText(r.final_setting) << "\n";
   o << "  calibrated " << scoreText(r.final_score) << "\n";
+  o << "shipped profile (round-1 window, config/path_assessor_calibrated.yaml): "
+    << settingText(r.profile_setting) << "\n";
+  o << "  calibrated " << scoreText(r.profile_score) << "\n";
   o << "  paper      " << scoreText(r.paper_score) << " (" << settingText(r.paper_setting) << ")\n";
-  o << "RESULT pedestrians_calibrated_gamma_per_s " << fmt("%.4f", r.final_setting.gamma_per_s)
+  o << "RESULT pedestrians_calibrated_gamma_per_s " << fmt("%.4f", r.profile_setting.gamma_per_s)
     << "\n";
-  o << "RESULT pedestrians_calibrated_side_rule " << assessment::toString(r.final_setting.side_rule)
+  o << "RESULT pedestrians_calibrated_side_rule "
+    << assessment::toString(r.profile_setting.side_rule) << "\n";
+  o << "RESULT pedestrians_calibrated_tau_m " << fmt("%.3f", r.profile_setting.tau_m) << "\n";
+  const WindowSetting& best = r.final_setting.window;
+  o << "RESULT pedestrians_best_window "
+    << (best.kind == WindowKind::kLead ? "lead_" + fmt("%g", best.lead_s) + "s"
+                                       : std::string(toString(best.kind)))
     << "\n";
-  o << "RESULT pedestrians_calibrated_tau_m " << fmt("%.3f", r.final_setting.tau_m) << "\n";
+  o << "RESULT pedestrians_best_window_objective " << fmt("%.4f", r.final_score.objective) << "\n";
+  o << "RESULT pedestrians_round1_objective " << fmt("%.4f", r.profile_score.objective) << "\n";
   return o.str();
 }
 

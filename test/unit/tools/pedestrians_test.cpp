@@ -1,16 +1,18 @@
 // coopnav_ctl's pedestrian evaluation (tools/ctl/pedestrians.hpp): a hand-built head-on pair whose
-// truth is known, rejection of bad files, and the calibration on the real UCY pairs in
-// test/data/pedestrians.
+// truth is known, the window choices (avoidance onset, lead), rejection of bad files, and the
+// calibration on the real UCY pairs in test/data/pedestrians.
 #include "pedestrians.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -64,7 +66,7 @@ class PedestriansTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string write(const std::string& name, const std::string& text) const {
-    const auto p = (dir_ / name).string();
+    auto p = (dir_ / name).string();
     std::ofstream(p) << text;
     return p;
   }
@@ -103,6 +105,108 @@ TEST_F(PedestriansTest, SteppingWalkerRanksAboveStraightOne) {
     EXPECT_EQ(e.true_positive + e.false_negative, 1u);  // only a stepped >= 0.3 m away
     EXPECT_EQ(e.true_negative, 1u);
   }
+}
+
+// Given a walker's lateral deviations d(t) from its initial heading line (heading +x, origin 0).
+std::optional<AvoidanceOnset> onsetOf(const std::vector<double>& d_m, double dt_s = kDtS) {
+  std::vector<double> t;
+  std::vector<Eigen::Vector2d> p;
+  for (std::size_t i = 0; i < d_m.size(); ++i) {
+    t.push_back(dt_s * static_cast<double>(i));
+    p.emplace_back(1.3 * t.back(), d_m[i]);
+  }
+  return detectAvoidanceOnset(t, p, Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitX());
+}
+
+TEST(AvoidanceOnset, StraightWalkerHasNone) {
+  EXPECT_FALSE(onsetOf({0.0, 0.0, 0.01, -0.02, 0.03, 0.0, 0.05, 0.09}));
+  EXPECT_FALSE(onsetOf({}));
+}
+
+TEST(AvoidanceOnset, StartsWhereTheGrowthThatCrossedTheThresholdBegan) {
+  // Wobble, a dip, then a steady step to the right (negative d) from sample 4 on.
+  const auto o = onsetOf({0.0, 0.03, 0.04, 0.02, 0.03, -0.02, -0.06, -0.11, -0.2, -0.3});
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->detected_index, 7u);  // first |d| >= 0.1 m
+  EXPECT_DOUBLE_EQ(o->detected_t_s, 7 * kDtS);
+  EXPECT_DOUBLE_EQ(o->onset_t_s, 4 * kDtS);  // -d grew from sample 4 to 7
+  // Nothing after the detection is looked at: the same prefix gives the same onset.
+  const auto prefix = onsetOf({0.0, 0.03, 0.04, 0.02, 0.03, -0.02, -0.06, -0.11});
+  ASSERT_TRUE(prefix);
+  EXPECT_DOUBLE_EQ(prefix->onset_t_s, o->onset_t_s);
+}
+
+TEST(AvoidanceOnset, SlowDriftIsNotTheAvoidance) {
+  // 0.025 m/s of drift off the heading line, then a step at 0.1 m/s and more.
+  const auto o = onsetOf({0.0, 0.01, 0.02, 0.03, 0.04, 0.08, 0.13});
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->detected_index, 6u);
+  EXPECT_DOUBLE_EQ(o->onset_t_s, 4 * kDtS);
+}
+
+TEST(AvoidanceOnset, LeftStepAndAPauseInTheGrowth) {
+  // A step to the left that pauses (equal samples end the growth run).
+  const auto o = onsetOf({0.0, 0.02, 0.05, 0.05, 0.08, 0.12, 0.2});
+  ASSERT_TRUE(o);
+  EXPECT_EQ(o->detected_index, 5u);
+  EXPECT_DOUBLE_EQ(o->onset_t_s, 3 * kDtS);
+  // A deviation present from the first sample on is detected there, with the onset at it.
+  const auto at_once = onsetOf({0.15, 0.2});
+  ASSERT_TRUE(at_once);
+  EXPECT_EQ(at_once->detected_index, 0u);
+  EXPECT_DOUBLE_EQ(at_once->onset_t_s, 0.0);
+}
+
+TEST_F(PedestriansTest, WindowsStartAtOnsetAndLead) {
+  const auto pairs = loadPedestrianPairs(write("pair.json", dumpJson(syntheticPairJson())));
+  assessment::PathAssessorConfig config;  // paper profile: γ 0.98, τ 0.4 m, path side
+
+  // a's step begins at 2.4 s (d = -0.083 at 2.8 s, -0.167 at 3.2 s: detected there).
+  const auto onset = evaluateWalkers(pairs, config, {WindowKind::kOnset, 0.0});
+  ASSERT_EQ(onset.walkers.size(), 2u);
+  const auto& a = onset.walkers[0];
+  ASSERT_TRUE(a.onset_t_s);
+  EXPECT_NEAR(*a.onset_t_s, 2.4, 1e-9);
+  EXPECT_NEAR(a.window_start_s, 2.4, 1e-9);
+  EXPECT_EQ(a.samples, 37u);  // 2.4 .. 6.0 s every 0.1 s (START stamped 0.8 s in the past)
+  // b never deviates: no onset, the round-1 window.
+  const auto& b = onset.walkers[1];
+  EXPECT_FALSE(b.onset_t_s);
+  EXPECT_DOUBLE_EQ(b.window_start_s, 0.0);
+  EXPECT_EQ(b.samples, 61u);
+
+  const auto round1 = evaluateWalkers(pairs, config);
+  ASSERT_TRUE(round1.walkers[0].cm_m && a.cm_m);
+  // The window without the straight approach weighs the step more.
+  EXPECT_GT(*a.cm_m, *round1.walkers[0].cm_m);
+
+  const auto lead = evaluateWalkers(pairs, config, {WindowKind::kLead, 2.0});
+  EXPECT_DOUBLE_EQ(lead.walkers[0].window_start_s, 4.0);
+  EXPECT_EQ(lead.walkers[0].samples, 21u);  // 4.0 .. 6.0 s
+  EXPECT_EQ(lead.walkers[1].samples, 21u);
+  // A lead longer than the encounter starts at t0_s.
+  const auto long_lead = evaluateWalkers(pairs, config, {WindowKind::kLead, 10.0});
+  EXPECT_DOUBLE_EQ(long_lead.walkers[0].window_start_s, 0.0);
+  EXPECT_EQ(long_lead.walkers[0].samples, 61u);
+
+  // The plan both the in-process replay and the daemon runner follow: START after the
+  // observation the onset was detected at (3.2 s), stamped at the onset.
+  const auto runs = planWalkerRuns(pairs, {WindowKind::kOnset, 0.0});
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_NEAR(runs[0].observations[runs[0].start_after].t_s, 3.2, 1e-9);
+  EXPECT_EQ(runs[1].start_after, 0u);
+  EXPECT_EQ(runs[0].observations.size(), 16u);  // 0 .. 6 s every 0.4 s
+  EXPECT_DOUBLE_EQ(runs[0].stop_t_s, 6.0);
+}
+
+TEST(PedestrianWindows, NamesReadBack) {
+  for (const auto k : {WindowKind::kRound1, WindowKind::kOnset, WindowKind::kLead})
+    EXPECT_EQ(windowKindFromString(toString(k)), k);
+  EXPECT_FALSE(windowKindFromString("t0"));
+  EXPECT_EQ(toString(WindowSetting{WindowKind::kLead, 2.0}), "lead 2 s");
+  const auto windows = calibrationWindows();
+  ASSERT_FALSE(windows.empty());
+  EXPECT_EQ(windows.front().kind, WindowKind::kRound1);  // the paper's first: it wins ties
 }
 
 TEST_F(PedestriansTest, BadFilesAreRejectedWithFileAndReason) {
@@ -165,16 +269,30 @@ TEST(PedestriansRealData, CalibrationBeatsPaperProfileOnHeldOutSequences) {
   EXPECT_EQ(again.final_setting.gamma_per_s, r.final_setting.gamma_per_s);
   EXPECT_EQ(again.final_setting.side_rule, r.final_setting.side_rule);
   EXPECT_EQ(again.final_setting.tau_m, r.final_setting.tau_m);
+  EXPECT_EQ(again.final_setting.window.kind, r.final_setting.window.kind);
+  EXPECT_EQ(again.final_setting.window.lead_s, r.final_setting.window.lead_s);
 
-  // The shipped `calibrated` profile is this fit.
+  // The window search: one result per window, round 1 first; the paper profile with the round-1
+  // window is the paper score; any window's best is at most the overall best, and the shipped
+  // profile is the round-1 window's best.
+  ASSERT_EQ(r.windows.size(), calibrationWindows().size());
+  EXPECT_EQ(r.windows.front().window.kind, WindowKind::kRound1);
+  EXPECT_DOUBLE_EQ(r.windows.front().paper.objective, r.paper_score.objective);
+  for (const auto& w : r.windows) EXPECT_LE(w.fit_score.objective, r.final_score.objective);
+  EXPECT_EQ(r.profile_setting.window.kind, WindowKind::kRound1);
+  EXPECT_DOUBLE_EQ(r.profile_score.objective, r.windows.front().fit_score.objective);
+  for (const auto& f : r.folds) EXPECT_EQ(f.window_held_out.size(), r.windows.size());
+
+  // The shipped `calibrated` profile is the round-1 fit (the dialogue manager STARTs at round 1;
+  // `calibrate` prints the unrestricted winner beside it).
   const YAML::Node profile =
       YAML::LoadFile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_calibrated.yaml");
   const double period_s = profile["sample_period_s"].as<double>();
-  EXPECT_NEAR(profile["gamma"].as<double>(), gammaPerSample(r.final_setting.gamma_per_s, period_s),
-              1e-12);
-  EXPECT_DOUBLE_EQ(profile["tau_m"].as<double>(), r.final_setting.tau_m);
+  EXPECT_NEAR(profile["gamma"].as<double>(),
+              gammaPerSample(r.profile_setting.gamma_per_s, period_s), 1e-12);
+  EXPECT_DOUBLE_EQ(profile["tau_m"].as<double>(), r.profile_setting.tau_m);
   EXPECT_EQ(profile["side_rule"].as<std::string>(),
-            assessment::toString(r.final_setting.side_rule));
+            assessment::toString(r.profile_setting.side_rule));
 }
 
 }  // namespace

@@ -4,8 +4,9 @@
 # records an LCM log, and prints the transcript (what the robot said and did, when, and why);
 # then the CM table beside the paper's Table I. Writes runs/<timestamp>/ and runs/latest.
 #
-#   scripts/run.sh [--out DIR] [--no-build] [scenario.yaml ...]
-#   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml)
+#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated] [scenario.yaml ...]
+#   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml; --profile:
+#   the path assessment profile, config/path_assessor[_calibrated].yaml, default paper)
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 source "$COOPNAV_ROOT/scripts/scenario.sh"
 
@@ -16,7 +17,8 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
+    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) scenarios+=("$1"); shift ;;
   esac
@@ -29,6 +31,10 @@ fi
 for s in "${scenarios[@]}"; do
   [ -f "$s" ] || { echo "run.sh: no scenario file '$s'" >&2; exit 2; }
 done
+case "${COOPNAV_PROFILE:-paper}" in
+  paper | calibrated) ;;
+  *) echo "run.sh: --profile must be paper or calibrated, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
+esac
 
 if [ "$build" -eq 1 ]; then
   coopnav_install_deps

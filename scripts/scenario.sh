@@ -14,6 +14,9 @@
 #   COOPNAV_LOSS=0.1            each daemon on a port of its own, joined by coopnav_lossy_relay
 #                               dropping that fraction of every forwarded message (seed
 #                               COOPNAV_LOSS_SEED); the logger and the scripts hear everything
+#   COOPNAV_PROFILE=calibrated  the assessment profile (default paper): the path assessor runs
+#                               config/path_assessor_<profile>.yaml (paper: path_assessor.yaml)
+#                               and the dialogue manager acts on that profile's assessments
 #   COOPNAV_DAEMON_ARGS_<name>  extra arguments of that daemon or of world_sim (word-split),
 #                               e.g. --set k=v
 #   coopnav_scenario_hook       a function run while world_sim runs (in the foreground of the
@@ -39,6 +42,14 @@ coopnav_start_daemon() {  # NAME
   case "$d" in
     obstacle_distance_server | band_source)
       args=(-c "$_cn_cfg/$d.yaml" --set "map_file=$_cn_scenario") ;;
+    path_assessor)
+      if [ "${COOPNAV_PROFILE:-paper}" = paper ]; then
+        args=(-c "$_cn_cfg/$d.yaml")
+      else
+        args=(-c "$_cn_cfg/${d}_${COOPNAV_PROFILE}.yaml")
+      fi ;;
+    dialogue_manager)
+      args=(-c "$_cn_cfg/$d.yaml" --set "assessment_profile=${COOPNAV_PROFILE:-paper}") ;;
     *) args=(-c "$_cn_cfg/$d.yaml") ;;
   esac
   # The distance server keeps no state across requests: nothing to journal.

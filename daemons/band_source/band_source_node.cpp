@@ -128,6 +128,23 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
       "its dock mode, reference-path revisions and planner memory (bands and reference paths "
       "restart from the current poses)");
 
+  if (config_.goal_inference.enabled) {
+    const GoalInferenceYaml& gi = config_.goal_inference;
+    std::vector<Eigen::Vector2d> goals;
+    if (gi.map_candidates) goals = mapGoalCandidates(*map_, gi.candidate_options);
+    const std::size_t from_map = goals.size();
+    for (const auto& c : gi.candidates) goals.emplace_back(c.x_m, c.y_m);
+    if (goals.empty()) {
+      log().warn(
+          "band_source: goal_inference: no candidate goal (none from the map, none configured): "
+          "humans without a given goal get constant-velocity bands");
+    } else {
+      goal_distances_ = std::make_shared<const GoalDistances>(map_, goals, gi.options);
+      log().info("band_source: goal inference over {} candidate goals ({} from the map)",
+                 goals.size(), from_map);
+    }
+  }
+
   const auto& g = map_->grid();
   detail_ = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
             std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) + " m";
@@ -212,11 +229,15 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
 void BandSourceNode::onResync(std::int64_t utime) {
   log().warn(
       "band_source: agent states go on from utime {}: a new time base (throttle, "
-      "republication and planner-memory times restart from it)",
+      "republication and planner-memory times restart from it; goal beliefs restart)",
       utime);
   last_cycle_utime_.reset();
   if (last_refs_utime_) last_refs_utime_ = utime;
   if (planner_memory_check_utime_) planner_memory_check_utime_ = utime;
+  // A goal belief is a track in the old time base: later observations would be refused as older.
+  goal_beliefs_.clear();
+  goal_belief_recency_.clear();
+  inferred_goal_.clear();
   // The dock's hold timeout (dock.hold_timeout_s) is counted by the mode machine in message
   // time: after a resync backwards a hold ends when the human passes or a RESUME comes.
 }
@@ -391,6 +412,9 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
   };
+  // Humans the goals message gives no goal: the most likely inferred one (same step order as
+  // the reference paths: published first).
+  for (const auto& [id, goal] : inferGoals(s, human_goals, step)) human_goals.emplace(id, goal);
   std::set<std::int32_t> with_goal, without_goal;
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (const auto& h : s.humans) {
@@ -577,6 +601,54 @@ void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const P
   }
   step.publish(channels::kReferencePaths, toLcm(out));
   last_refs_utime_ = s.utime;
+}
+
+std::map<std::int32_t, Pose2> BandSourceNode::inferGoals(const AgentStatesSnapshot& s,
+                                                         const std::map<std::int32_t, Pose2>& given,
+                                                         StepNode::Step& step) {
+  std::map<std::int32_t, Pose2> planned;
+  if (!goal_distances_) return planned;
+  const double stamp_s = utimeToSeconds(s.utime);
+  const InputLimits& limits = runtime_.limits();
+  GoalEstimates out;
+  out.utime = s.utime;
+  out.step = s.step;
+  out.goals = goal_distances_->goals();
+  for (const auto& h : s.humans) {
+    if (given.count(h.id)) continue;
+    auto it = goal_beliefs_.find(h.id);
+    if (it == goal_beliefs_.end())
+      it = goal_beliefs_.emplace(h.id, GoalBelief(goal_distances_)).first;
+    goal_belief_recency_.touch(h.id, s.utime);
+    GoalBelief& b = it->second;
+    b.observe(stamp_s, h.pose.position());
+    const int best = b.mostLikely();
+    GoalEstimates::Human e;
+    e.agent_id = h.id;
+    e.most_likely = best;
+    e.walked_m = b.walkedLength_m();
+    e.observations = static_cast<std::int32_t>(
+        std::min<std::size_t>(b.observations(), std::numeric_limits<std::int32_t>::max()));
+    e.probability = b.probabilities();
+    out.humans.push_back(std::move(e));
+    if (best < 0 || b.walkedLength_m() < config_.goal_inference.min_walked_m) continue;
+    const Eigen::Vector2d& g = out.goals[static_cast<std::size_t>(best)];
+    planned[h.id] = {g.x(), g.y(), std::numeric_limits<double>::quiet_NaN()};
+    const auto was = inferred_goal_.find(h.id);
+    if (was == inferred_goal_.end() || was->second != best) {
+      log().info("band_source: human {} most likely walks to goal {} ({:.2f}, {:.2f}), p {:.2f}",
+                 h.id, best, g.x(), g.y(), b.probabilities()[static_cast<std::size_t>(best)]);
+      inferred_goal_[h.id] = best;
+    }
+  }
+  // A belief is of one track: an id gone for forget_after_s (or a flood of ids) loses it.
+  goal_belief_recency_.forgetOld(s.utime, limits.forget_after_s,
+                                 static_cast<std::size_t>(limits.max_ids), [this](std::int32_t id) {
+                                   goal_beliefs_.erase(id);
+                                   inferred_goal_.erase(id);
+                                 });
+  if (!out.humans.empty()) step.publish(channels::kGoalEstimates, toLcm(out));
+  return planned;
 }
 
 void BandSourceNode::boundPlannerMemory(const AgentStatesSnapshot& s, const PlanResult& r) {

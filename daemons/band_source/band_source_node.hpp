@@ -20,10 +20,12 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/planning/dock.hpp"
+#include "coopnav/planning/goal_inference.hpp"
 #include "coopnav/planning/room.hpp"
 #include "coopnav/planning/safety_guard.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "maps/map_source.hpp"
+#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -32,6 +34,47 @@
 #include "wire/dialogue.hpp"
 
 namespace coopnav {
+
+/// A configured candidate goal [m, world frame].
+struct GoalPointYaml {
+  double x_m{0.0};
+  double y_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    v("x_m", x_m, Range{-1e6, 1e6});
+    v("y_m", y_m, Range{-1e6, 1e6});
+  }
+};
+
+/// Goal inference for humans with no goal in COOPNAV_GOALS (lib/planning/goal_inference.hpp).
+struct GoalInferenceYaml {
+  /// false: such a human gets a constant-velocity band and no reference path (CoHAN's const_vel).
+  bool enabled{true};
+  /// Candidates from the map (openings, corridor ends) besides `candidates`.
+  bool map_candidates{true};
+  std::vector<GoalPointYaml> candidates;
+  GoalCandidateOptions candidate_options{};
+  GoalInferenceOptions options{};
+  /// [m] track walked before its most likely goal is planned with: a shorter track says too
+  /// little, and a goal flipping would flip the reference path (constant velocity until then).
+  double min_walked_m{1.0};
+
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled);
+    v("map_candidates", map_candidates);
+    v("candidates", candidates);
+    v("beta_per_m", options.beta_per_m, Range{1e-3, 100.0});
+    v("resolution_m", options.resolution_m, Range{0.02, 1.0});
+    v("agent_radius_m", options.agent_radius_m, Range{0.0, 2.0});
+    v("min_step_m", options.min_step_m, Range{0.0, 1.0});
+    v("reached_radius_m", options.reached_radius_m, Range{0.0, 10.0});
+    v("min_separation_m", candidate_options.min_separation_m, Range{0.1, 100.0});
+    v("opening_inset_m", candidate_options.opening_inset_m, Range{0.0, 5.0});
+    v("min_dead_end_length_m", candidate_options.min_dead_end_length_m, Range{0.0, 100.0});
+    v("min_walked_m", min_walked_m, Range{0.0, 100.0});
+  }
+};
 
 struct BandSourceConfig {
   /// The known map: the same file as the other map-loading daemons of a run.
@@ -56,6 +99,8 @@ struct BandSourceConfig {
   GuardOptionsYaml guard;
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
+  /// Goals of humans the goals message does not give.
+  GoalInferenceYaml goal_inference;
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -71,6 +116,7 @@ struct BandSourceConfig {
     v("dock", dock);
     v("guard", guard);
     v("planner", planner);
+    v("goal_inference", goal_inference);
     v("limits", limits);
   }
   void resolvePaths(const std::string& base_dir);
@@ -128,6 +174,11 @@ class BandSourceNode {
   void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
                              const std::set<std::int32_t>& with_goal, StepNode::Step& step);
   void notePlanTime(double ms);
+  /// Updates the goal belief of every human `given` has no goal for and returns the goals to plan
+  /// with (the most likely, once min_walked_m is walked); publishes the beliefs.
+  std::map<std::int32_t, Pose2> inferGoals(const AgentStatesSnapshot& s,
+                                           const std::map<std::int32_t, Pose2>& given,
+                                           StepNode::Step& step);
   /// Bounds the planner's per-agent memory (limits.max_ids, limits.forget_after_s).
   void boundPlannerMemory(const AgentStatesSnapshot& states, const PlanResult& result);
 
@@ -157,7 +208,13 @@ class BandSourceNode {
   std::map<std::int32_t, RefPath> refs_;                  ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;
-  std::set<std::int32_t> humans_unplanned_;  ///< beyond planner.max_planned_others
+  /// Goal inference (nullptr when disabled or without candidates): the candidates' distance
+  /// fields, one belief per human whose goal is inferred, forgotten like the planner's ids.
+  std::shared_ptr<const GoalDistances> goal_distances_;
+  std::map<std::int32_t, GoalBelief> goal_beliefs_;
+  IdRecency goal_belief_recency_;
+  std::map<std::int32_t, int> inferred_goal_;  ///< goal index planned with, per human (for logs)
+  std::set<std::int32_t> humans_unplanned_;    ///< beyond planner.max_planned_others
   /// Agent ids planned since the planner's memory was last cleared (it keeps a band and a path
   /// per id it ever planned), and the time of that clearing or of the last check for ids gone.
   std::set<std::int32_t> planner_ids_;

@@ -7,6 +7,7 @@
 #include <set>
 #include <vector>
 
+#include "coopnav/geometry/track_continuity.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/utterance_t.hpp"
@@ -190,7 +191,14 @@ void DialogueManagerNode::onSituation(const situation_t& msg) {
 void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
   fileInput(msg.step, msg.utime, kPathAssessor, channels::kPathAssessment,
             std::to_string(msg.human_id), [&]() -> Store {
-              return [this, id = msg.human_id, p = pathSnapshotFromLcm(msg)](StepInputs& b) {
+              dialogue::PathSnapshot p = pathSnapshotFromLcm(msg);
+              // Two profiles judge the same walk differently: acting on the other one's verdict
+              // would be acting on a τ and γ nobody configured here.
+              if (msg.profile != config_.assessment_profile)
+                throw RejectedMessage("path assessment of profile '" + msg.profile +
+                                      "'; this dialogue manager acts on '" +
+                                      config_.assessment_profile + "' (assessment_profile)");
+              return [this, id = msg.human_id, p](StepInputs& b) {
                 if (!b.paths.count(id) && b.paths.size() >= maxIds())
                   throw RejectedMessage("more than limits.max_ids path assessments in one step");
                 b.paths[id] = p;
@@ -284,8 +292,11 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
     const AgentStatesSnapshot& a = *in.agents;
     latest_agents_utime_ =
         latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
+    continueSwitchedIds(a);
     for (const auto& h : a.humans) {
       Tracked& t = tracked_[h.id];
+      t.position_m = h.pose.position();
+      t.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
       const bool was = t.crossed.crossed;
       t.crossed = dialogue::updateCrossed(t.crossed, h.pose, a.robot.pose.position(),
                                           config_.crossed_hysteresis_m);
@@ -323,6 +334,46 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
   // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
   // new, whose rounds start afresh. Ids never seen in the agent states age the same way.
   forgetStale(run);
+}
+
+void DialogueManagerNode::continueSwitchedIds(const AgentStatesSnapshot& agents) {
+  std::set<std::int32_t> here;
+  for (const auto& h : agents.humans) here.insert(h.id);
+  std::vector<LostTrack> lost;
+  for (const auto& [id, t] : tracked_) {
+    const auto h = humans_.find(id);
+    if (here.count(id) || h == humans_.end() || h->second.decision.ended()) continue;
+    lost.push_back({id, utimeToSeconds(t.last_seen_utime), t.position_m, t.velocity_m_s});
+  }
+  TrackContinuityOptions options;
+  options.max_gap_s = config_.human_gone_s;  // an absence this long ends the interaction anyway
+  for (const auto& h : agents.humans) {
+    if (lost.empty()) return;
+    if (tracked_.count(h.id) || humans_.count(h.id)) continue;  // not a new id
+    const auto old = continuedTrack(lost, utimeToSeconds(agents.utime), h.pose.position(), options);
+    if (!old) continue;
+    auto human = humans_.extract(*old);
+    human.key() = h.id;
+    humans_.insert(std::move(human));
+    auto tracked = tracked_.extract(*old);
+    tracked.key() = h.id;
+    tracked_.insert(std::move(tracked));
+    if (auto path = latest_path_.extract(*old)) {
+      path.key() = h.id;
+      latest_path_.insert(std::move(path));
+    }
+    if (history_unknown_.erase(*old)) history_unknown_.insert(h.id);
+    if (judge_absence_.erase(*old)) judge_absence_.insert(h.id);
+    present_.erase(*old);
+    heard_.erase(*old);
+    log().info(
+        "dialogue_manager: human {} continues human {} (a tracker id switch at utime {}): its "
+        "interaction goes on, no round repeated",
+        h.id, *old, agents.utime);
+    lost.erase(
+        std::remove_if(lost.begin(), lost.end(), [&](const LostTrack& l) { return l.id == *old; }),
+        lost.end());
+  }
 }
 
 void DialogueManagerNode::endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents) {

@@ -5,6 +5,7 @@
 /// path_assessor have acknowledged k (docs/lockstep.md row 4), then acknowledges k; free-running
 /// (step -1) it acts on each situation with the latest path assessment of that human.
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -67,6 +68,10 @@ struct DialogueManagerConfig {
   double human_gone_s{2.0};
   int gate_timeout_ms{2000};
   bool gate_wait_for_unseen{true};
+  /// The path assessment profile acted on (path_assessment_t.profile; config/path_assessor.yaml
+  /// is `paper`, config/path_assessor_calibrated.yaml `calibrated`): assessments of another
+  /// profile are rejected, so a path assessor started with the wrong file is noticed.
+  std::string assessment_profile{"paper"};
   TemplatesConfig templates;
   SpeechConfig speech;
 
@@ -82,6 +87,7 @@ struct DialogueManagerConfig {
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});
     v("gate_wait_for_unseen", gate_wait_for_unseen);
+    v("assessment_profile", assessment_profile, OneOf{{"paper", "calibrated", "custom"}});
     v("templates", templates);
     v("speech", speech);
     v.require(round2_t_cross_s < round1_t_cross_s, "round2_t_cross_s",
@@ -132,8 +138,13 @@ class DialogueManagerNode {
   };
   struct Tracked {
     dialogue::CrossedTracker crossed;
-    std::int64_t last_seen_utime{0};  ///< set when the human is first seen
+    std::int64_t last_seen_utime{0};         ///< set when the human is first seen
+    Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
+    Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
   };
+  /// A new id where a human with an open interaction was lost and heading: the tracker switched
+  /// ids (lib/geometry/track_continuity.hpp); the interaction goes on under the new id.
+  void continueSwitchedIds(const AgentStatesSnapshot& agents);
   /// Files a converted input into its step's bucket (may throw RejectedMessage: over a cap).
   using Store = std::function<void(StepInputs&)>;
   struct SpeechItem {

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <utility>
+#include <vector>
 
+#include "coopnav/geometry/track_continuity.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "runtime/log.hpp"
 #include "wire/assessment.hpp"
@@ -48,7 +51,13 @@ std::size_t PathAssessorNode::referencePathsKept() const {
 PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
   if (it == humans_.end()) {
-    it = humans_.emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()), {}, false})
+    it = humans_
+             .emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()),
+                                {},
+                                false,
+                                0.0,
+                                {0.0, 0.0},
+                                {0.0, 0.0}})
              .first;
     hear(id);
   }
@@ -230,15 +239,52 @@ void PathAssessorNode::onAgentStates(const agent_states_t& msg) {
   });
 }
 
+void PathAssessorNode::continueSwitchedIds(const AgentStatesSnapshot& states, double t_s) {
+  std::set<std::int32_t> here;
+  for (const auto& a : states.humans) here.insert(a.id);
+  std::vector<LostTrack> lost;
+  for (const auto& [id, h] : humans_)
+    if (!here.count(id) && h.seen_in_states &&
+        h.recorder.state() == assessment::RecorderState::kRecording)
+      lost.push_back({id, h.last_seen_s, h.position_m, h.velocity_m_s});
+  for (const auto& a : states.humans) {
+    if (lost.empty()) return;
+    const auto it = humans_.find(a.id);
+    if (it != humans_.end() && it->second.seen_in_states) continue;  // not a new id
+    const auto old = continuedTrack(lost, t_s, a.pose.position());
+    if (!old) continue;
+    // The recording moves; the new id's reference paths (published for it already) stay its own.
+    Human moved = std::move(humans_.at(*old));
+    if (it != humans_.end())
+      moved.references = std::move(it->second.references);
+    else
+      moved.references.clear();
+    humans_.erase(*old);
+    recency_.erase(*old);
+    humans_.insert_or_assign(a.id, std::move(moved));
+    log().info(
+        "path_assessor: human {} continues human {} (a tracker id switch at step {}): its "
+        "recording goes on",
+        a.id, *old, states.step);
+    lost.erase(
+        std::remove_if(lost.begin(), lost.end(), [&](const LostTrack& l) { return l.id == *old; }),
+        lost.end());
+  }
+}
+
 void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step& step) {
   applyControlsBefore(states.step);
   runtime_.noteLogicTime(states.utime);
   const double t_s = seconds(states.utime);
   const Eigen::Vector2d robot_m = states.robot.pose.position();
+  continueSwitchedIds(states, t_s);
   for (const AgentState& a : states.humans) {
     Human& h = human(a.id);
     hear(a.id);
     h.seen_in_states = true;
+    h.last_seen_s = t_s;
+    h.position_m = a.pose.position();
+    h.velocity_m_s = {a.velocity.vx_m_s, a.velocity.vy_m_s};
     // Paper §II-C: one observation; the recorder samples CA on its fixed grid from these.
     if (!h.recorder.observe(t_s, a.pose.position(), robot_m))
       log().debug(
@@ -252,6 +298,8 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
     rec.snapshot = h.recorder.snapshot();
     rec.window_ca_m = h.recorder.windowCa();
     rec.gamma = config_.recorder.gamma;
+    rec.profile = config_.profile;
+    rec.side_rule = h.recorder.config().side_rule;
     step.publish(channels::kPathAssessment, toLcm(rec));
   }
   // After the step's humans are heard: those absent for a minute are forgotten now.

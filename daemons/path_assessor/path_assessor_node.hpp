@@ -34,6 +34,11 @@ struct PathAssessorNodeConfig {
   std::string tau_mode{assessment::toString(assessment::PathAssessorConfig{}.tau_mode)};
   /// recorder.side_rule by name ("path_side" | "human_side"); its default is the lib's.
   std::string side_rule{assessment::toString(assessment::PathAssessorConfig{}.side_rule)};
+  /// Name of the assessment profile these settings are (published in every path_assessment_t;
+  /// the dialogue manager acts only on the profile it is configured for): `paper` (the paper's
+  /// γ, τ and rules, config/path_assessor.yaml), `calibrated` (fitted on real walkers,
+  /// config/path_assessor_calibrated.yaml) or `custom`.
+  std::string profile{"paper"};
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
@@ -42,6 +47,7 @@ struct PathAssessorNodeConfig {
 
   template <class V>
   void visit(V& v) {
+    v("profile", profile, OneOf{{"paper", "calibrated", "custom"}});
     v("sample_period_s", recorder.sample_period_s, Range{1e-3, 10.0});
     v("gamma", recorder.gamma, Range{1e-6, 1.0});
     v("tau_m", recorder.tau_m, Range{-10.0, 10.0});
@@ -89,7 +95,13 @@ class PathAssessorNode {
     /// uses the latest one published at or before j, whatever arrived since.
     std::map<std::int64_t, Path2> references;
     bool seen_in_states{false};
+    double last_seen_s{0.0};                 ///< [s] message time, as last seen (continuity)
+    Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen
+    Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
   };
+  /// A new id where a human whose recording is open was lost and heading: the tracker switched
+  /// ids (lib/geometry/track_continuity.hpp); the recording goes on under the new id.
+  void continueSwitchedIds(const AgentStatesSnapshot& states, double t_s);
   /// Reference paths kept per human, by step: the START of a step still waiting needs at most
   /// the paths of a few steps back (the gate holds a step for one step of the dialogue manager).
   static constexpr std::size_t kReferencesPerHuman = 16;

@@ -238,6 +238,7 @@ path_assessment_t pathAssessment(int num_samples) {
   m.cm_interaction_m = num_samples > 0 ? 0.2 : kNaN;
   m.is_contributing_interaction = m.is_contributing;
   m.gamma = 0.98;
+  m.profile = "paper";
   m.tau_m = 0.4;
   m.tau_mode = path_assessment_t::TAU_FIXED;
   m.tau_fixed_m = 0.4;

@@ -1315,6 +1315,7 @@ path_assessment_t dmPath(std::int64_t step, std::int32_t id, double cm_m) {
   m.cm_interaction_m = cm_m;
   m.is_contributing_interaction = situation_t::PRED_FALSE;
   m.gamma = 0.98;
+  m.profile = "paper";
   m.tau_m = 0.4;
   return m;
 }

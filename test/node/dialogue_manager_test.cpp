@@ -145,6 +145,7 @@ class DialogueManagerTest : public ::testing::Test {
     m.cm_interaction_m = p.cm_m;
     m.is_contributing_interaction = p.contributing;
     m.gamma = 0.98;
+    m.profile = "paper";
     m.tau_m = 0.4;
     probe_.publish(channels::kPathAssessment, m);
   }
@@ -554,6 +555,36 @@ TEST_F(DialogueManagerTest, AHumanWhoLeavesTheSceneEndsItsInteraction) {
   ASSERT_EQ(actions_.size(), 2u);
   EXPECT_EQ(actions_[1].action, robot_action_t::ACTION_RESUME);
   EXPECT_EQ(controls_.back().command, path_assessor_control_t::COMMAND_STOP);
+}
+
+TEST_F(DialogueManagerTest, ANewTrackerIdForTheSamePersonContinuesItsInteraction) {
+  start();
+  primePeers();
+  agents(1, 6.0, 0.7, {{1, 0.0, 0.0, 0.0}});
+  fullStep(1, {{1, 6.9, T, F, F}}, {});
+  ASSERT_EQ(utterancesOf(1).size(), 1u);
+  // The tracker switches 1 to 1001 where 1 stood; someone else (2) appears 3 m away.
+  agents(2, 5.9, 0.7, {{1001, 0.1, 0.0, 0.0}, {2, 0.0, 3.0, 0.0}});
+  fullStep(2, {{1001, 6.5, T, F, F}, {2, 6.5, T, F, F}}, {});
+  EXPECT_TRUE(utterancesOf(1001).empty()) << "round 1 is not said again to the same person";
+  ASSERT_EQ(utterancesOf(2).size(), 1u) << "someone new gets round 1";
+  EXPECT_EQ(utterancesOf(2)[0].round, 1);
+  // Round 2 comes, to the new id, as the person's second round.
+  agents(3, 5.8, 0.7, {{1001, 0.2, 0.0, 0.0}, {2, 0.0, 3.0, 0.0}});
+  fullStep(3, {{1001, 3.9, T, F, F}}, {{1001, 0.0, F}});
+  ASSERT_EQ(utterancesOf(1001).size(), 1u);
+  EXPECT_EQ(utterancesOf(1001)[0].round, 2);
+}
+
+TEST_F(DialogueManagerTest, AssessmentsOfAnotherProfileAreRejected) {
+  start({"--set", "assessment_profile=calibrated"});
+  primePeers();
+  const std::int64_t rejected_before = status_->rejected;
+  path(1, {1, 0.9, T});  // a "paper" assessment
+  ackBoth(1);
+  ASSERT_TRUE(waitAck(1));
+  ASSERT_TRUE(spinUntil([&] { return status_->rejected > rejected_before; }, seconds(3)))
+      << "an assessment of the paper profile was acted on by a calibrated dialogue manager";
 }
 
 TEST_F(DialogueManagerTest, AHumanGoneForAMinuteIsForgottenAndItsIdStartsAfresh) {

@@ -72,6 +72,7 @@ path_assessment_t notContributing(std::int64_t utime, std::int32_t id) {
   m.cm_interaction_m = 0.0;
   m.is_contributing_interaction = situation_t::PRED_FALSE;
   m.gamma = 0.98;
+  m.profile = "paper";
   m.tau_m = 0.4;
   return m;
 }

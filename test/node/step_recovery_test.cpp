@@ -90,6 +90,7 @@ TEST(StepOutputsTest, AStepIsPublishedAgainByteForByteWithTheSameCountingAck) {
   path_assessment_t m{};
   m.step = 0;
   m.gamma = 0.98;
+  m.profile = "paper";
   for (int id : {1, 2}) {
     m.human_id = id;
     out.publish(0, channels::kPathAssessment, m);

@@ -88,14 +88,17 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
     o["tau_fixed_m"] = numberOrNull(p->tau_fixed_m);
     o["room_m"] = numberOrNull(p->room_m);  // null: unknown, or unbounded (+inf)
     o["tau_room_m"] = numberOrNull(p->tau_room_m);
+    o["profile"] = p->profile;
+    o["side_rule"] =
+        p->side_rule == path_assessment_t::SIDE_RULE_HUMAN ? "human_side" : "path_side";
     o["recording"] = recordingName(p->recording);
     o["cm_by_gamma"] = cmByGamma(p->ca_m);
     o["cm_by_gamma_complete"] = p->num_samples == p->window_samples;
   } else {
-    for (const char* k :
-         {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
-          "interaction_samples", "is_contributing_interaction", "gamma", "tau_m", "tau_mode",
-          "tau_fixed_m", "room_m", "tau_room_m", "recording", "cm_by_gamma"})
+    for (const char* k : {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
+                          "interaction_samples", "is_contributing_interaction", "gamma", "tau_m",
+                          "tau_mode", "tau_fixed_m", "room_m", "tau_room_m", "profile", "side_rule",
+                          "recording", "cm_by_gamma"})
       o[k] = nullptr;
     o["cm_by_gamma_complete"] = false;
   }

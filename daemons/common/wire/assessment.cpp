@@ -159,6 +159,18 @@ dialogue::SituationSnapshot situationSnapshotFromLcm(const situation_t& msg) {
   return s;
 }
 
+namespace {
+/// A profile name: 1 to MAX_PROFILE_LENGTH of [A-Za-z0-9_-] (it is logged and compared).
+bool isProfileName(const std::string& name) {
+  if (name.empty() || name.size() > static_cast<std::size_t>(path_assessment_t::MAX_PROFILE_LENGTH))
+    return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '-';
+  });
+}
+}  // namespace
+
 path_assessment_t toLcm(const PathAssessmentRecord& r) {
   const auto& s = r.snapshot;
   path_assessment_t m;
@@ -183,6 +195,8 @@ path_assessment_t toLcm(const PathAssessmentRecord& r) {
   m.tau_fixed_m = s.tau_fixed_m;
   m.room_m = orNaN(s.room_m);
   m.tau_room_m = s.tau_room_m;
+  m.profile = r.profile;
+  m.side_rule = static_cast<std::int8_t>(r.side_rule);
   return m;
 }
 
@@ -244,6 +258,20 @@ PathAssessmentRecord fromLcm(const path_assessment_t& msg) {
   r.snapshot.tau_fixed_m = msg.tau_fixed_m;
   r.snapshot.room_m = distanceFromWire(msg.room_m, "room_m");
   r.snapshot.tau_room_m = msg.tau_room_m;
+  if (!isProfileName(msg.profile))
+    reject("profile is not a name of 1 to " +
+           std::to_string(path_assessment_t::MAX_PROFILE_LENGTH) + " letters, digits, - or _");
+  r.profile = msg.profile;
+  switch (msg.side_rule) {
+    case path_assessment_t::SIDE_RULE_PATH:
+      r.side_rule = assessment::SideRule::kPathSide;
+      break;
+    case path_assessment_t::SIDE_RULE_HUMAN:
+      r.side_rule = assessment::SideRule::kHumanSide;
+      break;
+    default:
+      reject("side_rule has an unknown value " + std::to_string(msg.side_rule));
+  }
   return r;
 }
 

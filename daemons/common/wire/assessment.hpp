@@ -56,11 +56,14 @@ struct PathAssessmentRecord {
   /// the newest path_assessment_t::MAX_SAMPLES of them; fromLcm gives what the message carried.
   std::vector<double> window_ca_m;
   double gamma{0.98};
+  std::string profile{"paper"};  ///< assessment profile in force (path_assessor `profile`)
+  assessment::SideRule side_rule{assessment::SideRule::kPathSide};
 };
 
 path_assessment_t toLcm(const PathAssessmentRecord& r);
 /// Rejects unknown enum values, counts out of bounds, non-finite CA values, a gamma outside
-/// (0, 1] or a CM that is NaN while samples are claimed.
+/// (0, 1], a CM that is NaN while samples are claimed, or a profile name that is empty, longer
+/// than MAX_PROFILE_LENGTH or not [A-Za-z0-9_-].
 PathAssessmentRecord fromLcm(const path_assessment_t& msg);
 /// What the decision logic reads from a path assessment (window since the last reset).
 dialogue::PathSnapshot pathSnapshotFromLcm(const path_assessment_t& msg);

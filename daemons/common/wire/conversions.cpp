@@ -262,6 +262,69 @@ goals_t toLcm(const GoalsSnapshot& g) {
   return m;
 }
 
+goal_estimates_t toLcm(const GoalEstimates& e) {
+  goal_estimates_t m;
+  m.utime = e.utime;
+  m.step = e.step;
+  const std::size_t ng = std::min<std::size_t>(e.goals.size(), goal_estimates_t::MAX_GOALS);
+  for (std::size_t i = 0; i < ng; ++i) {
+    m.goal_x_m.push_back(e.goals[i].x());
+    m.goal_y_m.push_back(e.goals[i].y());
+  }
+  m.num_goals = static_cast<std::int16_t>(ng);
+  for (const auto& h : e.humans) {
+    if (m.humans.size() >= static_cast<std::size_t>(goal_estimates_t::MAX_HUMANS)) break;
+    goal_estimate_t t;
+    t.agent_id = h.agent_id;
+    t.most_likely = static_cast<std::int16_t>(
+        h.most_likely >= 0 && static_cast<std::size_t>(h.most_likely) < ng ? h.most_likely : -1);
+    t.walked_m = h.walked_m;
+    t.observations = h.observations;
+    for (std::size_t i = 0; i < ng; ++i)
+      t.probability.push_back(
+          static_cast<float>(i < h.probability.size() ? h.probability[i] : 0.0));
+    t.num_goals = static_cast<std::int16_t>(ng);
+    m.humans.push_back(std::move(t));
+  }
+  m.num_humans = static_cast<std::int16_t>(m.humans.size());
+  return m;
+}
+
+GoalEstimates fromLcm(const goal_estimates_t& msg) {
+  requireCount(msg.num_goals, msg.goal_x_m.size(), goal_estimates_t::MAX_GOALS, "goals");
+  requireCount(msg.num_goals, msg.goal_y_m.size(), goal_estimates_t::MAX_GOALS, "goals");
+  requireCount(msg.num_humans, msg.humans.size(), goal_estimates_t::MAX_HUMANS, "humans");
+  GoalEstimates e;
+  e.utime = msg.utime;
+  e.step = msg.step;
+  for (std::size_t i = 0; i < msg.goal_x_m.size(); ++i) {
+    requireFinite(msg.goal_x_m[i], "goal");
+    requireFinite(msg.goal_y_m[i], "goal");
+    e.goals.emplace_back(msg.goal_x_m[i], msg.goal_y_m[i]);
+  }
+  std::set<std::int32_t> ids;
+  for (const auto& h : msg.humans) {
+    if (!ids.insert(h.agent_id).second) reject("duplicate goal estimate id");
+    if (h.num_goals != msg.num_goals || h.probability.size() != msg.goal_x_m.size())
+      reject("goal estimate of agent " + std::to_string(h.agent_id) +
+             " has a probability count other than num_goals");
+    if (h.most_likely < -1 || h.most_likely >= msg.num_goals)
+      reject("most_likely " + std::to_string(h.most_likely) + " outside [-1, num_goals)");
+    requireFinite(h.walked_m, "walked_m");
+    GoalEstimates::Human x;
+    x.agent_id = h.agent_id;
+    x.most_likely = h.most_likely;
+    x.walked_m = h.walked_m;
+    x.observations = h.observations;
+    for (float p : h.probability) {
+      if (!(p >= 0.0F && p <= 1.0F)) reject("a goal probability is outside [0, 1]");
+      x.probability.push_back(p);
+    }
+    e.humans.push_back(std::move(x));
+  }
+  return e;
+}
+
 VelocityCommand fromLcm(const velocity_command_t& msg) {
   requireFinite(msg.vx_m_s, "command vx");
   requireFinite(msg.vy_m_s, "command vy");

@@ -14,6 +14,7 @@
 #include "coopnav/distance_reply_t.hpp"
 #include "coopnav/distance_request_t.hpp"
 #include "coopnav/geometry/types.hpp"
+#include "coopnav/goal_estimates_t.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
@@ -92,6 +93,27 @@ struct GoalsSnapshot {
 };
 GoalsSnapshot fromLcm(const goals_t& msg);
 goals_t toLcm(const GoalsSnapshot& g);
+
+/// The inferred goals (goal_estimates_t): the candidates and each inferred human's posterior.
+struct GoalEstimates {
+  struct Human {
+    std::int32_t agent_id{0};
+    int most_likely{-1};  ///< index into goals; -1 = none
+    double walked_m{0.0};
+    std::int32_t observations{0};
+    std::vector<double> probability;  ///< one per goal
+  };
+  std::int64_t utime{0};
+  std::int64_t step{-1};
+  std::vector<Eigen::Vector2d> goals;
+  std::vector<Human> humans;
+};
+/// Keeps at most MAX_GOALS candidates and MAX_HUMANS humans (the first ones; a most likely goal
+/// beyond the kept candidates becomes -1).
+goal_estimates_t toLcm(const GoalEstimates& e);
+/// Rejects counts out of bounds or unequal, non-finite goals, probabilities outside [0, 1], a
+/// most_likely outside [-1, num_goals) and duplicate ids.
+GoalEstimates fromLcm(const goal_estimates_t& msg);
 
 /// Velocity command (body frame).
 struct VelocityCommand {

@@ -6,6 +6,7 @@ namespace coopnav::channels {
 
 inline constexpr const char* kAgentStates = "COOPNAV_AGENT_STATES";        // agent_states_t
 inline constexpr const char* kGoals = "COOPNAV_GOALS";                     // goals_t
+inline constexpr const char* kGoalEstimates = "COOPNAV_GOAL_ESTIMATES";    // goal_estimates_t
 inline constexpr const char* kBands = "COOPNAV_BANDS";                     // bands_t
 inline constexpr const char* kReferencePaths = "COOPNAV_REFERENCE_PATHS";  // reference_paths_t
 inline constexpr const char* kRobotCmd = "COOPNAV_ROBOT_CMD";              // velocity_command_t

@@ -24,6 +24,7 @@ TEST(ChannelsTest, TextListMatchesTheHeaderAndFitsLcmLimit) {
   }
   const std::set<std::string> header{channels::kAgentStates,
                                      channels::kGoals,
+                                     channels::kGoalEstimates,
                                      channels::kBands,
                                      channels::kReferencePaths,
                                      channels::kRobotCmd,

@@ -145,6 +145,8 @@ PathAssessmentRecord pathRecord(std::vector<double> ca) {
   r.snapshot.room_m = 0.5;
   r.snapshot.tau_room_m = 0.25;
   r.snapshot.tau_m = 0.25;
+  r.profile = "calibrated";
+  r.side_rule = assessment::SideRule::kHumanSide;
   r.window_ca_m = std::move(ca);
   return r;
 }
@@ -167,6 +169,8 @@ TEST(ConversionsAssessmentTest, PathAssessmentRoundTrip) {
   EXPECT_EQ(b.snapshot.tau_fixed_m, r.snapshot.tau_fixed_m);
   EXPECT_EQ(b.snapshot.tau_room_m, r.snapshot.tau_room_m);
   EXPECT_EQ(b.snapshot.room_m, r.snapshot.room_m);
+  EXPECT_EQ(b.profile, "calibrated");
+  EXPECT_EQ(b.side_rule, assessment::SideRule::kHumanSide);
   const auto snap = pathSnapshotFromLcm(m);
   EXPECT_DOUBLE_EQ(*snap.cm_window_m, *r.snapshot.cm_window_m);
 }
@@ -209,6 +213,14 @@ TEST(ConversionsAssessmentTest, GarbagePathAssessmentsAreRejected) {
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
   bad = m;
   bad.recording = 7;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  for (const char* name : {"", "pa per", "paper\n", "a-name-of-more-than-thirty-two-bytes"}) {
+    bad = m;
+    bad.profile = name;
+    EXPECT_THROW(fromLcm(bad), RejectedMessage) << name;
+  }
+  bad = m;
+  bad.side_rule = 2;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
   bad = m;
   bad.ca_m[0] = std::nan("");

@@ -172,3 +172,74 @@ TEST(ConversionsTest, TimeConversionIsExactOnMicroseconds) {
 
 }  // namespace
 }  // namespace coopnav
+
+namespace coopnav {
+namespace {
+
+GoalEstimates sampleEstimates() {
+  GoalEstimates e;
+  e.utime = 42;
+  e.step = 7;
+  e.goals = {{1.0, 2.0}, {-3.0, 4.5}};
+  GoalEstimates::Human h;
+  h.agent_id = 3;
+  h.most_likely = 1;
+  h.walked_m = 2.5;
+  h.observations = 20;
+  h.probability = {0.25, 0.75};
+  e.humans.push_back(h);
+  return e;
+}
+
+TEST(ConversionsTest, GoalEstimatesRoundTrip) {
+  const goal_estimates_t m = reencode(toLcm(sampleEstimates()));
+  EXPECT_EQ(m.num_goals, 2);
+  ASSERT_EQ(m.num_humans, 1);
+  const GoalEstimates b = fromLcm(m);
+  EXPECT_EQ(b.utime, 42);
+  EXPECT_EQ(b.step, 7);
+  ASSERT_EQ(b.goals.size(), 2U);
+  EXPECT_EQ(b.goals[1], Eigen::Vector2d(-3.0, 4.5));
+  ASSERT_EQ(b.humans.size(), 1U);
+  EXPECT_EQ(b.humans[0].agent_id, 3);
+  EXPECT_EQ(b.humans[0].most_likely, 1);
+  EXPECT_EQ(b.humans[0].observations, 20);
+  EXPECT_DOUBLE_EQ(b.humans[0].walked_m, 2.5);
+  EXPECT_EQ(b.humans[0].probability, (std::vector<double>{0.25, 0.75}));
+}
+
+TEST(ConversionsTest, GarbageGoalEstimatesAreRejected) {
+  const goal_estimates_t m = toLcm(sampleEstimates());
+  auto bad = m;
+  bad.num_goals = 3;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.goal_x_m[0] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.humans[0].most_likely = 2;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.humans[0].probability[0] = 1.5F;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.humans[0].probability.pop_back();
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+  bad = m;
+  bad.humans.push_back(bad.humans[0]);
+  bad.num_humans = 2;
+  EXPECT_THROW(fromLcm(bad), RejectedMessage);
+}
+
+TEST(ConversionsTest, GoalEstimatesKeepAMostLikelyGoalOnlyWhenItIsSent) {
+  GoalEstimates e = sampleEstimates();
+  e.goals.resize(goal_estimates_t::MAX_GOALS + 1, Eigen::Vector2d(0.0, 0.0));
+  e.humans[0].most_likely = goal_estimates_t::MAX_GOALS;  // beyond the kept candidates
+  const goal_estimates_t m = toLcm(e);
+  EXPECT_EQ(m.num_goals, goal_estimates_t::MAX_GOALS);
+  EXPECT_EQ(m.humans[0].most_likely, -1);
+  EXPECT_NO_THROW(fromLcm(m));
+}
+
+}  // namespace
+}  // namespace coopnav

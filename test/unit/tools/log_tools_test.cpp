@@ -160,6 +160,7 @@ path_assessment_t assessmentAt(int k) {
   p.step = k;
   p.human_id = 1;
   p.gamma = 0.98;
+  p.profile = "paper";
   p.tau_m = 0.4;
   const auto inter = interactionCa(k);
   // Samples at or before the reset's step leave the window from the next step on.

@@ -342,7 +342,9 @@ void DialogueManagerNode::continueSwitchedIds(const AgentStatesSnapshot& agents)
   std::vector<LostTrack> lost;
   for (const auto& [id, t] : tracked_) {
     const auto h = humans_.find(id);
-    if (here.count(id) || h == humans_.end() || h->second.decision.ended()) continue;
+    // An ended interaction continues too: the person was told what it was told, and a new id
+    // must not start round 1 again for someone who has already passed.
+    if (here.count(id) || h == humans_.end()) continue;
     lost.push_back({id, utimeToSeconds(t.last_seen_utime), t.position_m, t.velocity_m_s});
   }
   TrackContinuityOptions options;

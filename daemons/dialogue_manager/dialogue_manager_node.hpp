@@ -142,8 +142,9 @@ class DialogueManagerNode {
     Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
     Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
   };
-  /// A new id where a human with an open interaction was lost and heading: the tracker switched
-  /// ids (lib/geometry/track_continuity.hpp); the interaction goes on under the new id.
+  /// A new id where a human with an interaction (open or ended) was lost and heading: the
+  /// tracker switched ids (lib/geometry/track_continuity.hpp); the interaction goes on under the
+  /// new id.
   void continueSwitchedIds(const AgentStatesSnapshot& agents);
   /// Files a converted input into its step's bucket (may throw RejectedMessage: over a cap).
   using Store = std::function<void(StepInputs&)>;

@@ -245,7 +245,7 @@ void PathAssessorNode::continueSwitchedIds(const AgentStatesSnapshot& states, do
   std::vector<LostTrack> lost;
   for (const auto& [id, h] : humans_)
     if (!here.count(id) && h.seen_in_states &&
-        h.recorder.state() == assessment::RecorderState::kRecording)
+        h.recorder.state() != assessment::RecorderState::kIdle)
       lost.push_back({id, h.last_seen_s, h.position_m, h.velocity_m_s});
   for (const auto& a : states.humans) {
     if (lost.empty()) return;

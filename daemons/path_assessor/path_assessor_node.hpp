@@ -99,8 +99,9 @@ class PathAssessorNode {
     Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen
     Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
   };
-  /// A new id where a human whose recording is open was lost and heading: the tracker switched
-  /// ids (lib/geometry/track_continuity.hpp); the recording goes on under the new id.
+  /// A new id where a human with a recording (running or stopped) was lost and heading: the
+  /// tracker switched ids (lib/geometry/track_continuity.hpp); the recording goes on under the
+  /// new id.
   void continueSwitchedIds(const AgentStatesSnapshot& states, double t_s);
   /// Reference paths kept per human, by step: the START of a step still waiting needs at most
   /// the paths of a few steps back (the gate holds a step for one step of the dialogue manager).

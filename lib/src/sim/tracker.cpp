@@ -177,7 +177,10 @@ std::vector<TrackedHuman> Tracker::observe(double t_s, const AgentState& robot,
     const Sample& oldest = p.history.front();
     const double span_s = t_s - oldest.t_s;
     Eigen::Vector2d v{0.0, 0.0};
-    if (p.history.size() >= 2 && span_s > 0.0) v = (pos - oldest.p) / span_s;
+    // A new track has no velocity until its window is full: a difference of two noisy samples
+    // 0.1 s apart is noise of ~0.7 m/s at σ 0.05 m, and a heading from it would point anywhere
+    // (trackers confirm a track over a few detections before trusting its motion).
+    if (p.history.size() >= keep && span_s > 0.0) v = (pos - oldest.p) / span_s;
     const double theta_before = p.theta_rad;
     if (v.norm() >= kHeadingMinSpeed_m_s) p.theta_rad = std::atan2(v.y(), v.x());
     const double dt_s = p.history.size() >= 2 ? t_s - p.history[p.history.size() - 2].t_s : 0.0;

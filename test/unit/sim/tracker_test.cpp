@@ -94,8 +94,8 @@ TEST(Tracker, VelocityAndHeadingAreEstimatedFromThePositions) {
     const auto seen = dut.observe(t, robotAt(0, 0), {humanAt(1, 0.8 * t, 0.6 * t, 0.8, 0.6)});
     ASSERT_EQ(seen.size(), 1u);
     const AgentState& s = seen[0].state;
-    if (k == 0) {
-      // Then a new track has no velocity yet, and the body's heading.
+    if (k < p.velocity_window_steps) {
+      // Then a new track has no velocity until its window is full, and the body's heading.
       EXPECT_EQ(s.velocity.vx_m_s, 0.0);
       EXPECT_NEAR(s.pose.theta_rad, std::atan2(0.6, 0.8), 1e-12);
     } else {

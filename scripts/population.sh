@@ -6,7 +6,10 @@
 # when a contact had the robot at fault (1) or a run left no summary (3).
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
-#   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>)
+#                         [--tracker-noise] [--profile paper|calibrated]
+#   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
+#   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
+#   --profile: the path assessment profile, as scripts/run.sh)
 # Environment: COOPNAV_POP_PORT_BASE (7400; run k of JOBS uses base + its slot),
 # COOPNAV_POP_RUN_TIMEOUT_S (900: wall seconds before a run is stopped).
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
@@ -50,7 +53,12 @@ while [ $# -gt 0 ]; do
     -j*) jobs="${1#-j}"; shift ;;
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
-    -h|--help) sed -n '2,11p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --tracker-noise)
+      export COOPNAV_DAEMON_ARGS_world_sim="${COOPNAV_DAEMON_ARGS_world_sim:-} \
+--set tracker.position_sigma_m=0.05 --set tracker.miss_probability=0.05 --set tracker.id_switches=1"
+      shift ;;
+    --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done

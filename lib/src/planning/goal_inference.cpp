@@ -283,6 +283,26 @@ void appendDeadEnds(const SampleGrid& g, const std::vector<double>& clearance,
 using QueueItem = std::pair<double, std::uint32_t>;
 using MinQueue = std::priority_queue<QueueItem, std::vector<QueueItem>, std::greater<>>;
 
+/// Calls step(kn, length_m) for each 8-neighbour kn of cell k whose class is `to`, a diagonal
+/// only when neither cell it cuts past is blocked (class 0): one expansion for both phases of the
+/// distance fields.
+template <class Step>
+void forEachStep(const SampleGrid& g, const std::vector<std::uint8_t>& cls, std::size_t k,
+                 std::uint8_t to, Step&& step) {
+  const int i = static_cast<int>(k % static_cast<std::size_t>(g.nx));
+  const int j = static_cast<int>(k / static_cast<std::size_t>(g.nx));
+  for (const auto& r : kRing) {
+    const int a = i + r[0];
+    const int b = j + r[1];
+    if (!g.contains(a, b)) continue;
+    const std::size_t kn = g.index(a, b);
+    if (cls[kn] != to) continue;
+    const bool diagonal = r[0] != 0 && r[1] != 0;
+    if (diagonal && (cls[g.index(a, j)] == 0 || cls[g.index(i, b)] == 0)) continue;
+    step(kn, g.res * (diagonal ? M_SQRT2 : 1.0));
+  }
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector2d> mapGoalCandidates(const DistanceMap& map,
@@ -374,24 +394,15 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
       const auto [d, k] = q.top();
       q.pop();
       if (d > f[k]) continue;
-      const int i = static_cast<int>(k % static_cast<std::uint32_t>(g.nx));
-      const int j = static_cast<int>(k / static_cast<std::uint32_t>(g.nx));
-      for (const auto& step : kRing) {
-        const int a = i + step[0];
-        const int b = j + step[1];
-        if (!g.contains(a, b)) continue;
-        const std::size_t kn = g.index(a, b);
-        if (cls[kn] != 2) continue;
-        const bool diagonal = step[0] != 0 && step[1] != 0;
-        if (diagonal && (cls[g.index(a, j)] == 0 || cls[g.index(i, b)] == 0)) continue;
+      forEachStep(g, cls, k, 2, [&](std::size_t kn, double step_m) {
         // Compared as stored (float): a double below its own rounded float would be pushed
         // again and again.
-        const auto nd = static_cast<float>(d + g.res * (diagonal ? M_SQRT2 : 1.0));
+        const auto nd = static_cast<float>(d + step_m);
         if (nd < f[kn]) {
           f[kn] = nd;
           q.emplace(f[kn], static_cast<std::uint32_t>(kn));
         }
-      }
+      });
     }
     // Phase 2: fringe cells, from passable cells, at most reach_m into the fringe; never back.
     std::fill(depth_m.begin(), depth_m.end(), kInfF);
@@ -403,25 +414,15 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
       q.pop();
       if (d > f[k]) continue;
       const double base_depth = cls[k] == 2 ? 0.0 : depth_m[k];
-      const int i = static_cast<int>(k % static_cast<std::uint32_t>(g.nx));
-      const int j = static_cast<int>(k / static_cast<std::uint32_t>(g.nx));
-      for (const auto& step : kRing) {
-        const int a = i + step[0];
-        const int b = j + step[1];
-        if (!g.contains(a, b)) continue;
-        const std::size_t kn = g.index(a, b);
-        if (cls[kn] != 1) continue;
-        const bool diagonal = step[0] != 0 && step[1] != 0;
-        if (diagonal && (cls[g.index(a, j)] == 0 || cls[g.index(i, b)] == 0)) continue;
-        const double step_m = g.res * (diagonal ? M_SQRT2 : 1.0);
-        if (base_depth + step_m > reach_m) continue;
+      forEachStep(g, cls, k, 1, [&](std::size_t kn, double step_m) {
+        if (base_depth + step_m > reach_m) return;
         const auto nd = static_cast<float>(d + step_m);
         if (nd < f[kn]) {
           f[kn] = nd;
           depth_m[kn] = static_cast<float>(base_depth + step_m);
           q.emplace(f[kn], static_cast<std::uint32_t>(kn));
         }
-      }
+      });
     }
   }
 }

@@ -391,7 +391,8 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
     // Phase 1: Dijkstra over passable cells, 8-connected; a diagonal step needs both cells it
     // cuts past unblocked.
     while (!q.empty()) {
-      const auto [d, k] = q.top();
+      const auto [d_top, k] = q.top();
+      const auto d = d_top;  // a lambda cannot capture a structured binding (C++17)
       q.pop();
       if (d > f[k]) continue;
       forEachStep(g, cls, k, 2, [&](std::size_t kn, double step_m) {
@@ -410,7 +411,8 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
       if (cls[k] == 2 && std::isfinite(f[k])) q.emplace(f[k], static_cast<std::uint32_t>(k));
     }
     while (!q.empty()) {
-      const auto [d, k] = q.top();
+      const auto [d_top, k] = q.top();
+      const auto d = d_top;  // a lambda cannot capture a structured binding (C++17)
       q.pop();
       if (d > f[k]) continue;
       const double base_depth = cls[k] == 2 ? 0.0 : depth_m[k];

@@ -1,6 +1,7 @@
 #include "pedestrians_daemon.hpp"
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
@@ -14,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -57,6 +59,9 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd) {
   const pid_t pid = ::fork();
   if (pid < 0) fail(std::string("fork: ") + std::strerror(errno));
   if (pid == 0) {
+    // The daemon goes when this tool goes, however it ends: an orphan would keep the port busy
+    // and the output pipe of whoever ran the tool (a test runner) open.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (stdout_fd >= 0) ::dup2(stdout_fd, STDOUT_FILENO);
     ::execv(argv[0], argv.data());
     ::_exit(127);
@@ -295,14 +300,18 @@ class DaemonDriver {
 };
 
 void waitReady(Runtime& rt, Child& child, const std::string& url, double timeout_s) {
-  bool ready = false;
-  rt.subscribe<daemon_status_t>(channels::kStatus, [&](const daemon_status_t& s, std::int64_t) {
-    if (s.name == kDaemonName && s.pid == child.pid() &&
+  // The subscription outlives this call (Runtime has no unsubscribe) and later status messages
+  // still reach it: the flag it sets must too.
+  auto ready = std::make_shared<bool>(false);
+  const pid_t pid = child.pid();
+  rt.subscribe<daemon_status_t>(channels::kStatus, [ready, pid](const daemon_status_t& s,
+                                                                std::int64_t) {
+    if (s.name == kDaemonName && s.pid == pid &&
         (s.state == daemon_status_t::STATE_RUNNING || s.state == daemon_status_t::STATE_DEGRADED))
-      ready = true;
+      *ready = true;
   });
   const auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
-  while (!ready) {
+  while (!*ready) {
     if (const auto e = child.ended()) fail("the path assessor " + *e + " before it was ready");
     if (Clock::now() >= end)
       fail("no status from the path assessor (pid " + std::to_string(child.pid()) + ") within " +

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <set>
 
 #include "coopnav/planning/goal_inference.hpp"
@@ -17,6 +19,13 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kMinProbability = 1e-12;  ///< floor of p_true in the log score
 constexpr double kTimeEps_s = 1e-9;
+constexpr double kPi = 3.14159265358979323846;
+/// [m] closer than this to its exit, a walker has no direction to it worth measuring (a goal this
+/// close counts as reached in GoalBelief).
+constexpr double kAtExit_m = 0.5;
+constexpr double kTurnDeg = 30.0;  ///< exit further off the heading at t: the walker turns
+constexpr double kSharpTurnDeg = 45.0;
+constexpr double kDetourRatio = 1.2;  ///< remaining path / straight distance above: a detour
 
 struct Cluster {
   std::vector<Eigen::Vector2d> members;
@@ -116,18 +125,39 @@ std::vector<PedestrianPair> without(const std::vector<PedestrianPair>& pairs,
   return out;
 }
 
-double fitBeta(const std::vector<PedestrianPair>& pairs, GoalEvalOptions o) {
-  double best_beta = goalBetasPerM().front();
-  double best = -std::numeric_limits<double>::infinity();
-  for (const double beta : goalBetasPerM()) {
-    o.beta_per_m = beta;
-    const double score = evaluateGoalInference(pairs, o).mean_log_p_true;
-    if (score > best) {
-      best = score;
-      best_beta = beta;
+struct FitResult {
+  double beta_per_m{0.0};
+  double heading_kappa{0.0};
+};
+
+/// Max mean ln P(true goal) over the grids (β fixed when given; κ only with the heading term).
+FitResult fitParams(const std::vector<PedestrianPair>& pairs, GoalEvalOptions o,
+                    std::optional<double> beta_per_m) {
+  const std::vector<double> betas = beta_per_m ? std::vector<double>{*beta_per_m} : goalBetasPerM();
+  const std::vector<double> kappas =
+      o.heading_term ? goalHeadingKappas() : std::vector<double>{o.heading_kappa};
+  FitResult best{betas.front(), kappas.front()};
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (const double kappa : kappas) {
+    for (const double beta : betas) {
+      o.beta_per_m = beta;
+      o.heading_kappa = kappa;
+      const double score = evaluateGoalInference(pairs, o).mean_log_p_true;
+      if (score > best_score) {
+        best_score = score;
+        best = {beta, kappa};
+      }
     }
   }
-  return best_beta;
+  return best;
+}
+
+double median(std::vector<double> v) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 std::string fmt(const char* format, double v) {
@@ -138,7 +168,13 @@ std::string fmt(const char* format, double v) {
 
 std::string configName(const GoalEvalOptions& o) {
   return std::string(toString(o.clustering)) +
-         (o.frequency_prior ? " + exit-frequency prior" : " + uniform prior");
+         (o.frequency_prior ? " + exit-frequency prior" : " + uniform prior") +
+         (o.heading_term ? " + heading" : "");
+}
+
+std::string count(std::size_t num, std::size_t den) {
+  return fmt("%.3f", ratio(num, den)) + " (" + std::to_string(num) + "/" + std::to_string(den) +
+         ")";
 }
 
 }  // namespace
@@ -185,12 +221,72 @@ GoalEvaluation evaluateGoalInference(const std::vector<PedestrianPair>& pairs,
       gc.has_candidate = truth >= 0;
       GoalBelief belief(distances, prior);
       const double until_s = pair.t_cross_s - options.lead_s + kTimeEps_s;
-      for (std::size_t k = 0; k < t->t_s.size() && t->t_s[k] <= until_s; ++k) {
-        if (belief.observe(t->t_s[k], {t->x_m[k], t->y_m[k]})) ++gc.observations;
+      std::size_t seen_n = 0;  // samples up to t
+      for (; seen_n < t->t_s.size() && t->t_s[seen_n] <= until_s; ++seen_n) {
+        if (belief.observe(t->t_s[seen_n], {t->x_m[seen_n], t->y_m[seen_n]})) ++gc.observations;
+      }
+      std::vector<double> posterior = belief.probabilities();
+      int pick = belief.mostLikely();
+      if (seen_n > 0) {
+        const std::size_t last = seen_n - 1;
+        const Eigen::Vector2d q(t->x_m[last], t->y_m[last]);
+        std::size_t first = last;
+        while (first > 0 &&
+               t->t_s[first - 1] >= t->t_s[last] - options.heading_window_s - kTimeEps_s) {
+          --first;
+        }
+        const Eigen::Vector2d heading = q - Eigen::Vector2d(t->x_m[first], t->y_m[first]);
+        gc.has_heading = heading.norm() >= options.min_heading_step_m;
+        const Eigen::Vector2d to_exit = exitOf(*t) - q;
+        if (to_exit.norm() >= kAtExit_m) {
+          double rest_m = 0.0;
+          for (std::size_t k = last; k + 1 < t->t_s.size(); ++k) {
+            rest_m += std::hypot(t->x_m[k + 1] - t->x_m[k], t->y_m[k + 1] - t->y_m[k]);
+          }
+          gc.remaining_path_ratio = rest_m / to_exit.norm();
+          if (gc.has_heading) {
+            const double c = heading.dot(to_exit) / (heading.norm() * to_exit.norm());
+            gc.exit_off_heading_deg = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+          }
+        }
+        if (gc.has_heading) {
+          double best_cos = -std::numeric_limits<double>::infinity();
+          for (std::size_t k = 0; k < clusters.size(); ++k) {
+            for (const auto& m : clusters[k].members) {
+              const Eigen::Vector2d to = m - q;
+              if (!(to.norm() > 0.0)) continue;
+              const double c = heading.dot(to) / (heading.norm() * to.norm());
+              if (c > best_cos) {
+                best_cos = c;
+                gc.heading_pick = static_cast<int>(k);
+              }
+            }
+          }
+          gc.heading_correct = gc.heading_pick >= 0 && gc.heading_pick == truth;
+        }
+        if (options.heading_term && gc.has_heading && !posterior.empty()) {
+          double sum = 0.0;
+          for (std::size_t k = 0; k < clusters.size(); ++k) {
+            posterior[k] *=
+                headingLikelihood(heading, q, clusters[k].members, options.heading_kappa);
+            sum += posterior[k];
+          }
+          if (sum > 0.0) {
+            pick = 0;
+            for (std::size_t k = 0; k < posterior.size(); ++k) {
+              posterior[k] /= sum;
+              if (posterior[k] > posterior[static_cast<std::size_t>(pick)]) {
+                pick = static_cast<int>(k);
+              }
+            }
+          } else {
+            posterior = belief.probabilities();  // underflow everywhere: the term says nothing
+          }
+        }
       }
       if (gc.has_candidate) {
-        gc.p_true = belief.probabilities()[static_cast<std::size_t>(truth)];
-        gc.correct = belief.mostLikely() == truth;
+        gc.p_true = posterior[static_cast<std::size_t>(truth)];
+        gc.correct = pick == truth;
         log_sum += std::log(std::max(gc.p_true, kMinProbability));
       }
       ++e.walkers;
@@ -208,39 +304,143 @@ GoalEvaluation evaluateGoalInference(const std::vector<PedestrianPair>& pairs,
 
 std::vector<double> goalBetasPerM() { return {0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.5, 2.0, 3.0, 5.0}; }
 
+std::vector<double> goalHeadingKappas() { return {0.0, 0.5, 1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 20.0}; }
+
+double headingLikelihood(const Eigen::Vector2d& heading, const Eigen::Vector2d& position_m,
+                         const std::vector<Eigen::Vector2d>& members_m, double kappa) {
+  double sum = 0.0;
+  std::size_t used = 0;
+  for (const auto& m : members_m) {
+    const Eigen::Vector2d to = m - position_m;
+    const double d = to.norm();
+    if (!(d > 0.0)) continue;
+    // exp(κ (cos θ − 1)) rather than exp(κ cos θ): the same ratios between goals (the von Mises
+    // normaliser I0(κ) is common to all), no overflow.
+    sum += std::exp(kappa * (heading.dot(to) / (heading.norm() * d) - 1.0));
+    ++used;
+  }
+  return used == 0 ? 1.0 : sum / static_cast<double>(used);
+}
+
+namespace {
+
+GoalConfigResult evaluateConfig(const std::vector<PedestrianPair>& pairs,
+                                std::optional<double> beta_per_m, const GoalEvalOptions& options) {
+  GoalConfigResult c;
+  c.options = options;
+  for (const auto& ds : sequences(pairs)) {
+    GoalFold f;
+    f.held_out_ds = ds;
+    GoalEvalOptions o = c.options;
+    const FitResult fit = fitParams(without(pairs, ds), o, beta_per_m);
+    o.beta_per_m = fit.beta_per_m;
+    o.heading_kappa = fit.heading_kappa;
+    f.beta_per_m = fit.beta_per_m;
+    f.heading_kappa = fit.heading_kappa;
+    f.held_out = evaluateGoalInference(pairs, o, ds);
+    c.walkers += f.held_out.walkers;
+    c.with_candidate += f.held_out.with_candidate;
+    c.correct += f.held_out.correct;
+    c.folds.push_back(std::move(f));
+  }
+  c.accuracy_all = ratio(c.correct, c.walkers);
+  c.accuracy_with_candidate = ratio(c.correct, c.with_candidate);
+  const FitResult fit = fitParams(pairs, c.options, beta_per_m);
+  c.options.beta_per_m = fit.beta_per_m;
+  c.options.heading_kappa = fit.heading_kappa;
+  for (const double beta : goalBetasPerM()) {
+    GoalEvalOptions o = c.options;
+    o.beta_per_m = beta;
+    c.sweep.push_back(evaluateGoalInference(pairs, o));
+  }
+  if (c.options.heading_term) {
+    for (const double kappa : goalHeadingKappas()) {
+      GoalEvalOptions o = c.options;
+      o.heading_kappa = kappa;
+      c.kappa_sweep.push_back(evaluateGoalInference(pairs, o));
+    }
+  }
+  return c;
+}
+
+/// The held-out cases of a configuration, pooled over its folds (the same walkers, in the same
+/// order, for every configuration).
+std::vector<GoalCase> heldOutCases(const GoalConfigResult& c) {
+  std::vector<GoalCase> out;
+  for (const auto& f : c.folds)
+    out.insert(out.end(), f.held_out.cases.begin(), f.held_out.cases.end());
+  return out;
+}
+
+GoalCeilingRow ceilingRow(const std::string& name, const std::vector<GoalCase>& path,
+                          const std::vector<GoalCase>& combined,
+                          const std::function<bool(const GoalCase&)>& in) {
+  GoalCeilingRow row;
+  row.name = name;
+  std::vector<double> off_deg, path_ratio;
+  for (std::size_t i = 0; i < combined.size(); ++i) {
+    const GoalCase& c = combined[i];
+    if (!in(c)) continue;
+    ++row.walkers;
+    row.with_heading += c.has_heading ? 1 : 0;
+    row.off_30deg += c.exit_off_heading_deg > kTurnDeg ? 1 : 0;
+    row.off_45deg += c.exit_off_heading_deg > kSharpTurnDeg ? 1 : 0;
+    row.path_ratio_above_1_2 += c.remaining_path_ratio > kDetourRatio ? 1 : 0;
+    off_deg.push_back(c.exit_off_heading_deg);
+    path_ratio.push_back(c.remaining_path_ratio);
+    row.heading_correct += c.heading_correct ? 1 : 0;
+    row.path_correct += path[i].correct ? 1 : 0;
+    row.combined_correct += c.correct ? 1 : 0;
+    row.either_correct += path[i].correct || c.heading_correct ? 1 : 0;
+  }
+  row.median_off_heading_deg = median(off_deg);
+  row.median_path_ratio = median(path_ratio);
+  return row;
+}
+
+}  // namespace
+
 GoalReport evaluateGoalReport(const std::vector<PedestrianPair>& pairs,
                               std::optional<double> beta_per_m, const GoalEvalOptions& base) {
   GoalReport r;
   r.beta_given = beta_per_m.has_value();
   for (const ExitClustering how : {ExitClustering::kGreedyRadius, ExitClustering::kChained}) {
     for (const bool freq : {false, true}) {
-      GoalConfigResult c;
-      c.options = base;
-      c.options.clustering = how;
-      c.options.frequency_prior = freq;
-      for (const auto& ds : sequences(pairs)) {
-        GoalFold f;
-        f.held_out_ds = ds;
-        GoalEvalOptions o = c.options;
-        o.beta_per_m = beta_per_m ? *beta_per_m : fitBeta(without(pairs, ds), o);
-        f.beta_per_m = o.beta_per_m;
-        f.held_out = evaluateGoalInference(pairs, o, ds);
-        c.walkers += f.held_out.walkers;
-        c.with_candidate += f.held_out.with_candidate;
-        c.correct += f.held_out.correct;
-        c.folds.push_back(std::move(f));
-      }
-      c.accuracy_all = ratio(c.correct, c.walkers);
-      c.accuracy_with_candidate = ratio(c.correct, c.with_candidate);
-      c.options.beta_per_m = beta_per_m ? *beta_per_m : fitBeta(pairs, c.options);
-      for (const double beta : goalBetasPerM()) {
-        GoalEvalOptions o = c.options;
-        o.beta_per_m = beta;
-        c.sweep.push_back(evaluateGoalInference(pairs, o));
-      }
-      r.configs.push_back(std::move(c));
+      GoalEvalOptions o = base;
+      o.clustering = how;
+      o.frequency_prior = freq;
+      o.heading_term = false;
+      r.configs.push_back(evaluateConfig(pairs, beta_per_m, o));
     }
   }
+  GoalEvalOptions o = base;
+  o.clustering = ExitClustering::kChained;
+  o.frequency_prior = true;
+  o.heading_term = true;
+  r.configs.push_back(evaluateConfig(pairs, beta_per_m, o));
+
+  const auto path = heldOutCases(r.configs[3]);
+  const auto combined = heldOutCases(r.configs[4]);
+  const auto turns = [](const GoalCase& c) { return c.exit_off_heading_deg > kTurnDeg; };
+  r.ceiling.push_back(ceilingRow("all", path, combined, [](const GoalCase&) { return true; }));
+  for (const auto& ds : sequences(pairs)) {
+    r.ceiling.push_back(
+        ceilingRow(ds, path, combined, [&](const GoalCase& c) { return c.ds == ds; }));
+  }
+  const GoalCeilingRow straight =
+      ceilingRow("exit <= 30 deg off heading at t (goes straight on)", path, combined,
+                 [](const GoalCase& c) { return c.exit_off_heading_deg <= kTurnDeg; });
+  const GoalCeilingRow& all = r.ceiling.front();
+  r.straight_on_perfect_bound =
+      ratio(straight.walkers + all.path_correct - straight.path_correct, all.walkers);
+  r.ceiling.push_back(straight);
+  r.ceiling.push_back(ceilingRow("exit > 30 deg off (turns after t)", path, combined, turns));
+  r.ceiling.push_back(ceilingRow("exit > 45 deg off", path, combined, [](const GoalCase& c) {
+    return c.exit_off_heading_deg > kSharpTurnDeg;
+  }));
+  r.ceiling.push_back(
+      ceilingRow("no heading at t (first seen at t, or standing)", path, combined,
+                 [](const GoalCase& c) { return !std::isfinite(c.exit_off_heading_deg); }));
   return r;
 }
 
@@ -248,32 +448,37 @@ std::string formatGoalReport(const GoalReport& r) {
   std::string out;
   if (r.configs.empty()) return out;
   const GoalEvalOptions& o0 = r.configs.front().options;
-  out += "Goal inference on real pedestrians: most likely goal at t_cross - " +
+  out += "Goal inference on real pedestrians: most likely goal at t = t_cross - " +
          fmt("%.1f", o0.lead_s) + " s vs where the walker leaves the scene\n";
   out +=
       "candidates: exits of the other walkers of the sequence (leave-pair-out), cluster radius " +
       fmt("%.2f", o0.cluster_radius_m) + " m; Euclidean (open space)\n";
-  out += r.beta_given ? "beta: given\n"
-                      : "beta: leave-one-sequence-out (max mean ln P(true goal) on the others)\n\n";
+  out += "heading at t: displacement over the last " + fmt("%.1f", o0.heading_window_s) +
+         " s (none below " + fmt("%.2f", o0.min_heading_step_m) + " m)\n";
+  out += r.beta_given ? "beta: given; kappa: leave-one-sequence-out\n\n"
+                      : "beta (and kappa): leave-one-sequence-out (max mean ln P(true goal) on the "
+                        "others)\n\n";
   out +=
-      "| clustering + prior | beta (all) | beta per fold (fit without it) | no candidate | "
-      "accuracy (all) | "
-      "accuracy (with candidate) | per sequence |\n|---|---:|---|---:|---:|---:|---|\n";
+      "| clustering + prior | beta (all) | kappa (all) | fit per fold (without it) | no candidate "
+      "| accuracy (all) | accuracy (with candidate) | per sequence |\n"
+      "|---|---:|---:|---|---:|---:|---:|---|\n";
   for (const auto& c : r.configs) {
-    std::string betas, per_ds;
+    std::string fits, per_ds;
     for (const auto& f : c.folds) {
-      betas += (betas.empty() ? "" : ", ") + f.held_out_ds + " " + fmt("%.1f", f.beta_per_m);
+      fits += (fits.empty() ? "" : ", ") + f.held_out_ds + " beta " + fmt("%.1f", f.beta_per_m) +
+              (c.options.heading_term ? " kappa " + fmt("%.1f", f.heading_kappa) : "");
       per_ds += (per_ds.empty() ? "" : ", ") + f.held_out_ds + " " +
-                fmt("%.3f", f.held_out.accuracy_all) + " (" + std::to_string(f.held_out.correct) +
-                "/" + std::to_string(f.held_out.walkers) + ")";
+                count(f.held_out.correct, f.held_out.walkers);
     }
     out += "| " + configName(c.options) + " | " + fmt("%.1f", c.options.beta_per_m) + " | " +
-           betas + " | " + std::to_string(c.walkers - c.with_candidate) + " / " +
-           std::to_string(c.walkers) + " | " + fmt("%.3f", c.accuracy_all) + " (" +
-           std::to_string(c.correct) + "/" + std::to_string(c.walkers) + ") | " +
+           (c.options.heading_term ? fmt("%.1f", c.options.heading_kappa) : "-") + " | " + fits +
+           " | " + std::to_string(c.walkers - c.with_candidate) + " / " +
+           std::to_string(c.walkers) + " | " + count(c.correct, c.walkers) + " | " +
            fmt("%.3f", c.accuracy_with_candidate) + " | " + per_ds + " |\n";
   }
-  out += "\nbeta sweep (all pairs; accuracy over all walkers, mean ln P(true goal)):\n";
+  out +=
+      "\nbeta sweep (all pairs; accuracy over all walkers, mean ln P(true goal); heading: kappa "
+      "of its fit):\n";
   out += "| beta [1/m] |";
   for (const auto& c : r.configs) out += " " + configName(c.options) + " |";
   out += "\n|---:|";
@@ -288,16 +493,64 @@ std::string formatGoalReport(const GoalReport& r) {
     }
     out += "\n";
   }
-  out += "\n";
+  for (const auto& c : r.configs) {
+    if (c.kappa_sweep.empty()) continue;
+    out += "\nkappa sweep (" + configName(c.options) + ", all pairs, beta " +
+           fmt("%.1f", c.options.beta_per_m) +
+           "):\n| kappa | accuracy (all) | mean ln P(true goal) |\n|---:|---:|---:|\n";
+    const auto kappas = goalHeadingKappas();
+    for (std::size_t k = 0; k < kappas.size(); ++k) {
+      out += "| " + fmt("%.1f", kappas[k]) + " | " + fmt("%.3f", c.kappa_sweep[k].accuracy_all) +
+             " | " + fmt("%.3f", c.kappa_sweep[k].mean_log_p_true) + " |\n";
+    }
+  }
+
+  out +=
+      "\nwhat the track up to t can tell: heading at t vs the straight direction to the walker's "
+      "exit, rest of its track / straight distance; held-out accuracy of the heading predictor "
+      "(cluster with the exit best aligned with the heading), of the path-length posterior "
+      "(chained + exit-frequency prior), of it with the heading term, and of an oracle picking "
+      "whichever of the first two is right:\n";
+  out +=
+      "| walkers | n | exit > 30 deg off heading | > 45 deg | median off [deg] | median rest / "
+      "straight | rest > 1.2 x straight | heading predictor | path length | path length + heading "
+      "| either (oracle) |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& row : r.ceiling) {
+    out += "| " + row.name + " | " + std::to_string(row.walkers) + " | " +
+           count(row.off_30deg, row.walkers) + " | " + count(row.off_45deg, row.walkers) + " | " +
+           fmt("%.1f", row.median_off_heading_deg) + " | " + fmt("%.2f", row.median_path_ratio) +
+           " | " + count(row.path_ratio_above_1_2, row.walkers) + " | " +
+           count(row.heading_correct, row.walkers) + " | " + count(row.path_correct, row.walkers) +
+           " | " + count(row.combined_correct, row.walkers) + " | " +
+           count(row.either_correct, row.walkers) + " |\n";
+  }
+  out +=
+      "bound: every walker whose exit is within 30 deg of its heading at t right, the others as "
+      "the path-length posterior has them: " +
+      fmt("%.3f", r.straight_on_perfect_bound) + "\n\n";
   for (const auto& c : r.configs) {
     out += "goal accuracy at t_cross-" + fmt("%.0f", c.options.lead_s) +
            "s: " + fmt("%.3f", c.accuracy_all) + " (" + configName(c.options) +
            ", all walkers; with a candidate " + fmt("%.3f", c.accuracy_with_candidate) + ")\n";
   }
-  const GoalConfigResult& best = r.configs.back();  // chained + exit-frequency prior
-  out += "RESULT goal_accuracy_all " + fmt("%.3f", best.accuracy_all) + "\n";
-  out += "RESULT goal_accuracy_with_candidate " + fmt("%.3f", best.accuracy_with_candidate) + "\n";
-  out += "RESULT goal_no_candidate " + std::to_string(best.walkers - best.with_candidate) + "\n";
+  const GoalConfigResult& path = r.configs[3];     // chained + exit-frequency prior
+  const GoalConfigResult& heading = r.configs[4];  // the same + heading term
+  out += "RESULT goal_accuracy_all " + fmt("%.3f", path.accuracy_all) + "\n";
+  out += "RESULT goal_accuracy_with_candidate " + fmt("%.3f", path.accuracy_with_candidate) + "\n";
+  out += "RESULT goal_no_candidate " + std::to_string(path.walkers - path.with_candidate) + "\n";
+  out += "RESULT goal_accuracy_heading_term " + fmt("%.3f", heading.accuracy_all) + "\n";
+  if (!r.ceiling.empty()) {
+    const GoalCeilingRow& all = r.ceiling.front();
+    out += "RESULT goal_exit_off_heading_30deg " + fmt("%.3f", ratio(all.off_30deg, all.walkers)) +
+           "\n";
+    out += "RESULT goal_exit_off_heading_45deg " + fmt("%.3f", ratio(all.off_45deg, all.walkers)) +
+           "\n";
+    out += "RESULT goal_accuracy_heading_predictor " +
+           fmt("%.3f", ratio(all.heading_correct, all.walkers)) + "\n";
+    out += "RESULT goal_accuracy_either_oracle " +
+           fmt("%.3f", ratio(all.either_correct, all.walkers)) + "\n";
+  }
+  out += "RESULT goal_bound_straight_on_perfect " + fmt("%.3f", r.straight_on_perfect_bound) + "\n";
   return out;
 }
 

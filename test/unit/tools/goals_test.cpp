@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 namespace coopnav::ctl {
 namespace {
+
+double ratio(std::size_t num, std::size_t den) {
+  return static_cast<double>(num) / static_cast<double>(den);
+}
 
 constexpr double kDtS = 0.4;
 
@@ -89,17 +94,67 @@ TEST(GoalsTest, ObservingNothingLeavesThePrior) {
   EXPECT_FALSE(e.cases[1].correct);
 }
 
+TEST(GoalsTest, TheTrackAfterTMeasuresTheTurnToTheExit) {
+  const GoalEvaluation e = evaluateGoalInference(scene(), GoalEvalOptions{});
+  // Walker 1 at its last sample by t = 7 s (6.8 s): at (-3.2, 0) heading east to its exit
+  // (10, 0): straight on.
+  EXPECT_TRUE(e.cases[0].has_heading);
+  EXPECT_NEAR(e.cases[0].exit_off_heading_deg, 0.0, 1e-6);
+  EXPECT_NEAR(e.cases[0].remaining_path_ratio, 1.0, 1e-9);
+  EXPECT_EQ(e.cases[0].heading_pick, 0);  // the east cluster
+  EXPECT_TRUE(e.cases[0].heading_correct);
+  // Walker 41 at (-3.2, 0) heading east, turns north at (2, 0) to its exit (2, 8): 5.2 m + 8 m
+  // walked for a straight hypot(5.2, 8) m, the exit atan(8 / 5.2) off its heading.
+  EXPECT_NEAR(e.cases[6].exit_off_heading_deg, std::atan2(8.0, 5.2) * 180.0 / M_PI, 1e-6);
+  EXPECT_NEAR(e.cases[6].remaining_path_ratio, 13.2 / std::hypot(5.2, 8.0), 1e-9);
+  EXPECT_FALSE(e.cases[6].heading_correct);  // no candidate
+}
+
+TEST(GoalsTest, HeadingLikelihoodIsAVonMisesMixtureOverTheClustersExits) {
+  const Eigen::Vector2d east(1.0, 0.0);
+  const Eigen::Vector2d at(0.0, 0.0);
+  const double kappa = 2.0;
+  EXPECT_DOUBLE_EQ(headingLikelihood(east, at, {{10.0, 0.0}}, kappa), 1.0);
+  EXPECT_NEAR(headingLikelihood(east, at, {{0.0, 10.0}}, kappa), std::exp(-kappa), 1e-12);
+  EXPECT_NEAR(headingLikelihood(east, at, {{-5.0, 0.0}}, kappa), std::exp(-2.0 * kappa), 1e-12);
+  EXPECT_NEAR(headingLikelihood(east, at, {{10.0, 0.0}, {0.0, 10.0}}, kappa),
+              0.5 * (1.0 + std::exp(-kappa)), 1e-12);
+  EXPECT_DOUBLE_EQ(headingLikelihood(east, at, {{0.0, 10.0}}, 0.0), 1.0);  // κ = 0: flat
+  EXPECT_DOUBLE_EQ(headingLikelihood(east, at, {at}, kappa), 1.0);         // no direction
+}
+
+TEST(GoalsTest, HeadingTermSharpensTheBeliefAndIsNeutralAtKappaZero) {
+  GoalEvalOptions o;
+  o.beta_per_m = 0.1;
+  const GoalEvaluation without_term = evaluateGoalInference(scene(), o);
+  o.heading_term = true;
+  o.heading_kappa = 0.0;
+  const GoalEvaluation flat = evaluateGoalInference(scene(), o);
+  o.heading_kappa = 5.0;
+  const GoalEvaluation sharp = evaluateGoalInference(scene(), o);
+  ASSERT_EQ(sharp.cases.size(), without_term.cases.size());
+  EXPECT_EQ(sharp.correct, 7u);
+  for (std::size_t i = 0; i < sharp.cases.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_NEAR(flat.cases[i].p_true, without_term.cases[i].p_true, 1e-12);
+    if (!sharp.cases[i].has_candidate) continue;
+    EXPECT_GT(sharp.cases[i].p_true, without_term.cases[i].p_true);
+  }
+}
+
 // The measured figures on the real pairs, as regression bounds (tools/ctl/README.md, "Goal
-// inference"): the issue's 85 % is not reached; what is reached must not get worse.
+// inference"): the issue's 85 % is not reached; what is reached must not get worse, and the
+// measurement of why stays what it is.
 TEST(GoalsRealData, AccuracyAtTCrossMinus3s) {
   const auto pairs =
       loadPedestrianPairs(std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json");
   const GoalReport r = evaluateGoalReport(pairs);
-  ASSERT_EQ(r.configs.size(), 4u);
+  ASSERT_EQ(r.configs.size(), 5u);
   const GoalConfigResult& baseline = r.configs[0];  // greedy radius, uniform prior
   const GoalConfigResult& best = r.configs[3];      // chained, exit-frequency prior
   EXPECT_EQ(best.options.clustering, ExitClustering::kChained);
   EXPECT_TRUE(best.options.frequency_prior);
+  EXPECT_FALSE(best.options.heading_term);
   EXPECT_EQ(best.walkers, 344u);
   EXPECT_LE(best.walkers - best.with_candidate, 2u);
   EXPECT_GE(best.accuracy_all, 0.75);
@@ -108,10 +163,41 @@ TEST(GoalsRealData, AccuracyAtTCrossMinus3s) {
   EXPECT_EQ(best.folds[0].held_out_ds, "UCY_zara01");
   EXPECT_GE(best.folds[0].held_out.accuracy_all, 0.9);
   EXPECT_GE(best.folds[1].held_out.accuracy_all, 0.7);
+  // The heading term (κ fit leave-one-sequence-out) adds nothing held out: 0.765 as without it.
+  const GoalConfigResult& heading = r.configs[4];
+  EXPECT_TRUE(heading.options.heading_term);
+  EXPECT_EQ(heading.walkers, 344u);
+  EXPECT_GE(heading.accuracy_all, 0.75);
+  EXPECT_LT(heading.accuracy_all, 0.85);
+  ASSERT_EQ(heading.kappa_sweep.size(), goalHeadingKappas().size());
+
+  // What the track can tell: about 19 % of the walkers leave more than 30° off their heading at
+  // t, and even all the others right leaves the 85 % out of reach.
+  ASSERT_EQ(r.ceiling.size(), 7u);
+  const GoalCeilingRow& all = r.ceiling[0];
+  EXPECT_EQ(all.walkers, 344u);
+  EXPECT_GE(all.off_30deg, 55u);
+  EXPECT_LE(all.off_30deg, 75u);
+  EXPECT_GE(all.off_45deg, 28u);
+  EXPECT_LE(all.off_45deg, 38u);
+  EXPECT_EQ(all.path_correct, best.correct);
+  EXPECT_EQ(all.combined_correct, heading.correct);
+  EXPECT_GE(all.heading_correct, 235u);  // heading predictor 0.709
+  EXPECT_LE(all.either_correct, 280u);   // 0.788: switching predictors gains little
+  EXPECT_GE(all.either_correct, all.path_correct);
+  const GoalCeilingRow& straight = r.ceiling[3];
+  const GoalCeilingRow& turns = r.ceiling[4];
+  EXPECT_EQ(straight.off_30deg, 0u);
+  EXPECT_EQ(turns.off_30deg, turns.walkers);
+  EXPECT_GE(ratio(straight.path_correct, straight.walkers), 0.87);
+  EXPECT_LE(ratio(turns.path_correct, turns.walkers), 0.45);
+  EXPECT_GT(r.straight_on_perfect_bound, 0.83);
+  EXPECT_LT(r.straight_on_perfect_bound, 0.85);
   // Deterministic.
   const GoalReport again = evaluateGoalReport(pairs);
   EXPECT_EQ(again.configs[3].correct, best.correct);
   EXPECT_EQ(again.configs[3].options.beta_per_m, best.options.beta_per_m);
+  EXPECT_EQ(again.configs[4].correct, heading.correct);
   EXPECT_EQ(formatGoalReport(again), formatGoalReport(r));
 }
 

@@ -113,18 +113,16 @@ double msSince(Clock::time_point t0) {
 /// GoalBelief::observe for 1 and 20 humans; returns the 20-human median [us per human].
 double benchGoalInference(const std::string& map_yaml) {
   auto t0 = Clock::now();
-  const auto field = std::make_shared<GridDistanceField>(loadMap(map_yaml).grid);
+  LoadedMap loaded = loadMap(map_yaml);
+  const auto field = std::make_shared<GridDistanceField>(std::move(loaded.grid));
   std::printf("goal inference: map %s loaded in %.1f ms\n", map_yaml.c_str(), msSince(t0));
   t0 = Clock::now();
-  std::vector<Eigen::Vector2d> goals = mapGoalCandidates(*field);
+  std::vector<GoalRegion> goals = mapGoalCandidates(*field);
   const double candidates_ms = msSince(t0);
   const std::size_t from_map = goals.size();
-  // open.pgm's hall has no dead end and no opening: the configured list (the paper scenarios'
-  // start and goal poses, README of the maps) supplies the goals, as COOPNAV_GOALS would.
-  for (const Eigen::Vector2d& g :
-       {Eigen::Vector2d(6.5, 6.5), Eigen::Vector2d(20.5, 6.5), Eigen::Vector2d(15.5, 1.575),
-        Eigen::Vector2d(29.5, 1.575), Eigen::Vector2d(4.0, 4.0), Eigen::Vector2d(37.0, 5.0)})
-    goals.push_back(g);
+  // open.pgm's hall has no dead end and no opening: the map's goal_regions (its corridors'
+  // ends) supply the goals, as they do for the band source.
+  for (const auto& r : loaded.goal_regions) goals.push_back({r.a, r.b});
   t0 = Clock::now();
   const auto distances = std::make_shared<GoalDistances>(field, goals);
   const double fields_ms = msSince(t0);
@@ -132,7 +130,7 @@ double benchGoalInference(const std::string& map_yaml) {
       "goal inference: %zu map candidates in %.1f ms, %zu goals in all, distance fields in %.1f "
       "ms:",
       from_map, candidates_ms, goals.size(), fields_ms);
-  for (const auto& g : goals) std::printf(" (%.2f, %.2f)", g.x(), g.y());
+  for (const auto& g : goals) std::printf(" (%.2f, %.2f)", g.centre().x(), g.centre().y());
   std::printf("\n");
 
   constexpr int kCycles = 2000;

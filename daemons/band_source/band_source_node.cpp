@@ -93,7 +93,8 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
       runtime_(runtime),
       clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       goals_clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
-  map_ = loadDistanceField(config_.map, /*build_tree=*/false).field;
+  LoadedField loaded = loadDistanceField(config_.map, /*build_tree=*/false);
+  map_ = loaded.field;
   const BandPlannerConfig& pc = config_.planner.config;
   planner_ = std::make_unique<DualBandPlanner>(pc, map_);
   if (!planner_->configErrors().empty()) {
@@ -130,18 +131,21 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
 
   if (config_.goal_inference.enabled) {
     const GoalInferenceYaml& gi = config_.goal_inference;
-    std::vector<Eigen::Vector2d> goals;
+    std::vector<GoalRegion> goals;
     if (gi.map_candidates) goals = mapGoalCandidates(*map_, gi.candidate_options);
-    const std::size_t from_map = goals.size();
-    for (const auto& c : gi.candidates) goals.emplace_back(c.x_m, c.y_m);
+    const std::size_t from_shape = goals.size();
+    for (const auto& r : loaded.map.goal_regions) goals.push_back({r.a, r.b});
+    for (const auto& c : gi.candidates) goals.push_back(GoalRegion::point({c.x_m, c.y_m}));
     if (goals.empty()) {
       log().warn(
           "band_source: goal_inference: no candidate goal (none from the map, none configured): "
           "humans without a given goal get constant-velocity bands");
     } else {
       goal_distances_ = std::make_shared<const GoalDistances>(map_, goals, gi.options);
-      log().info("band_source: goal inference over {} candidate goals ({} from the map)",
-                 goals.size(), from_map);
+      log().info(
+          "band_source: goal inference over {} candidate goals ({} from the map's shape, {} "
+          "annotated on it, {} configured)",
+          goals.size(), from_shape, loaded.map.goal_regions.size(), gi.candidates.size());
     }
   }
 
@@ -613,7 +617,7 @@ std::map<std::int32_t, Pose2> BandSourceNode::inferGoals(const AgentStatesSnapsh
   GoalEstimates out;
   out.utime = s.utime;
   out.step = s.step;
-  out.goals = goal_distances_->goals();
+  for (const auto& g : goal_distances_->goals()) out.goals.push_back(g.centre());
   for (const auto& h : s.humans) {
     if (given.count(h.id)) continue;
     auto it = goal_beliefs_.find(h.id);
@@ -622,7 +626,10 @@ std::map<std::int32_t, Pose2> BandSourceNode::inferGoals(const AgentStatesSnapsh
     goal_belief_recency_.touch(h.id, s.utime);
     GoalBelief& b = it->second;
     b.observe(stamp_s, h.pose.position());
-    const int best = b.mostLikely();
+    const auto planned_now = inferred_goal_.find(h.id);
+    const int best =
+        b.plannedGoal(planned_now == inferred_goal_.end() ? -1 : planned_now->second.index,
+                      config_.goal_inference.switch_margin_m);
     GoalEstimates::Human e;
     e.agent_id = h.id;
     e.most_likely = best;
@@ -632,14 +639,23 @@ std::map<std::int32_t, Pose2> BandSourceNode::inferGoals(const AgentStatesSnapsh
     e.probability = b.probabilities();
     out.humans.push_back(std::move(e));
     if (best < 0 || b.walkedLength_m() < config_.goal_inference.min_walked_m) continue;
-    const Eigen::Vector2d& g = out.goals[static_cast<std::size_t>(best)];
-    planned[h.id] = {g.x(), g.y(), std::numeric_limits<double>::quiet_NaN()};
-    const auto was = inferred_goal_.find(h.id);
-    if (was == inferred_goal_.end() || was->second != best) {
-      log().info("band_source: human {} most likely walks to goal {} ({:.2f}, {:.2f}), p {:.2f}",
-                 h.id, best, g.x(), g.y(), b.probabilities()[static_cast<std::size_t>(best)]);
-      inferred_goal_[h.id] = best;
+    // Where the human crosses the region is fixed when the region is chosen: re-projecting
+    // every cycle would move the goal with the human's own avoidance, and the reference path
+    // (the path it would have taken) with it.
+    auto was = inferred_goal_.find(h.id);
+    if (was == inferred_goal_.end() || was->second.index != best) {
+      const GoalRegion& region = goal_distances_->goals()[static_cast<std::size_t>(best)];
+      const Eigen::Vector2d target =
+          region.target(h.pose.position(), config_.goal_inference.options.agent_radius_m);
+      log().info(
+          "band_source: human {} most likely walks to goal {} (centre {:.2f}, {:.2f}), p {:.2f}: "
+          "planned to ({:.2f}, {:.2f})",
+          h.id, best, region.centre().x(), region.centre().y(),
+          b.probabilities()[static_cast<std::size_t>(best)], target.x(), target.y());
+      was = inferred_goal_.insert_or_assign(h.id, InferredGoal{best, target}).first;
     }
+    const Eigen::Vector2d& g = was->second.target;
+    planned[h.id] = {g.x(), g.y(), std::numeric_limits<double>::quiet_NaN()};
   }
   // A belief is of one track: an id gone for forget_after_s (or a flood of ids) loses it.
   goal_belief_recency_.forgetOld(s.utime, limits.forget_after_s,

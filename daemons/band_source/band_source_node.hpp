@@ -58,6 +58,10 @@ struct GoalInferenceYaml {
   /// [m] track walked before its most likely goal is planned with: a shorter track says too
   /// little, and a goal flipping would flip the reference path (constant velocity until then).
   double min_walked_m{1.0};
+  /// [m] a planned goal gives way to another only when the other's path-length evidence is better
+  /// by this much (GoalBelief::plannedGoal): real pedestrians avoid by ~0.4 m and up to ~1 m
+  /// (test/data/pedestrians), and such a step must not re-plan the reference path.
+  double switch_margin_m{1.0};
 
   template <class V>
   void visit(V& v) {
@@ -73,6 +77,7 @@ struct GoalInferenceYaml {
     v("opening_inset_m", candidate_options.opening_inset_m, Range{0.0, 5.0});
     v("min_dead_end_length_m", candidate_options.min_dead_end_length_m, Range{0.0, 100.0});
     v("min_walked_m", min_walked_m, Range{0.0, 100.0});
+    v("switch_margin_m", switch_margin_m, Range{0.0, 100.0});
   }
 };
 
@@ -213,8 +218,14 @@ class BandSourceNode {
   std::shared_ptr<const GoalDistances> goal_distances_;
   std::map<std::int32_t, GoalBelief> goal_beliefs_;
   IdRecency goal_belief_recency_;
-  std::map<std::int32_t, int> inferred_goal_;  ///< goal index planned with, per human (for logs)
-  std::set<std::int32_t> humans_unplanned_;    ///< beyond planner.max_planned_others
+  /// The goal a human is planned with: the region's index and where on it the human was
+  /// heading when it was chosen.
+  struct InferredGoal {
+    int index{-1};
+    Eigen::Vector2d target{0.0, 0.0};
+  };
+  std::map<std::int32_t, InferredGoal> inferred_goal_;
+  std::set<std::int32_t> humans_unplanned_;  ///< beyond planner.max_planned_others
   /// Agent ids planned since the planner's memory was last cleared (it keeps a band and a path
   /// per id it ever planned), and the time of that clearing or of the last check for ids gone.
   std::set<std::int32_t> planner_ids_;

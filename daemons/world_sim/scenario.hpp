@@ -68,6 +68,20 @@ struct WallSegment {
   }
 };
 
+/// A place people walk to (maps/map_loader.hpp MapGoalRegion): read by the band source's goal
+/// inference, checked here so that a scenario with a bad one stops every daemon alike.
+struct GoalRegionSpec {
+  double x0_m{0.0}, y0_m{0.0}, x1_m{0.0}, y1_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("x0_m", x0_m, xy, Required{});
+    v("y0_m", y0_m, xy, Required{});
+    v("x1_m", x1_m, xy, Required{});
+    v("y1_m", y1_m, xy, Required{});
+  }
+};
+
 /// An axis-aligned solid box of a synthetic map.
 struct BoxObstacle {
   double min_x_m{0.0}, min_y_m{0.0}, max_x_m{0.0}, max_y_m{0.0};
@@ -88,12 +102,14 @@ struct MapSpec {
   std::string file;  ///< resolved against the scenario's folder; empty for a synthetic map
   std::vector<WallSegment> walls;
   std::vector<BoxObstacle> boxes;
-  double resolution_m{0.05};  ///< grid resolution for a synthetic map
+  std::vector<GoalRegionSpec> goal_regions;  ///< not used by the simulator
+  double resolution_m{0.05};                 ///< grid resolution for a synthetic map
   template <class V>
   void visit(V& v) {
     v("file", file);
     v("walls", walls);
     v("boxes", boxes);
+    v("goal_regions", goal_regions);
     v("resolution_m", resolution_m, Range{0.01, 1.0});
     const bool synthetic = !walls.empty() || !boxes.empty();
     v.require(file.empty() == synthetic, "", "needs exactly one of 'file' or 'walls'/'boxes'");

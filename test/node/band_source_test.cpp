@@ -16,6 +16,7 @@
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
+#include "coopnav/goal_estimates_t.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/robot_action_t.hpp"
@@ -311,6 +312,60 @@ TEST_F(BandSourceNodeTest, SigtermStopsWithinOneSecondExitZero) {
   ASSERT_TRUE(step(headOnStates(0)));
   dut_->signal(SIGTERM);
   EXPECT_EQ(dut_->waitExit(milliseconds(1000)), 0);
+}
+
+// Goals withheld (a tracker gives positions only): the human walks down open.pgm's narrow
+// corridor off its centre line; the map file's section annotates the corridor mouths. The band
+// source names the mouth ahead and plans the human to it in its own lane, not to its centre.
+TEST(BandSourceGoalInferenceTest, AWithheldGoalIsInferredAndTheReferencePathKeepsTheLane) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string map = (dir / ("band_source_gi_map_" + std::to_string(::getpid()) + ".yaml"));
+  std::ofstream(map) << "map:\n  file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+                     << "  goal_regions:\n"
+                     << "    - {x0_m: 9.65, y0_m: 0.45, x1_m: 9.65, y1_m: 2.70}\n"
+                     << "    - {x0_m: 35.30, y0_m: 0.45, x1_m: 35.30, y1_m: 2.70}\n";
+  const std::string config = (dir / ("band_source_gi_" + std::to_string(::getpid()) + ".yaml"));
+  std::ofstream(config) << "map_file: " << map << "\nstep_gate_timeout_s: 0.5\n";
+  Probe probe;
+  std::vector<goal_estimates_t> estimates;
+  probe.rt.subscribe<goal_estimates_t>(
+      channels::kGoalEstimates,
+      [&](const goal_estimates_t& m, std::int64_t) { estimates.push_back(m); });
+  test::ChildProcess dut(test::daemonPath("band_source"),
+                         {"--config", config, "--lcm-url", test::testLcmUrl()});
+  ASSERT_TRUE(probe.waitFor([&] { return probe.status.has_value(); }));
+  goals_t g = headOnGoals();  // the robot's goal only
+  g.goals.resize(1);
+  g.num_goals = 1;
+  probe.rt.publish(channels::kGoals, g);
+  probe.rt.spinFor(20);
+  constexpr double kLane_m = 1.2;  // the corridor's centre line is y 1.575
+  constexpr int kSteps = 20;       // 2 m walked
+  for (std::int64_t k = 0; k < kSteps; ++k) {
+    agent_states_t m = headOnStates(k, 12.0, 30.0);
+    m.humans[0].y_m = kLane_m;
+    probe.rt.publish(channels::kAgentStates, m);
+    ASSERT_TRUE(probe.waitFor([&] { return probe.acks.count(k) > 0; })) << k;
+  }
+  std::filesystem::remove(config);
+  std::filesystem::remove(map);
+  ASSERT_FALSE(estimates.empty());
+  const goal_estimates_t& e = estimates.back();
+  ASSERT_EQ(e.num_goals, 2);
+  ASSERT_EQ(e.num_humans, 1);
+  EXPECT_EQ(e.humans[0].agent_id, kHumanId);
+  EXPECT_EQ(e.humans[0].most_likely, 0);  // the mouth ahead (x 9.65), published by its centre
+  EXPECT_NEAR(e.goal_x_m[0], 9.65, 1e-9);
+  EXPECT_NEAR(e.goal_y_m[0], 1.575, 1e-9);
+  EXPECT_GT(e.humans[0].probability[0], 0.9f);
+  // The reference path in force ends where the human crosses the mouth in its lane.
+  ASSERT_FALSE(probe.refs.empty());
+  const reference_paths_t& r = probe.refs.back();
+  ASSERT_EQ(r.num_paths, 1);
+  const auto& path = r.paths[0];
+  ASSERT_GE(path.num_points, 2);
+  EXPECT_NEAR(path.x_m[path.num_points - 1], 9.65, 0.15);
+  EXPECT_NEAR(path.y_m[path.num_points - 1], kLane_m, 0.15);
 }
 
 std::string run(const std::string& command) {

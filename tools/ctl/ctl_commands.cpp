@@ -1,12 +1,16 @@
 #include "ctl_commands.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/planning/goal_inference.hpp"
 #include "goals.hpp"
 #include "log_reader.hpp"
+#include "maps/map_loader.hpp"
 #include "pedestrians.hpp"
 #include "pedestrians_daemon.hpp"
 #include "run_analysis.hpp"
@@ -28,6 +32,7 @@ struct LogCommandOptions {
   CLI::App* pedestrians{nullptr};
   CLI::App* calibrate{nullptr};
   CLI::App* goals{nullptr};
+  CLI::App* goal_candidates{nullptr};
   std::optional<double> goals_beta_per_m;  // goals: fit leave-one-sequence-out unless given
   std::string log;
   std::string scenario;
@@ -194,6 +199,21 @@ int goalsCommand() {
   return 0;
 }
 
+/// The candidate goals the band source's goal inference would start from on a map (default
+/// options): from the map's shape, then annotated on it (goal_regions).
+int goalCandidatesCommand() {
+  LoadedMap loaded = loadMap(opts().log);
+  const GridDistanceField field(std::move(loaded.grid));
+  const auto print = [](const char* from, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    const Eigen::Vector2d c = 0.5 * (a + b);
+    std::printf("%-9s centre (%.2f, %.2f)  from (%.2f, %.2f) to (%.2f, %.2f)  %.2f m\n", from,
+                c.x(), c.y(), a.x(), a.y(), b.x(), b.y(), (b - a).norm());
+  };
+  for (const GoalRegion& r : mapGoalCandidates(field)) print("shape", r.a, r.b);
+  for (const MapGoalRegion& r : loaded.goal_regions) print("annotated", r.a, r.b);
+  return 0;
+}
+
 }  // namespace
 
 void addCtlCommands(CLI::App& app) {
@@ -284,6 +304,14 @@ void addCtlCommands(CLI::App& app) {
   o.goals->add_option("pairs", o.log, "headon_pairs.json")->required();
   o.goals->add_option("--beta-per-m", o.goals_beta_per_m, "beta [1/m] (default: fit by sequence)")
       ->check(CLI::PositiveNumber);
+
+  o.goal_candidates = app.add_subcommand(
+      "goal-candidates",
+      "print the candidate goals of a map (its shape's openings and corridor ends, then its "
+      "goal_regions), as the band source's goal inference finds them with default options");
+  o.goal_candidates->add_option("map", o.log, "map file (ROS map YAML, walls YAML, scenario)")
+      ->required()
+      ->check(CLI::ExistingFile);
 }
 
 int runCtlCommands(CLI::App&, const std::string&) {
@@ -297,6 +325,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.pedestrians) return pedestriansCommand();
   if (*o.calibrate) return calibrateCommand();
   if (*o.goals) return goalsCommand();
+  if (*o.goal_candidates) return goalCandidatesCommand();
   return 2;
 }
 

@@ -323,14 +323,40 @@ LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& b
                                 const MapLoadOptions& options, const std::string& where,
                                 int nesting);
 
+/// Appends node's `goal_regions` (optional) to map.
+void appendGoalRegions(const YAML::Node& node, const std::string& where, LoadedMap* map) {
+  const YAML::Node list = node["goal_regions"];
+  if (!list) return;
+  if (!list.IsSequence()) {
+    fail(where, "key 'goal_regions'" + lineOf(list) + " must be a sequence, got " + scalarOf(list));
+  }
+  if (map->goal_regions.size() + list.size() > kMaxMapGoalRegions) {
+    fail(where, "key 'goal_regions'" + lineOf(list) + ": more than " +
+                    std::to_string(kMaxMapGoalRegions) + " goal regions");
+  }
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    const YAML::Node e = list[k];
+    const std::string item = "goal_regions[" + std::to_string(k) + "]";
+    if (!e.IsMap()) fail(where, item + lineOf(e) + " must be a mapping, got " + scalarOf(e));
+    rejectDuplicateKeys(e, where, item + ".");
+    const auto get = [&](const char* field) {
+      return asDouble(requireKey(e, field, where + ": " + item), item + "." + field, where);
+    };
+    map->goal_regions.push_back({{get("x0_m"), get("y0_m")}, {get("x1_m"), get("y1_m")}});
+  }
+}
+
 LoadedMap loadYamlMap(const YAML::Node& node, const std::string& base_dir,
                       const MapLoadOptions& options, const std::string& where, int nesting) {
   if (!node.IsMap()) fail(where, "expected a YAML mapping, got " + scalarOf(node));
   rejectDuplicateKeys(node, where);
-  if (node["image"])
-    return fromGrid(loadRosMap(node, base_dir, where, options.max_cells), options, where);
-  if (node["walls"] || node["boxes"])
-    return fromGrid(rasteriseWallsMap(node, where, options.max_cells), options, where);
+  if (node["image"] || node["walls"] || node["boxes"]) {
+    LoadedMap m = fromGrid(node["image"] ? loadRosMap(node, base_dir, where, options.max_cells)
+                                         : rasteriseWallsMap(node, where, options.max_cells),
+                           options, where);
+    appendGoalRegions(node, where, &m);
+    return m;
+  }
   // A scenario file: its `map:` (a file or walls) is the map, so every daemon of a run can be
   // pointed at the scenario itself and is sure to load what the simulator loads.
   if (node["map"] && node["map"].IsMap())
@@ -626,7 +652,9 @@ LoadedMap loadMapFromNodeNested(const YAML::Node& map_node, const std::string& b
                       " deep (a scenario whose map names itself, or a cycle)");
     }
     const fs::path p = fs::path(f).is_absolute() ? fs::path(f) : fs::path(base_dir) / f;
-    return loadMapNested(p.string(), options, nesting + 1);
+    LoadedMap m = loadMapNested(p.string(), options, nesting + 1);
+    appendGoalRegions(map_node, where, &m);
+    return m;
   }
   return loadYamlMap(map_node, base_dir, options, where, nesting);
 }

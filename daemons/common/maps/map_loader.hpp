@@ -89,6 +89,18 @@ struct MapLoadOptions {
   bool build_tree{true};
 };
 
+/// A place people walk to, annotated on a map by `goal_regions: [{x0_m, y0_m, x1_m, y1_m}]`
+/// [m, world frame]: a segment across a corridor's end or along a door, a point when its ends
+/// are equal. The band source's goal inference takes them as candidate goals, for maps whose
+/// shape does not show where people go (a hall whose corridors open into it has no dead end).
+struct MapGoalRegion {
+  Eigen::Vector2d a{0.0, 0.0};
+  Eigen::Vector2d b{0.0, 0.0};
+};
+
+/// Most goal regions a map may annotate.
+inline constexpr std::size_t kMaxMapGoalRegions = 256;
+
 /// A loaded map: the OcTree of record and the grid the distance field is built from.
 struct LoadedMap {
   /// Map of record, in the tree frame: world = tree + tree_origin_m (x, y; z unchanged). Null for
@@ -100,6 +112,8 @@ struct LoadedMap {
   OccupancyGrid2 grid;
   /// Where it came from (a file path, or "<scenario>: map" for inline walls), for messages.
   std::string source;
+  /// The map file's `goal_regions`, then those of the scenario section naming it.
+  std::vector<MapGoalRegion> goal_regions;
 };
 
 /// A PGM image, row 0 at the top.
@@ -111,7 +125,7 @@ struct PgmImage {
 };
 
 /// Loads a map file: `.bt`, or a YAML file holding either a ROS map (`image:`) or a walls map
-/// (`walls:` and/or `boxes:`).
+/// (`walls:` and/or `boxes:`), each YAML one with optional `goal_regions` (MapGoalRegion).
 LoadedMap loadMap(const std::string& path, const MapLoadOptions& options = {});
 
 /// Loads a scenario's `map:` section: `file: <path>` (relative to base_dir unless absolute), or

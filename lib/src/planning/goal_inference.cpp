@@ -32,6 +32,14 @@ constexpr double kCornerBranchSlope = M_SQRT2;
 constexpr double kSeedCells = 1.5;
 /// Pruning passes over the skeleton (each removes at least one branch or stops).
 constexpr int kMaxPruningPasses = 256;
+/// A corridor end's axis is taken over at least this many skeleton cells (a cell-to-cell step
+/// alone gives only the 8 directions of the grid).
+constexpr double kMinAxisCells = 10.0;
+/// Path-length evidence within this many grid cells (a diagonal step: the grid's own error) is
+/// a tie between goals.
+constexpr double kTieCells = M_SQRT2;
+/// A corridor end's region reaches at most this many times its clearance to either side.
+constexpr double kCrossSectionPerClearance = 1.5;
 
 /// 8-neighbourhood in the circular order of Zhang & Suen (P2..P9: N, NE, E, SE, S, SW, W, NW),
 /// with j growing upwards (N = +j).
@@ -88,9 +96,9 @@ double clearanceOf(const DistanceResult& r) {
 // ---- Candidates --------------------------------------------------------------------------------
 
 /// Opening candidates: runs of free cells along each side of the grid (bottom, right, top, left),
-/// each run's centre on the map's border moved inset_m inwards.
+/// each run from its first to its last cell centre, moved inset_m inwards from the border.
 void appendOpenings(const SampleGrid& g, const std::vector<std::uint8_t>& free, double inset_m,
-                    std::vector<Eigen::Vector2d>* out) {
+                    std::vector<GoalRegion>* out) {
   const Eigen::Vector2d lo = g.origin;
   const Eigen::Vector2d hi = g.origin + g.res * Eigen::Vector2d(g.nx, g.ny);
   struct Side {
@@ -102,20 +110,23 @@ void appendOpenings(const SampleGrid& g, const std::vector<std::uint8_t>& free, 
                                    {0, g.ny - 1, 0, -1, g.ny}}};
   for (std::size_t s = 0; s < sides.size(); ++s) {
     const Side& side = sides[s];
+    auto inset = [&](Eigen::Vector2d p) {
+      if (s == 0) p.y() = lo.y() + inset_m;
+      if (s == 1) p.x() = hi.x() - inset_m;
+      if (s == 2) p.y() = hi.y() - inset_m;
+      if (s == 3) p.x() = lo.x() + inset_m;
+      return p;
+    };
     int run_start = -1;
     for (int k = 0; k <= side.n; ++k) {
       const bool f = k < side.n && free[g.index(side.i0 + k * side.di, side.j0 + k * side.dj)] != 0;
       if (f && run_start < 0) run_start = k;
       if (f || run_start < 0) continue;
-      const double mid = 0.5 * (run_start + k - 1);  // centre cell of the run (may be .5)
-      const Eigen::Vector2d c =
-          g.center(side.i0, side.j0) + mid * Eigen::Vector2d(side.di, side.dj) * g.res;
-      Eigen::Vector2d p = c;
-      if (s == 0) p.y() = lo.y() + inset_m;
-      if (s == 1) p.x() = hi.x() - inset_m;
-      if (s == 2) p.y() = hi.y() - inset_m;
-      if (s == 3) p.x() = lo.x() + inset_m;
-      out->push_back(p);
+      const Eigen::Vector2d first =
+          g.center(side.i0 + run_start * side.di, side.j0 + run_start * side.dj);
+      const Eigen::Vector2d last =
+          g.center(side.i0 + (k - 1) * side.di, side.j0 + (k - 1) * side.dj);
+      out->push_back({inset(first), inset(last)});
       run_start = -1;
     }
   }
@@ -179,9 +190,9 @@ bool isEnd(const Neighbourhood& n) { return n.count == 1 || (n.count == 2 && n.t
 bool isJunction(const Neighbourhood& n) { return n.transitions >= 3; }
 
 /// Removes skeleton leaf branches ending at the free space's edge (kTipMarginCells) or whose
-/// length minus √2 × their drop in clearance (kCornerBranchSlope) is below min_length_m, pass
-/// after pass, until none is removed. A pass judges every leaf branch of
-/// the same skeleton and then removes the failing ones together, so that both corner branches at a
+/// chord (tip to junction) minus √2 × their drop in clearance (kCornerBranchSlope) is below
+/// min_length_m, pass after pass, until none is removed. A pass judges every leaf branch of the
+/// same skeleton and then removes the failing ones together, so that both corner branches at a
 /// corridor's end go and the corridor's centre line ends there (removing one first would extend the
 /// other).
 void pruneBranches(const SampleGrid& g, const std::vector<double>& clearance, double radius_m,
@@ -203,7 +214,6 @@ void pruneBranches(const SampleGrid& g, const std::vector<double>& clearance, do
         walk.clear();
         walk.push_back(g.index(i, j));
         int ci = i, cj = j;
-        double length_m = 0.0;
         bool junction = false;
         std::size_t last = walk.front();
         while (true) {
@@ -221,7 +231,6 @@ void pruneBranches(const SampleGrid& g, const std::vector<double>& clearance, do
             }
           }
           if (next_i < 0) break;  // the other end of a simple path
-          length_m += g.res * ((next_i != ci && next_j != cj) ? M_SQRT2 : 1.0);
           ci = next_i;
           cj = next_j;
           last = g.index(ci, cj);
@@ -233,8 +242,11 @@ void pruneBranches(const SampleGrid& g, const std::vector<double>& clearance, do
         }
         const double tip_m = clearance[walk.front()];
         const bool at_edge = tip_m < radius_m + kTipMarginCells * g.res;
+        // The chord, not the walked length: a thinned diagonal is walked as a staircase, whose
+        // length overstates a corner branch's by up to √2.
+        const double chord_m = (g.center(i, j) - g.center(ci, cj)).norm();
         const double unexplained_m =
-            length_m - kCornerBranchSlope * std::max(0.0, clearance[last] - tip_m);
+            chord_m - kCornerBranchSlope * std::max(0.0, clearance[last] - tip_m);
         if (!at_edge && unexplained_m >= min_length_m) continue;
         doomed.insert(doomed.end(), walk.begin(), walk.end());
         if (!junction) doomed.push_back(last);
@@ -245,9 +257,65 @@ void pruneBranches(const SampleGrid& g, const std::vector<double>& clearance, do
   }
 }
 
+/// The cross-section of free space through p along direction n (unit): as far as free cells
+/// reach on either side, at most max_m, sampled at half a cell.
+GoalRegion crossSection(const SampleGrid& g, const std::vector<std::uint8_t>& free,
+                        const Eigen::Vector2d& p, const Eigen::Vector2d& n, double max_m) {
+  auto isFree = [&](const Eigen::Vector2d& q) {
+    const Eigen::Vector2d c = (q - g.origin) / g.res;
+    const int i = static_cast<int>(std::floor(c.x()));
+    const int j = static_cast<int>(std::floor(c.y()));
+    return g.contains(i, j) && free[g.index(i, j)] != 0;
+  };
+  const double step_m = 0.5 * g.res;
+  const int max_steps = static_cast<int>(std::min<double>(2 * (g.nx + g.ny), max_m / step_m));
+  std::array<Eigen::Vector2d, 2> ends{p, p};
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Vector2d dir = side == 0 ? n : Eigen::Vector2d(-n);
+    for (int k = 1; k <= max_steps; ++k) {
+      const Eigen::Vector2d q = p + (k * step_m) * dir;
+      if (!isFree(q)) break;
+      ends[static_cast<std::size_t>(side)] = q;
+    }
+  }
+  return {ends[0], ends[1]};
+}
+
+/// The direction a skeleton branch points to at its end cell (i, j): the chord from the cell
+/// walk_m back along it (or its junction) to the cell skip_m back from the end, so that the kink a
+/// thinned end keeps does not tilt it.
+Eigen::Vector2d branchDirection(const SampleGrid& g, const std::vector<std::uint8_t>& skel, int i,
+                                int j, double skip_m, double walk_m) {
+  std::vector<std::size_t> seen{g.index(i, j)};
+  int ci = i, cj = j;
+  Eigen::Vector2d near = g.center(i, j);
+  double length_m = 0.0;
+  while (length_m < walk_m) {
+    int next_i = -1, next_j = -1;
+    for (std::size_t k = 0; k < 8 && next_i < 0; ++k) {
+      const int a = ci + kRing[k][0];
+      const int b = cj + kRing[k][1];
+      if (!g.contains(a, b) || skel[g.index(a, b)] == 0) continue;
+      if (std::find(seen.begin(), seen.end(), g.index(a, b)) != seen.end()) continue;
+      next_i = a;
+      next_j = b;
+    }
+    if (next_i < 0) break;
+    length_m += g.res * ((next_i != ci && next_j != cj) ? M_SQRT2 : 1.0);
+    ci = next_i;
+    cj = next_j;
+    seen.push_back(g.index(ci, cj));
+    if (length_m <= skip_m) near = g.center(ci, cj);
+    if (isJunction(neighbourhood(g, skel, ci, cj))) break;
+  }
+  Eigen::Vector2d d = near - g.center(ci, cj);
+  if (!(d.norm() > g.res)) d = g.center(i, j) - g.center(ci, cj);  // a short branch: all of it
+  return d.norm() > 0.0 ? Eigen::Vector2d(d.normalized()) : Eigen::Vector2d(1.0, 0.0);
+}
+
 void appendDeadEnds(const SampleGrid& g, const std::vector<double>& clearance,
                     const std::vector<Eigen::Vector2d>& foot, const std::vector<std::uint8_t>& free,
-                    double radius_m, double min_length_m, std::vector<Eigen::Vector2d>* out) {
+                    double radius_m, double min_length_m, std::vector<GoalRegion>* out) {
   std::vector<std::uint8_t> skel(g.size(), 0);
   const double min_sep_m = kRidgeMinSeparationCells * g.res;
   for (int j = 0; j < g.ny; ++j) {
@@ -272,8 +340,15 @@ void appendDeadEnds(const SampleGrid& g, const std::vector<double>& clearance,
   pruneBranches(g, clearance, radius_m, min_length_m, &skel);
   for (int j = 0; j < g.ny; ++j) {
     for (int i = 0; i < g.nx; ++i) {
-      if (skel[g.index(i, j)] != 0 && isEnd(neighbourhood(g, skel, i, j)))
-        out->push_back(g.center(i, j));
+      const std::size_t k = g.index(i, j);
+      if (skel[k] == 0 || !isEnd(neighbourhood(g, skel, i, j))) continue;
+      // The corridor's axis near its end: the branch over about two corridor widths.
+      const Eigen::Vector2d u = branchDirection(
+          g, skel, i, j, clearance[k], std::max(4.0 * clearance[k], kMinAxisCells * g.res));
+      // A corridor's side walls are its end's clearance away; farther free space is a hall the
+      // branch ends in, not the corridor.
+      out->push_back(crossSection(g, free, g.center(i, j), Eigen::Vector2d(-u.y(), u.x()),
+                                  kCrossSectionPerClearance * clearance[k]));
     }
   }
 }
@@ -305,8 +380,16 @@ void forEachStep(const SampleGrid& g, const std::vector<std::uint8_t>& cls, std:
 
 }  // namespace
 
-std::vector<Eigen::Vector2d> mapGoalCandidates(const DistanceMap& map,
-                                               const GoalCandidateOptions& options) {
+Eigen::Vector2d GoalRegion::target(const Eigen::Vector2d& p, double inset_m) const {
+  const Eigen::Vector2d ab = b - a;
+  const double len_m = ab.norm();
+  if (!(len_m > 2.0 * inset_m) || !p.allFinite()) return centre();
+  const double s_m = std::clamp((p - a).dot(ab) / len_m, inset_m, len_m - inset_m);
+  return a + (s_m / len_m) * ab;
+}
+
+std::vector<GoalRegion> mapGoalCandidates(const DistanceMap& map,
+                                          const GoalCandidateOptions& options) {
   SampleGrid g;
   if (!makeGrid(map, options.resolution_m, &g)) return {};
   std::vector<double> clearance(g.size(), -1.0);
@@ -321,22 +404,37 @@ std::vector<Eigen::Vector2d> mapGoalCandidates(const DistanceMap& map,
       free[k] = clearance[k] >= options.agent_radius_m ? 1 : 0;
     }
   }
-  std::vector<Eigen::Vector2d> raw;
+  std::vector<GoalRegion> raw;
   appendOpenings(g, free, options.opening_inset_m, &raw);
   appendDeadEnds(g, clearance, foot, free, options.agent_radius_m, options.min_dead_end_length_m,
                  &raw);
-  std::vector<Eigen::Vector2d> out;
-  for (const Eigen::Vector2d& p : raw) {
-    const bool near = std::any_of(out.begin(), out.end(), [&](const Eigen::Vector2d& q) {
-      return (p - q).norm() < options.min_separation_m;
+  std::vector<GoalRegion> out;
+  for (const GoalRegion& p : raw) {
+    const bool near = std::any_of(out.begin(), out.end(), [&](const GoalRegion& q) {
+      return (p.centre() - q.centre()).norm() < options.min_separation_m;
     });
     if (!near) out.push_back(p);
   }
   return out;
 }
 
+namespace {
+
+std::vector<GoalRegion> pointRegions(const std::vector<Eigen::Vector2d>& points) {
+  std::vector<GoalRegion> out;
+  out.reserve(points.size());
+  for (const auto& p : points) out.push_back(GoalRegion::point(p));
+  return out;
+}
+
+}  // namespace
+
 GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
-                             std::vector<Eigen::Vector2d> goals,
+                             const std::vector<Eigen::Vector2d>& goals,
+                             const GoalInferenceOptions& options)
+    : GoalDistances(std::move(map), pointRegions(goals), options) {}
+
+GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map, std::vector<GoalRegion> goals,
                              const GoalInferenceOptions& options)
     : map_(std::move(map)), goals_(std::move(goals)), options_(options) {
   if (!map_) return;
@@ -365,29 +463,40 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
   for (std::size_t gi = 0; gi < goals_.size(); ++gi) {
     std::vector<float>& f = field_m_[gi];
     f.assign(g.size(), kInfF);
-    const Eigen::Vector2d& goal = goals_[gi];
-    if (!goal.allFinite()) continue;
-    MinQueue q;
-    // Seeds: the passable cells around the goal (the four a lookup at the goal interpolates),
-    // or, when the goal's cell is not passable, those within reach_m.
-    const Eigen::Vector2d cell = (goal - g.origin) / g.res;
-    if (!(cell.x() > -reach_cells && cell.y() > -reach_cells && cell.x() < g.nx + reach_cells &&
-          cell.y() < g.ny + reach_cells))
-      continue;
-    const int ci = static_cast<int>(std::floor(cell.x()));
-    const int cj = static_cast<int>(std::floor(cell.y()));
-    const bool own = g.contains(ci, cj) && cls[g.index(ci, cj)] == 2;
-    const double seed_m = own ? kSeedCells * g.res : reach_m;
-    for (int j = cj - reach_cells; j <= cj + reach_cells; ++j) {
-      for (int i = ci - reach_cells; i <= ci + reach_cells; ++i) {
-        if (!g.contains(i, j) || cls[g.index(i, j)] != 2) continue;
-        const double d = (g.center(i, j) - goal).norm();
-        if (d > seed_m) continue;
-        const std::size_t k = g.index(i, j);
-        f[k] = static_cast<float>(d);
-        q.emplace(f[k], static_cast<std::uint32_t>(k));
+    const GoalRegion& region = goals_[gi];
+    if (!region.a.allFinite() || !region.b.allFinite()) continue;
+    std::vector<std::size_t> seeded;
+    // Seeds of one point of the region: the passable cells around it (the four a lookup there
+    // interpolates), or, when its cell is not passable, those within reach_m.
+    auto seedAround = [&](const Eigen::Vector2d& goal) {
+      const Eigen::Vector2d cell = (goal - g.origin) / g.res;
+      if (!(cell.x() > -reach_cells && cell.y() > -reach_cells && cell.x() < g.nx + reach_cells &&
+            cell.y() < g.ny + reach_cells))
+        return;
+      const int ci = static_cast<int>(std::floor(cell.x()));
+      const int cj = static_cast<int>(std::floor(cell.y()));
+      const bool own = g.contains(ci, cj) && cls[g.index(ci, cj)] == 2;
+      const double seed_m = own ? kSeedCells * g.res : reach_m;
+      for (int j = cj - reach_cells; j <= cj + reach_cells; ++j) {
+        for (int i = ci - reach_cells; i <= ci + reach_cells; ++i) {
+          if (!g.contains(i, j) || cls[g.index(i, j)] != 2) continue;
+          const double d = (g.center(i, j) - goal).norm();
+          if (d > seed_m) continue;
+          const std::size_t k = g.index(i, j);
+          if (!std::isfinite(f[k])) seeded.push_back(k);
+          f[k] = std::min(f[k], static_cast<float>(d));
+        }
       }
+    };
+    // A segment seeds every half cell along it.
+    const int samples = 1 + static_cast<int>(std::ceil(region.length_m() / (0.5 * g.res)));
+    if (samples > 2 * (g.nx + g.ny) + 2) continue;  // longer than the map: not a place
+    for (int s = 0; s < samples; ++s) {
+      const double t = samples == 1 ? 0.0 : static_cast<double>(s) / (samples - 1);
+      seedAround(region.a + t * (region.b - region.a));
     }
+    MinQueue q;
+    for (const std::size_t k : seeded) q.emplace(f[k], static_cast<std::uint32_t>(k));
     // Phase 1: Dijkstra over passable cells, 8-connected; a diagonal step needs both cells it
     // cuts past unblocked.
     while (!q.empty()) {
@@ -431,7 +540,7 @@ GoalDistances::GoalDistances(std::shared_ptr<const DistanceMap> map,
 
 double GoalDistances::distance(std::size_t goal, const Eigen::Vector2d& p) const {
   if (goal >= goals_.size() || !p.allFinite()) return kInf;
-  if (!map_) return (p - goals_[goal]).norm();
+  if (!map_) return (p - goals_[goal].closest(p)).norm();
   const std::vector<float>& f = field_m_[goal];
   if (f.empty()) return kInf;
   const double res = options_.resolution_m;
@@ -522,7 +631,32 @@ int GoalBelief::mostLikely() const {
     if (best < 0 || probability_[i] > probability_[static_cast<std::size_t>(best)])
       best = static_cast<int>(i);
   }
-  return best;
+  if (best < 0 || !anchored_ || !distances_->geodesic()) return best;
+  // Goals whose path-length evidence differs by less than the grid resolves are tied (a walk
+  // down a corridor is equally consistent with every place beyond its end); the nearest wins.
+  const GoalInferenceOptions& o = distances_->options();
+  const double floor = probability_[static_cast<std::size_t>(best)] *
+                       std::exp(-o.beta_per_m * kTieCells * o.resolution_m);
+  int pick = best;
+  for (std::size_t i = 0; i < probability_.size(); ++i) {
+    if (probability_[i] > 0.0 && probability_[i] >= floor &&
+        distance_m_[i] < distance_m_[static_cast<std::size_t>(pick)])
+      pick = static_cast<int>(i);
+  }
+  return pick;
+}
+
+int GoalBelief::plannedGoal(int current, double switch_margin_m) const {
+  const int best = mostLikely();
+  if (best < 0 || current < 0 || current == best ||
+      static_cast<std::size_t>(current) >= probability_.size())
+    return best;
+  const double p_current = probability_[static_cast<std::size_t>(current)];
+  const double p_best = probability_[static_cast<std::size_t>(best)];
+  if (!(p_current > 0.0)) return best;
+  const double beta = distances_->options().beta_per_m;
+  return std::log(p_best) - std::log(p_current) > beta * std::max(0.0, switch_margin_m) ? best
+                                                                                        : current;
 }
 
 // Dragan & Srinivasa, "Legibility and Predictability of Robot Motion", HRI 2013,

@@ -354,6 +354,43 @@ TEST(MapLoaderTest, HugePgmSidesAreRejectedWithoutOverflow) {
 
 // Found by fuzz_map_yaml: a scenario whose map section names the scenario itself recursed until
 // the stack overflowed (a crash of every map-loading daemon at start, instead of exit 3).
+TEST(MapLoaderTest, GoalRegionsComeFromTheMapFileThenTheSectionNamingIt) {
+  TempDir tmp;
+  tmp.write("m.pgm", "P2\n2 2\n255\n0 255 255 0\n");
+  tmp.write("m.yaml",
+            std::string(kRosYaml) + "goal_regions:\n  - {x0_m: 1, y0_m: 2, x1_m: 3, y1_m: 4}\n");
+  const LoadedMap plain = loadMap(tmp.dir() + "/m.yaml");
+  ASSERT_EQ(plain.goal_regions.size(), 1u);
+  EXPECT_EQ(plain.goal_regions[0].a, Eigen::Vector2d(1.0, 2.0));
+  EXPECT_EQ(plain.goal_regions[0].b, Eigen::Vector2d(3.0, 4.0));
+  const LoadedMap scenario = loadMap(tmp.write(
+      "s.yaml",
+      "map:\n  file: m.yaml\n  goal_regions:\n    - {x0_m: 5, y0_m: 6, x1_m: 5, y1_m: 6}\n"));
+  ASSERT_EQ(scenario.goal_regions.size(), 2u);
+  EXPECT_EQ(scenario.goal_regions[1].a, Eigen::Vector2d(5.0, 6.0));
+  EXPECT_EQ(scenario.goal_regions[1].b, Eigen::Vector2d(5.0, 6.0));
+  const LoadedMap walls =
+      loadMap(tmp.write("w.yaml",
+                        "resolution_m: 0.1\nwalls: [{x0_m: 0, y0_m: 0, x1_m: 2, y1_m: 0}]\n"
+                        "goal_regions: [{x0_m: 1, y0_m: 1, x1_m: 1, y1_m: 2}]\n"));
+  EXPECT_EQ(walls.goal_regions.size(), 1u);
+  // Bad ones name the item and the key.
+  EXPECT_THAT(
+      errorOf([&] { loadMap(tmp.write("b1.yaml", std::string(kRosYaml) + "goal_regions: 3\n")); }),
+      AllOf(HasSubstr("b1.yaml"), HasSubstr("'goal_regions'"), HasSubstr("sequence")));
+  EXPECT_THAT(errorOf([&] {
+                loadMap(tmp.write("b2.yaml", std::string(kRosYaml) +
+                                                 "goal_regions: [{x0_m: 1, y0_m: 2, x1_m: 3}]\n"));
+              }),
+              AllOf(HasSubstr("goal_regions[0]"), HasSubstr("missing key 'y1_m'")));
+  EXPECT_THAT(errorOf([&] {
+                loadMap(tmp.write("b3.yaml",
+                                  std::string(kRosYaml) +
+                                      "goal_regions: [{x0_m: 1, y0_m: 2, x1_m: 3, y1_m: .nan}]\n"));
+              }),
+              AllOf(HasSubstr("goal_regions[0].y1_m"), HasSubstr("finite")));
+}
+
 TEST(MapLoaderTest, MapFilesNamingThemselvesAreRejected) {
   TempDir tmp;
   EXPECT_THAT(

@@ -35,10 +35,10 @@ std::shared_ptr<GridDistanceField> tJunction() {
   return std::make_shared<GridDistanceField>(std::move(grid));
 }
 
-/// The candidate nearest to p, and its distance.
-double nearestCandidate(const std::vector<Eigen::Vector2d>& c, const Eigen::Vector2d& p) {
+/// The distance from p to the nearest candidate's centre.
+double nearestCandidate(const std::vector<GoalRegion>& c, const Eigen::Vector2d& p) {
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& q : c) best = std::min(best, (q - p).norm());
+  for (const auto& q : c) best = std::min(best, (q.centre() - p).norm());
   return best;
 }
 
@@ -53,12 +53,89 @@ TEST(MapGoalCandidatesTest, StraightClosedCorridorGivesItsTwoEnds) {
   EXPECT_LT(nearestCandidate(c, {19.0, 1.0}), 0.5);
 }
 
+TEST(GoalRegionTest, TargetKeepsTheWalkersPlaceAcrossTheRegion) {
+  const GoalRegion r{{10.0, 0.0}, {10.0, 4.0}};
+  EXPECT_EQ(r.centre(), Eigen::Vector2d(10.0, 2.0));
+  // A walker at y 1.2 crosses at y 1.2; near an end it keeps inset_m from it.
+  EXPECT_TRUE(r.target({0.0, 1.2}, 0.3).isApprox(Eigen::Vector2d(10.0, 1.2)));
+  EXPECT_TRUE(r.target({0.0, 0.1}, 0.3).isApprox(Eigen::Vector2d(10.0, 0.3)));
+  EXPECT_TRUE(r.target({0.0, 9.0}, 0.3).isApprox(Eigen::Vector2d(10.0, 3.7)));
+  EXPECT_TRUE(r.closest({0.0, 9.0}).isApprox(Eigen::Vector2d(10.0, 4.0)));
+  // A region shorter than twice the inset, and a point, give their centre.
+  EXPECT_EQ(r.target({0.0, 1.2}, 2.5), r.centre());
+  EXPECT_EQ(GoalRegion::point({1.0, 2.0}).target({5.0, 5.0}, 0.3), Eigen::Vector2d(1.0, 2.0));
+  // Euclidean distance to a region is to its nearest point.
+  const GoalDistances open(nullptr, std::vector<GoalRegion>{r});
+  EXPECT_DOUBLE_EQ(open.distance(0, {7.0, 1.0}), 3.0);
+  EXPECT_DOUBLE_EQ(open.distance(0, {10.0, 7.0}), 3.0);
+}
+
+TEST(MapGoalCandidatesTest, ACorridorEndIsItsCrossSection) {
+  // Given a closed 20 x 2 m corridor: each end's region runs across the corridor's free width
+  // (clearance >= 0.3 m: y 0.3..1.7), so a walker keeping its lane heads straight on.
+  const auto map = BoxMap::corridor(0.0, 20.0, 0.0, 2.0);
+  const auto c = mapGoalCandidates(*map);
+  ASSERT_EQ(c.size(), 2u);
+  for (const auto& r : c) {
+    EXPECT_NEAR(std::abs(r.b.y() - r.a.y()), 1.4, 0.15);
+    EXPECT_NEAR(r.a.x(), r.b.x(), 0.05);
+    EXPECT_NEAR(r.target({10.0, 0.6}, 0.3).y(), 0.6, 0.05);
+  }
+  // The geodesic distance to an end is to its nearest point: from the same lane, straight on.
+  const std::size_t right = c[0].centre().x() > 10.0 ? 0 : 1;
+  const GoalDistances d(map, c);
+  EXPECT_NEAR(d.distance(right, {10.0, 0.6}), c[right].centre().x() - 10.0, 0.15);
+}
+
+TEST(GoalBeliefTest, GoalsEquallyConsistentWithTheWalkTieAndTheNearestWins) {
+  // Given a corridor and two goals beyond the walker, the farther listed first.
+  const auto map = BoxMap::corridor(0.0, 20.0, 0.0, 2.0);
+  const auto distances =
+      std::make_shared<GoalDistances>(map, std::vector<Eigen::Vector2d>{{18.0, 1.0}, {14.0, 1.0}});
+  GoalBelief dut(distances);
+  double t = 0.0;
+  for (double x = 2.0; x <= 9.0; x += 0.2) dut.observe(t += 0.2, {x, 1.0});
+  // Then the walk fits both alike and the nearer one is named.
+  EXPECT_NEAR(dut.probabilities()[0], dut.probabilities()[1], 0.05);
+  EXPECT_EQ(dut.mostLikely(), 1);
+  // In open space (no grid) there is no tolerance: the argmax.
+  const auto open = std::make_shared<GoalDistances>(
+      nullptr, std::vector<Eigen::Vector2d>{{18.0, 1.0}, {14.0, 3.0}});
+  GoalBelief e(open);
+  t = 0.0;
+  for (double x = 2.0; x <= 9.0; x += 0.2) e.observe(t += 0.2, {x, 1.0});
+  EXPECT_EQ(e.mostLikely(), 0);
+}
+
+TEST(GoalBeliefTest, APlannedGoalGivesWayOnlyToEvidenceBeyondTheMargin) {
+  // Given two goals ahead, to the left and right of the walker's line (Euclidean, beta 1).
+  GoalInferenceOptions o;
+  o.beta_per_m = 1.0;
+  const auto distances = std::make_shared<GoalDistances>(
+      nullptr, std::vector<Eigen::Vector2d>{{20.0, 3.0}, {20.0, -3.0}}, o);
+  GoalBelief dut(distances);
+  dut.observe(0.0, {0.0, 0.0});
+  dut.observe(1.0, {1.0, 0.0});
+  // When it steps 0.5 m to the right: goal 1 is the most likely, by less than a 1 m margin.
+  dut.observe(2.0, {2.0, -0.5});
+  ASSERT_EQ(dut.mostLikely(), 1);
+  const double log_odds = std::log(dut.probabilities()[1] / dut.probabilities()[0]);
+  ASSERT_LT(log_odds, 1.0);
+  EXPECT_EQ(dut.plannedGoal(0, 1.0), 0);             // kept
+  EXPECT_EQ(dut.plannedGoal(0, 0.5 * log_odds), 1);  // a smaller margin gives way
+  EXPECT_EQ(dut.plannedGoal(-1, 1.0), 1);            // nothing planned yet: the most likely
+  EXPECT_EQ(dut.plannedGoal(7, 1.0), 1);             // out of range
+  // Then it keeps walking right: the evidence passes the margin and the plan follows.
+  dut.observe(3.0, {6.0, -4.0});
+  EXPECT_EQ(dut.plannedGoal(0, 1.0), 1);
+}
+
 TEST(MapGoalCandidatesTest, TJunctionGivesItsOpeningAndTwoBranchEnds) {
   const auto map = tJunction();
   const auto c = mapGoalCandidates(*map);
   ASSERT_EQ(c.size(), 3u);
   // The opening first (at the border, moved opening_inset_m inward), then the two bar ends.
-  EXPECT_LT((c[0] - Eigen::Vector2d(12.0, 0.3)).norm(), 0.1);
+  EXPECT_LT((c[0].centre() - Eigen::Vector2d(12.0, 0.3)).norm(), 0.1);
   EXPECT_LT(nearestCandidate(c, {3.0, 11.0}), 0.5);
   EXPECT_LT(nearestCandidate(c, {21.0, 11.0}), 0.5);
 }
@@ -85,7 +162,10 @@ TEST(MapGoalCandidatesTest, Deterministic) {
   const auto a = mapGoalCandidates(*map);
   const auto b = mapGoalCandidates(*map);
   ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].a, b[i].a);
+    EXPECT_EQ(a[i].b, b[i].b);
+  }
 }
 
 TEST(GoalDistancesTest, GeodesicGoesAroundAWall) {
@@ -116,7 +196,7 @@ TEST(GoalBeliefTest, PosteriorFollowsTheBranchTheTrackTakes) {
   const auto distances = std::make_shared<GoalDistances>(map, goals);
   GoalBelief dut(distances);
   std::size_t left = 1, right = 2;
-  if (goals[1].x() > goals[2].x()) std::swap(left, right);
+  if (goals[1].centre().x() > goals[2].centre().x()) std::swap(left, right);
   // When a human walks up the stem: the bar's two ends stay equally likely, the opening behind
   // it drops.
   double t = 0.0;

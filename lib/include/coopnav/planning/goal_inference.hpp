@@ -23,6 +23,24 @@ namespace coopnav {
 /// Largest search / distance grid (cells) of mapGoalCandidates and GoalDistances (4096²).
 inline constexpr std::size_t kMaxGoalGridCells = std::size_t{1} << 24;
 
+/// A place people walk to: a segment across a corridor's end or along an opening, or a point
+/// (a == b). People leave a corridor anywhere across its end, so a walker's goal in it is where
+/// it crosses the segment, not its centre: heading for the centre would make its "shortest path"
+/// a diagonal across the corridor, and a walker keeping its lane would read as deviating.
+struct GoalRegion {
+  Eigen::Vector2d a{0.0, 0.0};
+  Eigen::Vector2d b{0.0, 0.0};
+
+  static GoalRegion point(const Eigen::Vector2d& p) { return {p, p}; }
+  Eigen::Vector2d centre() const { return 0.5 * (a + b); }
+  double length_m() const { return (b - a).norm(); }
+  /// The point of the segment nearest to p.
+  Eigen::Vector2d closest(const Eigen::Vector2d& p) const { return target(p, 0.0); }
+  /// Where a walker at p crosses the region keeping its place across it: p's projection onto
+  /// the segment, at least inset_m from its ends (the centre of a segment shorter than 2 inset_m).
+  Eigen::Vector2d target(const Eigen::Vector2d& p, double inset_m) const;
+};
+
 struct GoalCandidateOptions {
   double agent_radius_m{0.3};         ///< free space = clearance >= this
   double resolution_m{0.1};           ///< grid the candidates are searched on
@@ -31,11 +49,12 @@ struct GoalCandidateOptions {
   double min_dead_end_length_m{1.0};  ///< skeleton branches shorter than this are noise
 };
 
-/// Candidate goals of a map: the centres of the openings (runs of free border cells, sides in the
-/// order bottom, right, top, left) and the ends of the skeleton's branches (corridor ends, in
-/// raster order), merged within min_separation_m (the first kept), so openings come first.
-/// Deterministic for one map and options. Empty when the search grid would exceed
-/// kMaxGoalGridCells or nothing is free.
+/// Candidate goals of a map: the openings (runs of free border cells, sides in the order bottom,
+/// right, top, left; the region runs along the run, opening_inset_m inside the map) and the ends
+/// of the skeleton's branches (corridor ends, in raster order; the region runs across the
+/// corridor through the end, as far as free space reaches), merged when their centres lie within
+/// min_separation_m (the first kept), so openings come first. Deterministic for one map and
+/// options. Empty when the search grid would exceed kMaxGoalGridCells or nothing is free.
 ///
 /// Skeleton: a cell is a ridge cell when its nearest obstacle point and a 4-neighbour's lie at
 /// least max(2 cells, its clearance) apart (the integer medial axis, Hesselink & Roerdink 2008,
@@ -45,8 +64,8 @@ struct GoalCandidateOptions {
 /// walls) or their length minus √2 × their drop in clearance (what a branch along a corner's
 /// bisector has) is below min_dead_end_length_m; the ends that remain are corridor ends. A hall
 /// whose skeleton is all loops (open.pgm) has none: give such maps a configured goal list.
-std::vector<Eigen::Vector2d> mapGoalCandidates(const DistanceMap& map,
-                                               const GoalCandidateOptions& options = {});
+std::vector<GoalRegion> mapGoalCandidates(const DistanceMap& map,
+                                          const GoalCandidateOptions& options = {});
 
 struct GoalInferenceOptions {
   double beta_per_m{1.0};        ///< rationality [1/m]: how sharply a detour counts against a goal
@@ -56,22 +75,26 @@ struct GoalInferenceOptions {
   double reached_radius_m{0.5};  ///< a goal the human is within is not "ahead" (prob. to 0)
 };
 
-/// Per-goal distance fields (Dijkstra from every candidate on the free-space grid, once at
-/// construction) so that a cycle's L(q, g) is a lookup; without a map, Euclidean distances.
+/// Per-goal distance fields (Dijkstra from every candidate region on the free-space grid, once at
+/// construction) so that a cycle's L(q, g), the way to the nearest point of the region, is a
+/// lookup; without a map, Euclidean distances to the segment.
 /// Grid: cells of options.resolution_m (at least the map's) over the map's bounds; 8-connected
 /// moves between cells with clearance >= agent_radius_m; cells with less (but > 0) clearance,
 /// where people do walk close to walls, get the distance of a passable cell within
 /// agent_radius_m + one cell plus the way there, but never pass it on to passable cells, so no
 /// path runs through a gap narrower than the agent. A goal in such a cell starts from the
-/// passable cells within that distance. Memory: 4 B per cell and goal. A grid larger than
-/// kMaxGoalGridCells makes every distance +inf. Immutable after construction: const calls are
-/// safe from several threads.
+/// passable cells within that distance; a segment seeds along its length. Memory: 4 B per cell and
+/// goal. A grid larger than kMaxGoalGridCells makes every distance +inf. Immutable after
+/// construction: const calls are safe from several threads.
 class GoalDistances {
  public:
   /// map == nullptr: open space, Euclidean distances.
-  GoalDistances(std::shared_ptr<const DistanceMap> map, std::vector<Eigen::Vector2d> goals,
+  GoalDistances(std::shared_ptr<const DistanceMap> map, std::vector<GoalRegion> goals,
                 const GoalInferenceOptions& options = {});
-  const std::vector<Eigen::Vector2d>& goals() const { return goals_; }
+  /// Point goals.
+  GoalDistances(std::shared_ptr<const DistanceMap> map, const std::vector<Eigen::Vector2d>& goals,
+                const GoalInferenceOptions& options = {});
+  const std::vector<GoalRegion>& goals() const { return goals_; }
   /// The options in force (resolution_m raised to the map's).
   const GoalInferenceOptions& options() const { return options_; }
   /// Shortest free-space length from p to goal i [m] (bilinear between the finite cell values
@@ -83,7 +106,7 @@ class GoalDistances {
 
  private:
   std::shared_ptr<const DistanceMap> map_;
-  std::vector<Eigen::Vector2d> goals_;
+  std::vector<GoalRegion> goals_;
   GoalInferenceOptions options_;
   Eigen::Vector2d origin_{0.0, 0.0};
   int nx_{0};
@@ -111,8 +134,19 @@ class GoalBelief {
   /// P(goal i | track): the prior before the first observation; from the first observation on,
   /// unreachable and reached goals at 0 (at the start L(q, g) = L(s, g), so the prior otherwise).
   const std::vector<double>& probabilities() const { return probability_; }
-  /// Index of the most likely goal (ties: lowest index); -1 when there is no candidate.
+  /// Index of the most likely goal; -1 when there is no candidate. On a map, goals within
+  /// exp(−β √2 resolution_m) of the most probable one are tied (path-length differences below a
+  /// diagonal grid step are the grid's, not evidence) and the one nearest to the last position
+  /// used wins: a walk down a corridor fits every place beyond its end equally, and the walker
+  /// reaches the nearest first. Remaining ties: lowest index.
   int mostLikely() const;
+  /// The goal to plan with when `current` is planned with now: current, unless the most likely
+  /// goal's path-length evidence beats it by more than switch_margin_m (log-odds > β × margin)
+  /// or current is out of range or at probability 0; then mostLikely(). An avoidance step is
+  /// evidence too (stepping towards a wall brings the places behind it nearer), and re-planning
+  /// on it would move the reference path, the path the human would have walked, with the
+  /// avoidance it is there to measure.
+  int plannedGoal(int current, double switch_margin_m) const;
   double walkedLength_m() const { return walked_m_; }
   std::size_t observations() const { return observations_; }
 
@@ -129,7 +163,7 @@ class GoalBelief {
   double walked_m_{0.0};
   std::size_t observations_{0};
   bool anchored_{false};            ///< start_ set (some goal reachable from it)
-  std::vector<double> distance_m_;  ///< scratch: L(q, g) per goal
+  std::vector<double> distance_m_;  ///< L(q, g) per goal at the last observation
 };
 
 }  // namespace coopnav

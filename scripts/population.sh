@@ -6,9 +6,11 @@
 # when a contact had the robot at fault (1) or a run left no summary (3).
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
-#                         [--tracker-noise] [--profile paper|calibrated]
+#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
 #   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
 #   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
+#   --goals-withheld: the humans' goals are not published, the band source infers them, and the
+#   table says how often the region planned with at round 1 is the one walked to;
 #   --profile: the path assessment profile, as scripts/run.sh)
 # Environment: COOPNAV_POP_PORT_BASE (7400; run k of JOBS uses base + its slot),
 # COOPNAV_POP_RUN_TIMEOUT_S (900: wall seconds before a run is stopped).
@@ -57,8 +59,12 @@ while [ $# -gt 0 ]; do
       export COOPNAV_DAEMON_ARGS_world_sim="${COOPNAV_DAEMON_ARGS_world_sim:-} \
 --set tracker.position_sigma_m=0.05 --set tracker.miss_probability=0.05 --set tracker.id_switches=1"
       shift ;;
+    --goals-withheld)
+      export COOPNAV_DAEMON_ARGS_world_sim="${COOPNAV_DAEMON_ARGS_world_sim:-} \
+--set publish_human_goals=false"
+      shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done

@@ -166,6 +166,8 @@ void addEvent(const RawEvent& e, RunLog& run) {
     take(Kind::kSimStatus, run.sim_status);
   } else if (ch == channels::kReferencePaths) {
     take(Kind::kReferencePaths, run.reference_paths);
+  } else if (ch == channels::kGoalEstimates) {
+    take(Kind::kGoalEstimates, run.goal_estimates);
   } else if (ch == channels::kStatus) {
     take(Kind::kDaemonStatus, run.daemon_status);
   } else if (ch == channels::kRobotCmd) {

@@ -17,6 +17,7 @@
 
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
+#include "coopnav/goal_estimates_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
@@ -95,6 +96,7 @@ struct RunLog {
     kDaemonStatus,
     kRestart,  ///< a step ack of a daemon that restarted mid-run (first one per restart)
     kVelocityCommand,
+    kGoalEstimates,
   };
   struct Ref {
     Kind kind;
@@ -109,9 +111,10 @@ struct RunLog {
   std::vector<path_assessor_control_t> controls;
   std::vector<sim_status_t> sim_status;
   std::vector<reference_paths_t> reference_paths;
-  std::vector<daemon_status_t> daemon_status;  ///< wall-clock reports: never in default outputs
-  std::vector<step_ack_t> restarts;            ///< first ack of each daemon's restart
-  std::vector<velocity_command_t> commands;    ///< the robot's (modes and guard: summary counts)
+  std::vector<daemon_status_t> daemon_status;    ///< wall-clock reports: never in default outputs
+  std::vector<step_ack_t> restarts;              ///< first ack of each daemon's restart
+  std::vector<velocity_command_t> commands;      ///< the robot's (modes and guard: summary counts)
+  std::vector<goal_estimates_t> goal_estimates;  ///< inferred goals (summary: at round 1)
   std::vector<Ref> order;
   LogReadCounts counts;
 };

@@ -1,10 +1,12 @@
 #include "summary.hpp"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -68,6 +70,56 @@ Json contactJson(const sim_status_t& st) {
   c["robot_at_fault"] = st.contact == sim_status_t::CONTACT_ROBOT_AT_FAULT;
   c["robot_speed_m_s"] = numberOrNull(st.contact_robot_speed_m_s);
   return c;
+}
+
+/// Goal inference for human id (null when the band source inferred none, e.g. goals given): the
+/// most likely candidate at the first round (the last estimate at or before it), and the truth
+/// as for real walkers: the candidate whose centre is nearest to where the human was last seen.
+Json goalInferenceJson(const RunLog& run, std::int32_t id,
+                       std::optional<std::int64_t> round1_utime) {
+  const goal_estimate_t* at_round1 = nullptr;
+  const goal_estimates_t* list = nullptr;
+  bool any = false;
+  for (const auto& m : run.goal_estimates) {
+    for (const auto& e : m.humans) {
+      if (e.agent_id != id) continue;
+      any = true;
+      if (round1_utime && m.utime <= *round1_utime) {
+        at_round1 = &e;
+        list = &m;
+      }
+    }
+  }
+  if (!any) return nullptr;
+  std::optional<Eigen::Vector2d> last;
+  for (const auto& st : run.agent_states)
+    for (const auto& a : st.humans)
+      if (a.id == id) last = Eigen::Vector2d(a.x_m, a.y_m);
+  Json g = Json::object();
+  g["last_seen_m"] = last ? point(last->x(), last->y()) : Json();
+  g["at_round1"] = nullptr;
+  g["p_at_round1"] = nullptr;
+  g["truth"] = nullptr;
+  g["correct"] = nullptr;
+  if (list == nullptr) return g;
+  g["candidates"] = list->num_goals;
+  if (at_round1->most_likely >= 0) {
+    g["at_round1"] = at_round1->most_likely;
+    g["p_at_round1"] =
+        numberOrNull(at_round1->probability[static_cast<std::size_t>(at_round1->most_likely)]);
+  }
+  if (!last || list->num_goals <= 0) return g;
+  int truth = 0;
+  for (int k = 1; k < list->num_goals; ++k) {
+    const auto d = [&](int i) {
+      return std::hypot(list->goal_x_m[static_cast<std::size_t>(i)] - last->x(),
+                        list->goal_y_m[static_cast<std::size_t>(i)] - last->y());
+    };
+    if (d(k) < d(truth)) truth = k;
+  }
+  g["truth"] = truth;
+  g["correct"] = at_round1->most_likely == truth;
+  return g;
 }
 
 Json humanEntry(const RunLog& run, const HumanAnalysis& h,
@@ -136,6 +188,11 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
   } else {
     o["first_round"] = nullptr;
   }
+  o["goal_inference"] = goalInferenceJson(
+      run, h.id,
+      h.first_round_situation
+          ? std::optional<std::int64_t>(run.situations[*h.first_round_situation].utime)
+          : std::nullopt);
 
   Json entries = Json::array();
   using Kind = TranscriptEntry::Kind;

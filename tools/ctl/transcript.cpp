@@ -79,6 +79,8 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
       case RunLog::Kind::kAgentStates:
         last_step_utime = run.agent_states[ref.index].utime;
         continue;
+      case RunLog::Kind::kGoalEstimates:
+        continue;
       case RunLog::Kind::kDaemonStatus: {
         const auto& st = run.daemon_status[ref.index];
         if (!options.include_daemon_status || st.state != daemon_status_t::STATE_DEGRADED) continue;

@@ -169,6 +169,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   std::map<std::string, std::vector<double>> cm_by_behaviour;
   std::vector<double> ratios;
   int failed_runs = 0, standstills = 0, goal_not_reached = 0;
+  int goal_humans = 0, goal_judged = 0, goal_correct = 0;  // goal inference at round 1
   std::map<std::string, std::optional<double>> sums{
       {"docks", 0.0}, {"retreats", 0.0}, {"guard_steps", 0.0}};
 
@@ -242,6 +243,17 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       hr["room_m"] = numberOrNull(field(found, "room_m"));
       hr["tau_fixed_m"] = numberOrNull(field(found, "tau_fixed_m"));
       hr["tau_room_m"] = numberOrNull(field(found, "tau_room_m"));
+      // Goals withheld: was the region planned with at round 1 the one the human walked to?
+      const Json* gi = field(found, "goal_inference");
+      hr["goal_correct_at_round1"] = boolOrNull(field(gi, "correct"));
+      if (run != nullptr && h.at("role") != "same_way" && gi != nullptr && gi->is_object()) {
+        ++goal_humans;
+        const Json& c = hr["goal_correct_at_round1"];
+        if (!c.is_null()) {
+          ++goal_judged;
+          goal_correct += c.get<bool>() ? 1 : 0;
+        }
+      }
       const Json expected = expectedContributing(behaviour);
       hr["expected_contributing"] = expected;
       // The oncoming humans are the assessed encounters; one walking the robot's way is not.
@@ -340,6 +352,12 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
                     {"accuracy_fixed_tau", share(all_fixed_ok, all_fixed)},
                     {"accuracy_room_tau", share(all_room_ok, all_room)}};
   totals["is_contributing_accuracy"] = std::move(acc);
+  // Only with goals withheld (population.sh --goals-withheld); humans without a first round or
+  // an estimate by then are not judged.
+  totals["goal_inference"] = Json{{"humans", goal_humans},
+                                  {"judged", goal_judged},
+                                  {"correct", goal_correct},
+                                  {"accuracy_at_round1", share(goal_correct, goal_judged)}};
 
   std::vector<double> negatives = cm_by_behaviour["minimal"];
   negatives.insert(negatives.end(), cm_by_behaviour["oblivious"].begin(),
@@ -464,6 +482,13 @@ inline std::string formatTable(const Json& population) {
   const Json& ttg = t.at("time_to_goal_ratio");
   s += "\ntime to goal against the run without humans: median " + num(ttg.at("median"), "%.2f") +
        ", max " + num(ttg.at("max"), "%.2f") + " over " + ttg.at("runs").dump() + " runs\n";
+  if (t.contains("goal_inference") && t.at("goal_inference").at("humans").get<int>() > 0) {
+    const Json& gi = t.at("goal_inference");
+    s += "goal inference (goals withheld): region planned with at round 1 = the one walked to, " +
+         gi.at("correct").dump() + "/" + gi.at("judged").dump() + " = " +
+         num(gi.at("accuracy_at_round1"), "%.3f") +
+         " (oncoming humans with an estimate: " + gi.at("humans").dump() + ")\n";
+  }
   return s;
 }
 

@@ -82,6 +82,9 @@ struct Layout {
   double same_way_goal_x_m{0.0};  ///< the human walking the robot's way walks to here
   /// Lanes of the extra humans (open_wide: round the pillar); empty = the corridor's own range.
   std::vector<std::pair<double, double>> extra_lanes_y_m;
+  /// Where people go in the map, for goal inference with goals withheld (the map section's
+  /// goal_regions: {x0, y0, x1, y1} [m]); empty: the map's shape shows them.
+  std::vector<std::array<double, 4>> goal_regions_m;
   /// Synthetic corridor: x extent of its closed end walls.
   double wall_x0_m{0.0};
   double wall_x1_m{0.0};
@@ -117,6 +120,17 @@ inline Layout syntheticCorridor(double width_m) {
   return l;
 }
 
+/// open.pgm is a closed hall whose skeleton is all loops: the places people go in it are the
+/// mouths of its two corridors at the divider's ends (x 9.65 and 35.30), as the paper's narrow
+/// scenarios annotate them.
+inline const std::vector<std::array<double, 4>>& openPgmGoalRegionsM() {
+  static const std::vector<std::array<double, 4>> k{{9.65, 0.45, 9.65, 2.70},
+                                                    {35.30, 0.45, 35.30, 2.70},
+                                                    {9.65, 3.50, 9.65, 9.50},
+                                                    {35.30, 3.50, 35.30, 9.50}};
+  return k;
+}
+
 /// The straight stretches of the real maps (geometry measured from the pixels of the maps the
 /// population reads, their credit in test/data/maps/CREDIT.md; junctions: y 25.00-27.00 free from
 /// x 6.85 to 37.50, crossed by a 1.5 m corridor at x 23.50-25.00).
@@ -126,6 +140,7 @@ inline std::vector<Layout> mapLayouts() {
     Layout l;  // open.pgm, lower corridor y 0.45-2.70 (the paper's 2.25 m), x 9.65-35.30
     l.key = "open_narrow";
     l.map_file = "open.yaml";
+    l.goal_regions_m = openPgmGoalRegionsM();
     l.width_m = 2.25;
     l.centre_y_m = 1.575;
     l.robot_start_x_m = 11.0;
@@ -145,6 +160,7 @@ inline std::vector<Layout> mapLayouts() {
     Layout l;
     l.key = "open_wide";
     l.map_file = "open.yaml";
+    l.goal_regions_m = openPgmGoalRegionsM();
     l.width_m = 6.0;
     l.centre_y_m = 6.5;
     l.robot_start_x_m = 2.5;
@@ -393,6 +409,10 @@ inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
   y += "map:\n";
   if (!l.map_file.empty()) {
     y += "  file: ../maps/" + l.map_file + "\n";
+    if (!l.goal_regions_m.empty()) y += "  goal_regions:\n";
+    for (const auto& r : l.goal_regions_m)
+      y += "    - {x0_m: " + fmt("%.2f", r[0]) + ", y0_m: " + fmt("%.2f", r[1]) +
+           ", x1_m: " + fmt("%.2f", r[2]) + ", y1_m: " + fmt("%.2f", r[3]) + "}\n";
   } else {
     const std::string x0 = fmt("%.2f", l.wall_x0_m), x1 = fmt("%.2f", l.wall_x1_m);
     const std::string lo = "-0.10", hi = fmt("%.2f", l.width_m + 0.1);

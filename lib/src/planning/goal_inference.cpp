@@ -632,18 +632,32 @@ int GoalBelief::mostLikely() const {
       best = static_cast<int>(i);
   }
   if (best < 0 || !anchored_ || !distances_->geodesic()) return best;
-  // Goals whose path-length evidence differs by less than the grid resolves are tied (a walk
-  // down a corridor is equally consistent with every place beyond its end); the nearest wins.
+  // Goals whose path-length evidence differs by less than the grid resolves are tied: a walk
+  // down a corridor fits every place beyond its end or its next junction alike. People keep
+  // going straight unless they turn, so the tie goes to the goal whose shortest path from here
+  // is the straightest (the least longer than the straight line to the region: detours within
+  // a grid step are alike), then the nearest.
   const GoalInferenceOptions& o = distances_->options();
   const double floor = probability_[static_cast<std::size_t>(best)] *
                        std::exp(-o.beta_per_m * kTieCells * o.resolution_m);
-  int pick = best;
+  const double same_m = kTieCells * o.resolution_m;
+  const auto detour_m = [&](std::size_t i) {
+    return distance_m_[i] - (distances_->goals()[i].closest(last_) - last_).norm();
+  };
+  auto pick = static_cast<std::size_t>(best);
+  double pick_detour_m = detour_m(pick);
   for (std::size_t i = 0; i < probability_.size(); ++i) {
-    if (probability_[i] > 0.0 && probability_[i] >= floor &&
-        distance_m_[i] < distance_m_[static_cast<std::size_t>(pick)])
-      pick = static_cast<int>(i);
+    if (i == pick || !(probability_[i] > 0.0) || probability_[i] < floor) continue;
+    const double d_m = detour_m(i);
+    const bool straighter = d_m < pick_detour_m - same_m;
+    const bool as_straight_and_nearer =
+        std::abs(d_m - pick_detour_m) <= same_m && distance_m_[i] < distance_m_[pick];
+    if (straighter || as_straight_and_nearer) {
+      pick = i;
+      pick_detour_m = d_m;
+    }
   }
-  return pick;
+  return static_cast<int>(pick);
 }
 
 int GoalBelief::plannedGoal(int current, double switch_margin_m) const {

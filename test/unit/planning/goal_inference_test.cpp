@@ -107,6 +107,25 @@ TEST(GoalBeliefTest, GoalsEquallyConsistentWithTheWalkTieAndTheNearestWins) {
   EXPECT_EQ(e.mostLikely(), 0);
 }
 
+TEST(GoalBeliefTest, ATieBeforeAJunctionGoesToTheGoalStraightOn) {
+  // Given a long bar (x -20..22, y 10..12, closed ends) with a stem at x 11..13 down to an
+  // opening at the map's bottom: the stem's opening is nearer than the bar's far end.
+  OccupancyGrid2 grid(480, 140, 0.1, Eigen::Vector2d(-22.0, 0.0), CellState::kOccupied);
+  carve(grid, -20.0, 22.0, 10.0, 12.0);
+  carve(grid, 11.0, 13.0, -1.0, 10.5);
+  const auto map = std::make_shared<GridDistanceField>(std::move(grid));
+  const std::vector<Eigen::Vector2d> goals{{12.0, 0.3}, {-19.0, 11.0}};
+  const auto distances = std::make_shared<GoalDistances>(map, goals);
+  GoalBelief dut(distances);
+  // When a walker comes along the bar from its right end towards the junction: both goals fit.
+  double t = 0.0;
+  for (double x = 21.0; x >= 16.0; x -= 0.2) dut.observe(t += 0.2, {x, 11.0});
+  ASSERT_NEAR(dut.probabilities()[0], dut.probabilities()[1], 0.05);
+  ASSERT_LT(distances->distance(0, {16.0, 11.0}), distances->distance(1, {16.0, 11.0}));
+  // Then the one straight on is named, not the nearer one round the corner.
+  EXPECT_EQ(dut.mostLikely(), 1);
+}
+
 TEST(GoalBeliefTest, APlannedGoalGivesWayOnlyToEvidenceBeyondTheMargin) {
   // Given two goals ahead, to the left and right of the walker's line (Euclidean, beta 1).
   GoalInferenceOptions o;

@@ -470,6 +470,7 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   EXPECT_EQ(h.at("docked"), true);
   EXPECT_EQ(h.at("thanked"), true);
   EXPECT_EQ(h.at("interaction_ca_complete"), true);
+  EXPECT_TRUE(h.at("goal_inference").is_null());  // goals given: nothing inferred
   const Json& round1 = h.at("first_round");
   ASSERT_TRUE(round1.is_object());
   EXPECT_DOUBLE_EQ(round1.at("t_s").get<double>(), 1.0);
@@ -500,6 +501,44 @@ velocity_command_t command(int k, std::int8_t mode, std::int8_t guard) {
   c.mode = mode;
   c.guard = guard;
   return c;
+}
+
+TEST(LogTools, SummaryScoresTheGoalInferredAtRoundOneAgainstWhereTheHumanWent) {
+  // Goals withheld: two candidates ahead of and behind the human (who walks -x from x 16 to
+  // 7.1); the band source names the one behind it until step 5, then the one ahead.
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    for (int k = 0; k < kSteps; ++k) {
+      goal_estimates_t g{};
+      g.utime = utimeOf(k);
+      g.step = k;
+      g.num_goals = 2;
+      g.goal_x_m = {0.0, 20.0};
+      g.goal_y_m = {1.5, 1.5};
+      goal_estimate_t e{};
+      e.agent_id = 1;
+      e.most_likely = k < 5 ? 1 : 0;
+      e.num_goals = 2;
+      e.probability = k < 5 ? std::vector<float>{0.4f, 0.6f} : std::vector<float>{0.75f, 0.25f};
+      g.num_humans = 1;
+      g.humans = {e};
+      w.put(channels::kGoalEstimates, g);
+      w.put(channels::kAgentStates, statesAt(k));
+      w.put(channels::kSituation, situationAt(k));
+    }
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.goal_estimates.size(), static_cast<std::size_t>(kSteps));
+  const Json h =
+      parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm"))).at("humans").at(0);
+  const Json& g = h.at("goal_inference");
+  EXPECT_EQ(g.at("candidates"), 2);
+  EXPECT_EQ(g.at("at_round1"), 0);
+  EXPECT_NEAR(g.at("p_at_round1").get<double>(), 0.75, 1e-6);
+  EXPECT_EQ(g.at("truth"), 0);  // last seen at x 7.1: nearer x 0 than x 20
+  EXPECT_EQ(g.at("correct"), true);
+  EXPECT_NEAR(g.at("last_seen_m").at(0).get<double>(), 16.0 - 0.1 * (kSteps - 1), 1e-9);
 }
 
 TEST(LogTools, SummaryCountsWhatTheRobotDidAndSaysWhoTouchedWhom) {

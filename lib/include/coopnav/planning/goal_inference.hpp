@@ -136,9 +136,11 @@ class GoalBelief {
   const std::vector<double>& probabilities() const { return probability_; }
   /// Index of the most likely goal; -1 when there is no candidate. On a map, goals within
   /// exp(−β √2 resolution_m) of the most probable one are tied (path-length differences below a
-  /// diagonal grid step are the grid's, not evidence) and the one nearest to the last position
-  /// used wins: a walk down a corridor fits every place beyond its end equally, and the walker
-  /// reaches the nearest first. Remaining ties: lowest index.
+  /// diagonal grid step are the grid's, not evidence): a walk down a corridor fits every place
+  /// beyond its end or its next junction alike. The tie goes to the goal whose shortest path from
+  /// the last position used is the straightest (the least longer than the straight line to the
+  /// region's nearest point, within a diagonal grid step: people go on straight unless they
+  /// turn), then to the nearest, then to the lowest index.
   int mostLikely() const;
   /// The goal to plan with when `current` is planned with now: current, unless the most likely
   /// goal's path-length evidence beats it by more than switch_margin_m (log-odds > β × margin)

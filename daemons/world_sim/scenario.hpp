@@ -53,10 +53,9 @@ class ScenarioError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// A straight wall of a synthetic map: the segment thickened by thickness_m.
-struct WallSegment {
+/// A segment [m, world frame] given by its ends.
+struct SegmentSpec {
   double x0_m{0.0}, y0_m{0.0}, x1_m{0.0}, y1_m{0.0};
-  double thickness_m{kDefaultWallThickness_m};
   template <class V>
   void visit(V& v) {
     const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
@@ -64,23 +63,22 @@ struct WallSegment {
     v("y0_m", y0_m, xy, Required{});
     v("x1_m", x1_m, xy, Required{});
     v("y1_m", y1_m, xy, Required{});
+  }
+};
+
+/// A straight wall of a synthetic map: the segment thickened by thickness_m.
+struct WallSegment : SegmentSpec {
+  double thickness_m{kDefaultWallThickness_m};
+  template <class V>
+  void visit(V& v) {
+    SegmentSpec::visit(v);
     v("thickness_m", thickness_m, Range{0.01, 10.0});
   }
 };
 
 /// A place people walk to (maps/map_loader.hpp MapGoalRegion): read by the band source's goal
 /// inference, checked here so that a scenario with a bad one stops every daemon alike.
-struct GoalRegionSpec {
-  double x0_m{0.0}, y0_m{0.0}, x1_m{0.0}, y1_m{0.0};
-  template <class V>
-  void visit(V& v) {
-    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
-    v("x0_m", x0_m, xy, Required{});
-    v("y0_m", y0_m, xy, Required{});
-    v("x1_m", x1_m, xy, Required{});
-    v("y1_m", y1_m, xy, Required{});
-  }
-};
+using GoalRegionSpec = SegmentSpec;
 
 /// An axis-aligned solid box of a synthetic map.
 struct BoxObstacle {

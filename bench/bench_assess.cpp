@@ -177,7 +177,9 @@ int main(int argc, char** argv) {
   const std::string build = buildDir();
   const std::string map = std::string(COOPNAV_SOURCE_DIR) + "/test/data/maps/open.yaml";
   std::printf("build dir %s, url %s\n", build.c_str(), kBenchUrl);
-  const double goal_us = benchGoalInference(map);
+  // open.pgm with its corridor mouths annotated (the narrow paper scenario's map section).
+  const double goal_us = benchGoalInference(std::string(COOPNAV_SOURCE_DIR) +
+                                            "/config/scenarios/narrow_facilitating.yaml");
   if (argc > 1 && std::string(argv[1]) == "--goals-only") {  // no processes, no network
     std::printf("RESULT goal_inference_us_per_human %.3f\n", goal_us);
     return 0;

@@ -362,9 +362,10 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       prof.start_speed_m_s = speedOf(st.velocity);
       prof.acc_m_s2 = k.acc_lim_x_m_s2;
       prof.stop_at_end = end_is_goal;
-      // Laid from the human's own pose, hop to its reference included: the join the robot's
-      // band gets would make t_CROSS steadier here too, but it brings back the dock for the
-      // narrow corridor's facilitating human and a 0.039 m pass in narrow_minimal.
+      // Laid from the human's own pose, the hop to its reference path included (the robot's
+      // band is joined to its path smoothly instead): the anticipated band starts where the
+      // human is. Where a round-2 decision rests on CM ≈ d_h (a facilitating human in the
+      // 2.25 m corridor), t_CROSS's small dependence on this start can decide it.
       band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad, prof);
     }
     res.reference_path = ref;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 
+#include "../population/stats.hpp"
 #include "coopnav/planning/goal_inference.hpp"
 
 namespace coopnav::ctl {
@@ -19,7 +20,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kMinProbability = 1e-12;  ///< floor of p_true in the log score
 constexpr double kTimeEps_s = 1e-9;
-constexpr double kPi = 3.14159265358979323846;
 /// [m] closer than this to its exit, a walker has no direction to it worth measuring (a goal this
 /// close counts as reached in GoalBelief).
 constexpr double kAtExit_m = 0.5;
@@ -152,14 +152,6 @@ FitResult fitParams(const std::vector<PedestrianPair>& pairs, GoalEvalOptions o,
   return best;
 }
 
-double median(std::vector<double> v) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), format, v);
@@ -246,7 +238,7 @@ GoalEvaluation evaluateGoalInference(const std::vector<PedestrianPair>& pairs,
           gc.remaining_path_ratio = rest_m / to_exit.norm();
           if (gc.has_heading) {
             const double c = heading.dot(to_exit) / (heading.norm() * to_exit.norm());
-            gc.exit_off_heading_deg = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi;
+            gc.exit_off_heading_deg = std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI;
           }
         }
         if (gc.has_heading) {
@@ -393,8 +385,8 @@ GoalCeilingRow ceilingRow(const std::string& name, const std::vector<GoalCase>& 
     row.combined_correct += c.correct ? 1 : 0;
     row.either_correct += path[i].correct || c.heading_correct ? 1 : 0;
   }
-  row.median_off_heading_deg = median(off_deg);
-  row.median_path_ratio = median(path_ratio);
+  row.median_off_heading_deg = population::median(off_deg);
+  row.median_path_ratio = population::median(path_ratio);
   return row;
 }
 

@@ -38,6 +38,8 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   dialogue::DecisionConfig c;
   c.round1_t_cross_s = round1_t_cross_s;
   c.round2_t_cross_s = round2_t_cross_s;
+  c.round2_response_s = round2_response_s;
+  c.round2_latest_t_cross_s = round2_latest_t_cross_s;
   c.precautionary_dock = precautionary_dock;
   c.templates = templates;
   return c;
@@ -76,9 +78,40 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
                                  [this](const step_ack_t& a, std::int64_t) { onStepAck(a); });
   if (config_.speech.enabled)
     runtime_.addTimer(std::chrono::milliseconds(50), [this] { speech_.poll(); });
+  if (speech_.usable()) measureTemplates();
   runtime_.setLostStateNote(
       "which rounds it already fired: no utterance, dock or thanks for the humans already there");
   runtime_.setRunning(speech_.usable() ? "speech on" : "");
+}
+
+void DialogueManagerNode::measureTemplates() {
+  using dialogue::SpeechAct;
+  std::size_t failed = 0;
+  for (int a = static_cast<int>(SpeechAct::kInformDirection);
+       a <= static_cast<int>(SpeechAct::kInformStopping); ++a)
+    for (const Side side : {Side::kLeft, Side::kRight}) {
+      const auto act = static_cast<SpeechAct>(a);
+      for (const std::string& text :
+           {dialogue::renderText(config_.templates, act, side),
+            act == SpeechAct::kInformDocking ? config_.templates.inform_precautionary_docking
+                                             : std::string()}) {
+        if (text.empty() || measured_s_.count(text)) continue;
+        if (const auto d = speech_.measure(text))
+          measured_s_[text] = *d;
+        else
+          ++failed;
+      }
+    }
+  log().info("dialogue_manager: speech: measured {} template texts ({} failed, estimated)",
+             measured_s_.size(), failed);
+  for (const auto& [text, d] : measured_s_)
+    log().debug("dialogue_manager: speech: {:.3f} s \"{}\"", d, text);
+}
+
+double DialogueManagerNode::speechDuration(const std::string& text) const {
+  const auto it = measured_s_.find(text);
+  if (it != measured_s_.end()) return it->second;
+  return dialogue::estimateSpeechDuration(text, config_.speech.rate_wpm);
 }
 
 const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) const {
@@ -466,6 +499,7 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
   if (p != latest_path_.end()) in.path = p->second;
   auto t = tracked_.find(id);
   in.crossed = t != tracked_.end() && t->second.crossed.crossed;
+  in.heard_by_s = h.heard_by_s;
   emit(run, stamp, h.decision.step(in), situation.t_cross_s);
 }
 
@@ -488,13 +522,38 @@ void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
   // The reasons hold the situation assessor's text: published on no longer than it is kept.
   why = keptText(std::move(why), maxTextBytes());
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
+  const double t_s = utimeToSeconds(stamp.utime);
   for (const auto& u : out.utterances) {
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
-    run.publish(channels::kUtterance, toLcm(stamp, u, t));
-    log().info("dialogue_manager: to human {}: \"{}\" ({}, round {})", stamp.human_id, u.text,
-               dialogue::toString(u.act), u.round);
-    speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id,
-                                                   u.round, dialogue::toString(u.act))});
+    // A cue is worth saying only if its words end before the crossing; thanks have no deadline.
+    const std::optional<double> deadline_s =
+        t && std::isfinite(*t) ? std::optional<double>(t_s + *t) : std::nullopt;
+    const dialogue::SpeechSlot slot =
+        voice_.plan(t_s, speechDuration(u.text), deadline_s, config_.muted);
+    run.publish(channels::kUtterance, toLcm(stamp, u, t, slot));
+    switch (slot.delivery) {
+      case dialogue::Delivery::kSaid:
+        if (const auto h = humans_.find(stamp.human_id); h != humans_.end())
+          h->second.heard_by_s = t_s + slot.end_s();
+        log().info("dialogue_manager: to human {}: \"{}\" ({}, round {}; {:.2f} s{})",
+                   stamp.human_id, u.text, dialogue::toString(u.act), u.round, slot.duration_s,
+                   slot.start_s > 0.0 ? fmt::format(", after {:.2f} s", slot.start_s) : "");
+        speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime,
+                                                       stamp.human_id, u.round,
+                                                       dialogue::toString(u.act))});
+        break;
+      case dialogue::Delivery::kMuted:
+        log().info("dialogue_manager: muted: not said to human {}: \"{}\" ({}, round {})",
+                   stamp.human_id, u.text, dialogue::toString(u.act), u.round);
+        break;
+      case dialogue::Delivery::kTooLate:
+        log().info(
+            "dialogue_manager: not said to human {}: \"{}\" ({}, round {}): its {:.2f} s of "
+            "speech would end {:.2f} s after the crossing",
+            stamp.human_id, u.text, dialogue::toString(u.act), u.round, slot.duration_s,
+            t_s + slot.end_s() - deadline_s.value_or(t_s));
+        break;
+    }
   }
   for (const auto a : out.robot_actions) {
     run.publish(channels::kRobotAction, toLcm(stamp, a, why));

@@ -18,6 +18,7 @@
 #include "config/config.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/decision.hpp"
+#include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
@@ -63,6 +64,8 @@ struct TemplatesConfig : dialogue::TextTemplates {
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
+  double round2_response_s{dialogue::DecisionConfig{}.round2_response_s};
+  double round2_latest_t_cross_s{dialogue::DecisionConfig{}.round2_latest_t_cross_s};
   bool precautionary_dock{dialogue::DecisionConfig{}.precautionary_dock};
   double crossed_hysteresis_m{0.2};
   double human_gone_s{2.0};
@@ -72,6 +75,10 @@ struct DialogueManagerConfig {
   /// is `paper`, config/path_assessor_calibrated.yaml `calibrated`): assessments of another
   /// profile are rejected, so a path assessor started with the wrong file is noticed.
   std::string assessment_profile{"paper"};
+  /// Decide and act as usual, say nothing: every utterance is published with DELIVERY_MUTED (the
+  /// log keeps what would have been said) and none is spoken or heard. The twin of a speaking
+  /// run, to measure what the words change (docs/population.md "Speaking and muted").
+  bool muted{false};
   TemplatesConfig templates;
   SpeechConfig speech;
 
@@ -82,16 +89,21 @@ struct DialogueManagerConfig {
   void visit(V& v) {
     v("round1_t_cross_s", round1_t_cross_s, Range{0.5, 60.0});
     v("round2_t_cross_s", round2_t_cross_s, Range{0.0, 60.0});
+    v("round2_response_s", round2_response_s, Range{0.0, 30.0});
+    v("round2_latest_t_cross_s", round2_latest_t_cross_s, Range{0.0, 60.0});
     v("precautionary_dock", precautionary_dock);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});
     v("gate_wait_for_unseen", gate_wait_for_unseen);
     v("assessment_profile", assessment_profile, OneOf{{"paper", "calibrated", "custom"}});
+    v("muted", muted);
     v("templates", templates);
     v("speech", speech);
     v.require(round2_t_cross_s < round1_t_cross_s, "round2_t_cross_s",
               "must be less than round1_t_cross_s (round 2 comes after round 1)");
+    v.require(round2_latest_t_cross_s <= round2_t_cross_s, "round2_latest_t_cross_s",
+              "must not exceed round2_t_cross_s (it bounds how long round 2 waits)");
     v("limits", limits);
   }
   dialogue::DecisionConfig decisionConfig() const;
@@ -111,6 +123,9 @@ class DialogueManagerNode {
   const dialogue::HumanDecision* decision(std::int32_t id) const;
   std::size_t pendingSteps() const { return steps_->pending(); }
   const SpeechOutput& speech() const { return speech_; }
+  /// How long saying `text` takes [s]: measured with the speech program at start when speech is
+  /// on, else estimated (dialogue::estimateSpeechDuration).
+  double speechDuration(const std::string& text) const;
   /// For tests: ids with per-id state (a decision, a crossed tracker or a path assessment).
   std::size_t idsKept() const { return heard_.size(); }
   /// For tests: decisions kept (one per human).
@@ -135,6 +150,7 @@ class DialogueManagerNode {
     explicit Human(const dialogue::DecisionConfig& c) : decision(c) {}
     dialogue::HumanDecision decision;
     dialogue::SituationSnapshot last_situation;
+    std::optional<double> heard_by_s;  ///< [s] when the words said to it so far have ended
   };
   struct Tracked {
     dialogue::CrossedTracker crossed;
@@ -153,6 +169,8 @@ class DialogueManagerNode {
     std::string wav_stem;
   };
 
+  /// Measures every template text with the speech program (start-up, speech on).
+  void measureTemplates();
   void onSituation(const situation_t& msg);
   void onPathAssessment(const path_assessment_t& msg);
   void onAgentStates(const agent_states_t& msg);
@@ -207,6 +225,10 @@ class DialogueManagerNode {
   bool first_step_seen_{false};
   std::set<std::int32_t> history_unknown_;
   SpeechOutput speech_;
+  /// Measured durations of every template text (both sides), when speech is on.
+  std::map<std::string, double> measured_s_;
+  /// The robot's one voice: when each utterance starts, and whether it is said at all.
+  dialogue::SpeechTimeline voice_;
   std::map<std::int64_t, StepInputs> inputs_;  ///< per step: its inputs until it runs
   std::int64_t newest_step_{-1};
   std::map<std::int32_t, Human> humans_;

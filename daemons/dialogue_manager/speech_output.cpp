@@ -11,8 +11,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "config/config.hpp"
+#include "coopnav/dialogue/speech_timing.hpp"
 #include "runtime/log.hpp"
 
 namespace coopnav {
@@ -119,18 +122,24 @@ void SpeechOutput::startNext() {
   if (queue_.empty() || child_ > 0) return;
   const Item item = queue_.front();
   queue_.pop_front();
-  // Everything the child needs is built before fork: after it only async-signal-safe calls.
-  const std::vector<std::string> args = argumentsFor(item.text, item.wav_stem);
-  std::vector<char*> argv;
-  argv.reserve(args.size() + 1);
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  const pid_t pid = ::fork();
+  const pid_t pid = spawn(argumentsFor(item.text, item.wav_stem));
   if (pid < 0) {
     ++failed_;
     log().warn("dialogue_manager: speech: fork: {}", std::strerror(errno));
     return;
   }
+  child_ = pid;
+  ++started_;
+  log().debug("dialogue_manager: speech: started {} for \"{}\"", pid, item.text);
+}
+
+pid_t SpeechOutput::spawn(const std::vector<std::string>& args) {
+  // Everything the child needs is built before fork: after it only async-signal-safe calls.
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
   if (pid == 0) {
     // Child: no inherited LCM socket or self-pipe, quiet stdin, default SIGPIPE, then exec.
     const int devnull = ::open("/dev/null", O_RDONLY);
@@ -145,9 +154,38 @@ void SpeechOutput::startNext() {
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
-  child_ = pid;
-  ++started_;
-  log().debug("dialogue_manager: speech: started {} for \"{}\"", pid, item.text);
+  return pid;
+}
+
+std::optional<double> SpeechOutput::measure(const std::string& text) {
+  if (!usable_) return std::nullopt;
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+  if (ec) return std::nullopt;
+  const std::filesystem::path wav =
+      dir / ("coopnav_speech_measure_" + std::to_string(::getpid()) + ".wav");
+  std::vector<std::string> args{program_path_,
+                                "-v",
+                                config_.voice,
+                                "-s",
+                                std::to_string(config_.rate_wpm),
+                                "-w",
+                                wav.string(),
+                                "--",
+                                text};
+  const pid_t pid = spawn(args);
+  if (pid < 0) return std::nullopt;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  std::optional<double> seconds;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    std::ifstream in(wav, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    seconds = dialogue::wavDurationSeconds(bytes);
+  }
+  std::filesystem::remove(wav, ec);
+  return seconds;
 }
 
 }  // namespace coopnav

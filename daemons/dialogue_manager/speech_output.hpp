@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,11 @@ class SpeechOutput {
   /// Reaps a finished child without blocking and starts the next queued utterance.
   void poll();
 
+  /// Synthesises `text` into a temporary WAV file, waiting for the program (start-up only: it
+  /// blocks), and returns how long it takes to say [s]; nullopt when speech is not usable or the
+  /// program fails. The decisions plan with these durations (lib/dialogue/speech_timing.hpp).
+  std::optional<double> measure(const std::string& text);
+
   /// The argument vector for one utterance (argv[0] = the resolved program). Public for tests.
   std::vector<std::string> argumentsFor(const std::string& text, const std::string& wav_stem) const;
 
@@ -60,6 +66,8 @@ class SpeechOutput {
     std::string wav_stem;
   };
   void startNext();
+  /// fork + execv of `args` (stdin /dev/null, no inherited descriptors); the child's pid or -1.
+  pid_t spawn(const std::vector<std::string>& args);
   void disable(const std::string& why);
 
   SpeechConfig config_;

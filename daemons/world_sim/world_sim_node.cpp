@@ -15,10 +15,49 @@
 #include "maps/map_loader.hpp"
 #include "runtime/daemon_main.hpp"
 #include "runtime/log.hpp"
+#include "wire/dialogue.hpp"
 
 namespace coopnav {
 
 namespace {
+
+/// What the words of an utterance ask of the person (the side as the person sees it).
+sim::Cue cueOf(const UtteranceMsg& u) {
+  using dialogue::SpeechAct;
+  sim::Cue c;
+  const Side dir = u.utterance.direction;
+  switch (u.utterance.act) {
+    case SpeechAct::kInformDirection:
+    case SpeechAct::kRepeatDirection:
+      // The robot names the side it passes on: the person keeps to the other one.
+      c.kind = sim::CueKind::kKeepSide;
+      c.side = opposite(dir);
+      c.repeat = u.utterance.act == SpeechAct::kRepeatDirection;
+      break;
+    case SpeechAct::kInformDockIfNeeded:
+      // "It is narrow here. I will wait at the side if needed.": keep clear, away from the robot.
+      c.kind = sim::CueKind::kKeepSide;
+      break;
+    case SpeechAct::kAskToMove:
+    case SpeechAct::kAskToMoveMore:
+      c.kind = sim::CueKind::kMoveToSide;
+      c.side = dir;
+      c.repeat = u.utterance.act == SpeechAct::kAskToMoveMore;
+      break;
+    case SpeechAct::kThank:
+      c.kind = sim::CueKind::kThank;
+      break;
+    case SpeechAct::kInformDocking:
+    case SpeechAct::kInformWiderPlace:
+    case SpeechAct::kInformRetreat:
+    case SpeechAct::kInformStopping:
+      c.kind = sim::CueKind::kRobotMakesRoom;
+      break;
+  }
+  // Heard once the words have ended.
+  c.t_s = utimeToSeconds(u.stamp.utime) + u.slot.start_s + u.slot.duration_s;
+  return c;
+}
 
 /// Longest stretch of stepping in one loop iteration when running as fast as possible, so that
 /// signals, status and incoming messages are still served.
@@ -229,34 +268,23 @@ void WorldSimNode::onUtterance(const utterance_t& msg) {
 }
 
 void WorldSimNode::hear(const utterance_t& msg) {
-  if (msg.speech_act < utterance_t::ACT_INFORM_DIRECTION ||
-      msg.speech_act > utterance_t::ACT_INFORM_STOPPING)
-    throw RejectedMessage("utterance with unknown speech_act " + std::to_string(msg.speech_act));
-  if (msg.direction != situation_t::DIR_LEFT && msg.direction != situation_t::DIR_RIGHT &&
-      msg.direction != situation_t::DIR_UNDEFINED)
-    throw RejectedMessage("utterance with unknown direction " + std::to_string(msg.direction));
+  const UtteranceMsg u = fromLcm(msg);  // throws RejectedMessage
   // Addressed by the id the tracker published the person under (its own after a switch).
   const std::optional<std::size_t> person = tracker_->personOf(msg.human_id);
   const sim::HumanSpec* human = person ? &scenario_.humans[*person] : nullptr;
   if (human == nullptr)
     throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) +
                          ", who is not in the scenario");
-  last_said_ = "\"" + msg.text + "\" to human " + std::to_string(msg.human_id);
-  const bool ask = msg.speech_act == utterance_t::ACT_ASK_TO_MOVE ||
-                   msg.speech_act == utterance_t::ACT_ASK_TO_MOVE_MORE;
-  // Only a request to move changes a simulated human; information, docking and thanks do not.
-  if (!ask) return;
-  if (msg.direction == situation_t::DIR_UNDEFINED)
+  const bool ask = u.utterance.act == dialogue::SpeechAct::kAskToMove ||
+                   u.utterance.act == dialogue::SpeechAct::kAskToMoveMore;
+  if (ask && u.utterance.direction == Side::kUndefined)
     throw RejectedMessage("utterance asks human " + std::to_string(msg.human_id) +
                           " to move without a side");
-  if (human->behaviour.type != sim::BehaviourType::kResponsive) {
-    log().debug("world_sim: human {} ({}) does not respond to requests", msg.human_id,
-                sim::toString(human->behaviour.type));
-    return;
-  }
+  if (u.slot.delivery != dialogue::Delivery::kSaid) return;  // decided, not said: nobody hears it
+  last_said_ = "\"" + msg.text + "\" to human " + std::to_string(msg.human_id);
   PendingCue c;
+  c.cue = cueOf(u);
   c.cue.human_id = human->id;
-  c.cue.side = msg.direction == situation_t::DIR_LEFT ? Side::kLeft : Side::kRight;
   c.step = msg.step;
   cues_.push_back(c);
 }
@@ -374,9 +402,8 @@ void WorldSimNode::applyInputs() {
     if (lockstep_ && c.step != step_)
       log().info("world_sim: step {}: utterance of step {} to human {}", step_, c.step,
                  c.cue.human_id);
-    c.cue.t_s = now_s;  // heard when the step it was decided on takes effect
-    log().info("world_sim: t = {} s: human {} asked to move {}", now_s, c.cue.human_id,
-               c.cue.side == Side::kLeft ? "left" : "right");
+    // Words that ended before the step they were decided on takes effect are heard now.
+    c.cue.t_s = std::max(c.cue.t_s, now_s);
     sim_->addCue(c.cue);
   }
   cues_.clear();
@@ -394,6 +421,7 @@ bool WorldSimNode::advance() {
   const sim::StepResult r = sim_->step(last_command_);
   ++step_;
   agents_ = r.agents;
+  for (const sim::CueOutcome& o : r.cues) logCue(o);
   publishStep();
   if (r.status != sim::SimStatus::kRunning) {
     if (gate_) {
@@ -411,6 +439,27 @@ bool WorldSimNode::advance() {
   if (std::floor(r.t_s + 1e-9) > std::floor(t_before_s + 1e-9))
     publishSimStatus(sim_status_t::STATE_RUNNING, "");
   return true;
+}
+
+void WorldSimNode::logCue(const sim::CueOutcome& o) const {
+  const std::string what = std::string(sim::toString(o.cue.kind)) +
+                           (o.cue.side == Side::kLeft    ? " left"
+                            : o.cue.side == Side::kRight ? " right"
+                                                         : "") +
+                           (o.cue.repeat ? " (repeat)" : "");
+  if (!o.responds) {
+    log().debug("world_sim: t = {:.2f} s: human {} does not react to words ({})", o.cue.t_s,
+                o.cue.human_id, what);
+  } else if (!o.heard) {
+    log().info("world_sim: t = {:.2f} s: human {} did not hear {}: {:.1f} m from the robot",
+               o.cue.t_s, o.cue.human_id, what, o.distance_m);
+  } else if (!o.complies) {
+    log().info("world_sim: t = {:.2f} s: human {} heard {} at {:.1f} m and does not comply",
+               o.cue.t_s, o.cue.human_id, what, o.distance_m);
+  } else {
+    log().info("world_sim: t = {:.2f} s: human {} heard {} at {:.1f} m; acts at {:.2f} s",
+               o.cue.t_s, o.cue.human_id, what, o.distance_m, o.act_s);
+  }
 }
 
 void WorldSimNode::announce() {

@@ -150,6 +150,8 @@ class WorldSimNode {
     std::int64_t step{-1};
   };
 
+  /// One line per cue whose words ended: heard?, complies?, when it acts.
+  void logCue(const sim::CueOutcome& o) const;
   void onStatus(const daemon_status_t& msg);
   void onCommand(const velocity_command_t& msg);
   void onUtterance(const utterance_t& msg);

@@ -257,7 +257,7 @@ inline std::vector<std::pair<std::string, double>> drawParams(const std::string&
             {"minimal.max_deviation_m", u(0.2, 0.35)},
             {"yield.offset_m", u(0.45, 0.75)}};
   if (behaviour == "responsive")
-    return {{"reaction_time_s", u(0.5, 1.2)},
+    return {{"reaction_time_median_s", u(0.7, 1.3)},
             {"repeat_increment_m", u(0.1, 0.3)},
             {"yield.offset_m", u(0.6, 0.9)}};
   return {};

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace coopnav {
 namespace {
@@ -71,7 +72,7 @@ std::int8_t lcmPredFromTristate(Tristate t) {
 }
 
 utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
-                  std::optional<double> t_cross_s) {
+                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot) {
   utterance_t m;
   m.utime = stamp.utime;
   m.step = stamp.step;
@@ -81,6 +82,9 @@ utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
   m.round = static_cast<std::int8_t>(u.round);
   m.t_cross_s = t_cross_s ? *t_cross_s : std::numeric_limits<double>::quiet_NaN();
   m.text = u.text;
+  m.delivery = static_cast<std::int8_t>(slot.delivery);
+  m.speech_start_s = slot.start_s;
+  m.speech_duration_s = slot.duration_s;
   return m;
 }
 
@@ -108,6 +112,15 @@ UtteranceMsg fromLcm(const utterance_t& msg) {
     if (!std::isfinite(msg.t_cross_s)) reject("t_cross_s is infinite");
     out.t_cross_s = msg.t_cross_s;
   }
+  if (msg.delivery < utterance_t::DELIVERY_SAID || msg.delivery > utterance_t::DELIVERY_TOO_LATE)
+    reject("unknown delivery " + std::to_string(msg.delivery));
+  out.slot.delivery = static_cast<dialogue::Delivery>(msg.delivery);
+  for (const auto& [name, v] : {std::pair{"speech_start_s", msg.speech_start_s},
+                                std::pair{"speech_duration_s", msg.speech_duration_s}})
+    if (!(v >= 0.0 && v <= kMaxSpeechSeconds))
+      reject(std::string(name) + " " + std::to_string(v) + " not in [0, 120] s");
+  out.slot.start_s = msg.speech_start_s;
+  out.slot.duration_s = msg.speech_duration_s;
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "coopnav/dialogue/decision.hpp"
+#include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/situation_t.hpp"
@@ -32,20 +33,24 @@ struct DialogueStamp {
   std::int32_t human_id{0};
 };
 
-/// Emission. t_cross_s nullopt -> NaN on the wire (round 3).
+/// Emission. t_cross_s nullopt -> NaN on the wire (round 3); `slot`: when and whether it is said.
 utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
-                  std::optional<double> t_cross_s);
+                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot);
 robot_action_t toLcm(const DialogueStamp& stamp, dialogue::RobotAction action,
                      const std::string& reason);
 /// (path_assessor_control_t: conversions_assessment.hpp, RecorderControl.)
 
 /// Reading the emitted messages back (consumers: world_sim's responsive humans, band_source,
-/// tests). Unknown enum values and bad steps throw RejectedMessage.
+/// tests). Unknown enum values, bad steps, and a speech start or duration that is not in
+/// [0, kMaxSpeechSeconds] throw RejectedMessage.
 struct UtteranceMsg {
   DialogueStamp stamp;
   dialogue::Utterance utterance;
   std::optional<double> t_cross_s;
+  dialogue::SpeechSlot slot;
 };
+/// No sentence of the robot's takes longer, nor waits longer for the voice [s].
+inline constexpr double kMaxSpeechSeconds = 120.0;
 UtteranceMsg fromLcm(const utterance_t& msg);
 
 struct RobotActionMsg {

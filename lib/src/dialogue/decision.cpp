@@ -147,7 +147,12 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
       fired_round1_now = true;
     }
     // Round 2 never in the same step as round 1: its CM needs samples since the recorder start.
-    if (fired_[0] && !fired_round1_now && !fired_[1] && *t_cross <= config_.round2_t_cross_s) {
+    // ... and not before the human could have acted on round 1's words (round2_response_s),
+    // unless the crossing is too near to wait longer.
+    const bool responded = !in.heard_by_s || in.t_s >= *in.heard_by_s + config_.round2_response_s ||
+                           *t_cross <= config_.round2_latest_t_cross_s;
+    if (fired_[0] && !fired_round1_now && !fired_[1] && *t_cross <= config_.round2_t_cross_s &&
+        responded) {
       round2(in, out);
     }
   }

@@ -253,8 +253,9 @@ class LateFacilitatingBehaviour final : public HumanBehaviour {
   double offset_m_{0.0};
 };
 
-/// Responsive: the human that closes the paper's loop: minimal until asked, then it moves to
-/// the asked side after a reaction time, by more with each repeated request.
+/// Responsive (ResponsiveParams): minimal until the robot's words reach it, then it acts on them
+/// as a person told so would. The simulator has already decided whether it heard and complies,
+/// and when it starts acting (ctx.cues).
 class ResponsiveBehaviour final : public HumanBehaviour {
  public:
   explicit ResponsiveBehaviour(const ResponsiveParams& p)
@@ -262,44 +263,58 @@ class ResponsiveBehaviour final : public HumanBehaviour {
   Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
     const auto enc = estimateEncounter(ctx);
     if (yield_.active() && yield_.released(ctx, enc)) {
+      // The robot is behind: the encounter is over, and so is what was said for it.
       yield_.release();
-      released_after_cue_ = cues_used_;  // a new request is needed for the next encounter
+      going_on_ = false;
     }
     if (ctx.cues != nullptr) {
-      // Count requests heard (after the reaction time) since the last release.
-      double side = 0.0;
-      std::size_t heard = 0, same_side = 0;
-      for (std::size_t i = released_after_cue_; i < ctx.cues->size(); ++i) {
-        const Cue& c = (*ctx.cues)[i];
-        if (c.side == Side::kUndefined || c.t_s + p_.reaction_time_s > ctx.t_s) continue;
-        const double s = c.side == Side::kLeft ? 1.0 : -1.0;
-        same_side = (s == side) ? same_side + 1 : 1;
-        side = s;
-        heard = i + 1;
-      }
-      if (heard > cues_used_ && side != 0.0 && enc) {
-        const double magnitude_m =
-            p_.yield.offset_m + p_.repeat_increment_m * static_cast<double>(same_side - 1);
-        yield_.engage(ctx, *enc, side, magnitude_m);
-        cues_used_ = heard;
-      }
+      for (; acted_on_ < ctx.cues->size(); ++acted_on_) act((*ctx.cues)[acted_on_], ctx, enc);
     }
     const double minimal_m = avoid_.update(ctx, enc);
-    offset_m_ = yield_.active() ? yield_.offset() : minimal_m;
+    // The shift it was told to make supersedes the sidestep, never by less than the sidestep.
+    offset_m_ = yield_.active() && std::abs(yield_.offset()) >= std::abs(minimal_m)
+                    ? yield_.offset()
+                    : minimal_m;
     const double lookahead_m = yield_.active() ? p_.yield.lookahead_m : p_.minimal.lookahead_m;
     return followPath(ctx, offset_m_, lookahead_m);
   }
   BehaviourStatus status() const override {
+    if (going_on_) return {"go_on", offset_m_};
     return {yield_.active() ? "yield" : (avoid_.active() ? "avoid" : "follow"), offset_m_};
   }
   const char* name() const override { return "responsive"; }
 
  private:
+  void act(const Cue& c, const BehaviourContext& ctx, const std::optional<Encounter>& enc) {
+    switch (c.kind) {
+      case CueKind::kThank:
+        return;
+      case CueKind::kRobotMakesRoom:
+        // The robot will wait: walk on past it (the body check squeezes past a robot at rest).
+        going_on_ = true;
+        yield_.release();
+        return;
+      case CueKind::kKeepSide:
+      case CueKind::kMoveToSide:
+        break;
+    }
+    if (going_on_ || !enc || !(enc->along_m > 0.0)) return;  // nothing ahead to make room for
+    const double side = c.side == Side::kLeft    ? 1.0
+                        : c.side == Side::kRight ? -1.0
+                                                 : sideAwayFrom(enc->robot_lateral_m);
+    double magnitude_m = c.kind == CueKind::kMoveToSide ? p_.yield.offset_m : p_.inform_offset_m;
+    // Told again, a person does more, and never steps back towards the robot.
+    if (yield_.active() && yield_.side() == side)
+      magnitude_m = std::max(magnitude_m, std::abs(yield_.offset()));
+    if (c.repeat) magnitude_m += p_.repeat_increment_m;
+    yield_.engage(ctx, *enc, side, magnitude_m);
+  }
+
   ResponsiveParams p_;
   MinimalAvoidance avoid_;
   Yield yield_;
-  std::size_t cues_used_{0};
-  std::size_t released_after_cue_{0};
+  std::size_t acted_on_{0};
+  bool going_on_{false};
   double offset_m_{0.0};
 };
 
@@ -504,6 +519,20 @@ std::optional<Encounter> estimateEncounter(const BehaviourContext& ctx) {
   const PathPoint cross_pt = pointAtArc(*ctx.reference_path, e.crossing_arc_m);
   e.robot_lateral_m = cross2(cross_pt.tangent, pr_future - cross_pt.point);
   return e;
+}
+
+const char* toString(CueKind k) {
+  switch (k) {
+    case CueKind::kKeepSide:
+      return "keep_side";
+    case CueKind::kMoveToSide:
+      return "move_to_side";
+    case CueKind::kRobotMakesRoom:
+      return "robot_makes_room";
+    case CueKind::kThank:
+      return "thank";
+  }
+  return "?";
 }
 
 const char* toString(BehaviourType t) {

@@ -94,6 +94,9 @@ Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
     // One stream per human, derived from (seed, id): adding a human does not change the draws
     // of the others.
     h.rng = Rng::forStream(spec.seed, static_cast<std::uint64_t>(hs.id));
+    // A stream of its own: the draws of what it hears never shift its walking noise.
+    constexpr std::uint64_t kCueStreams = std::uint64_t{1} << 40;
+    h.cue_rng = Rng::forStream(spec.seed, kCueStreams + static_cast<std::uint64_t>(hs.id));
     h.preferred_speed_m_s = hs.speed_m_s;
     if (hs.speed_stddev_m_s > 0.0)
       h.preferred_speed_m_s = std::max(0.1, h.rng.normal(hs.speed_m_s, hs.speed_stddev_m_s));
@@ -110,11 +113,44 @@ Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
 void Simulation::addCue(const Cue& cue) {
   for (Human& h : humans_) {
     if (h.spec.id != cue.human_id) continue;
-    // Keep them ordered by time so that behaviours can scan them in order.
-    auto it = std::upper_bound(h.cues.begin(), h.cues.end(), cue.t_s,
+    auto it = std::upper_bound(h.pending.begin(), h.pending.end(), cue.t_s,
                                [](double t, const Cue& c) { return t < c.t_s; });
-    h.cues.insert(it, cue);
+    h.pending.insert(it, cue);
   }
+}
+
+void Simulation::hearCues(Human& h, std::vector<CueOutcome>& out) {
+  std::size_t n = 0;
+  for (; n < h.pending.size() && h.pending[n].t_s <= t_s_; ++n) {
+    CueOutcome o;
+    o.cue = h.pending[n];
+    o.distance_m = (h.state.pose.position() - robot_.pose.position()).norm();
+    o.responds = h.spec.behaviour.type == BehaviourType::kResponsive;
+    if (o.responds) {
+      const ResponsiveParams& p = h.spec.behaviour.responsive;
+      // Both draws are made for every cue, heard or not, so that one cue's fate never shifts
+      // the next one's.
+      const double u = h.cue_rng.uniform01();
+      const double z = h.cue_rng.normal(0.0, 1.0);
+      o.heard = o.distance_m <= p.hearing_range_m;
+      const double compliance = o.cue.kind == CueKind::kMoveToSide ? p.compliance_request
+                                : o.cue.kind == CueKind::kKeepSide ? p.compliance_statement
+                                                                   : 1.0;
+      o.complies = o.heard && u < compliance;
+      const double reaction_s = std::min(
+          p.reaction_time_max_s, p.reaction_time_median_s * std::exp(p.reaction_time_log_sd * z));
+      o.act_s = t_s_ + reaction_s;
+      if (o.complies) {
+        Cue act = o.cue;
+        act.t_s = o.act_s;
+        auto it = std::upper_bound(h.acting.begin(), h.acting.end(), act.t_s,
+                                   [](double t, const Cue& c) { return t < c.t_s; });
+        h.acting.insert(it, act);
+      }
+    }
+    out.push_back(o);
+  }
+  h.pending.erase(h.pending.begin(), h.pending.begin() + static_cast<std::ptrdiff_t>(n));
 }
 
 void Simulation::setRobotBand(const Band& band, double stamp_s) {
@@ -140,7 +176,7 @@ std::vector<BehaviourStatus> Simulation::behaviourStatus() const {
 StepResult Simulation::step(const Velocity2& robot_cmd_body) {
   StepResult r;
   for (int i = 0; i < spec_.settings.substeps_per_step && status_ == SimStatus::kRunning; ++i)
-    physicsStep(robot_cmd_body, r.events);
+    physicsStep(robot_cmd_body, r);
   r.t_s = t_s_;
   r.agents = agents();
   r.status = status_;
@@ -169,7 +205,8 @@ void Simulation::integrateRobot(const Velocity2& cmd, double dt_s) {
   robot_.velocity = {vx_w, vy_w, v.omega_rad_s};
 }
 
-void Simulation::physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& events) {
+void Simulation::physicsStep(const Velocity2& cmd_body, StepResult& out) {
+  std::vector<SimEvent>& events = out.events;
   const double dt_s = spec_.settings.physics_dt_s;
   // Every human decides on the same snapshot, so the result does not depend on update order.
   std::vector<AgentState> snapshot;
@@ -183,9 +220,10 @@ void Simulation::physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& e
     others.clear();
     for (std::size_t j = 0; j < snapshot.size(); ++j)
       if (j != i) others.push_back(snapshot[j]);
-    // Only cues already heard are visible.
+    hearCues(h, out.cues);
+    // Only what it has started acting on is visible.
     std::vector<Cue> heard;
-    for (const Cue& c : h.cues)
+    for (const Cue& c : h.acting)
       if (c.t_s <= t_s_) heard.push_back(c);
     BehaviourContext ctx;
     ctx.t_s = t_s_;

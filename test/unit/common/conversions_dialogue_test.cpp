@@ -45,7 +45,8 @@ TEST(ConversionsDialogue, UtteranceRoundTrip) {
   const DialogueStamp stamp{12'500'000, 125, 3};
   const dialogue::Utterance u{SpeechAct::kAskToMove, Side::kRight, 1,
                               "It is narrow here. Could you move to your right, please?"};
-  const utterance_t m = toLcm(stamp, u, 6.9);
+  const dialogue::SpeechSlot slot{dialogue::Delivery::kSaid, 0.4, 3.3};
+  const utterance_t m = toLcm(stamp, u, 6.9, slot);
   EXPECT_EQ(m.utime, 12'500'000);
   EXPECT_EQ(m.step, 125);
   EXPECT_EQ(m.human_id, 3);
@@ -53,7 +54,13 @@ TEST(ConversionsDialogue, UtteranceRoundTrip) {
   EXPECT_EQ(m.direction, situation_t::DIR_RIGHT);
   EXPECT_EQ(m.round, 1);
   EXPECT_DOUBLE_EQ(m.t_cross_s, 6.9);
+  EXPECT_EQ(m.delivery, utterance_t::DELIVERY_SAID);
+  EXPECT_DOUBLE_EQ(m.speech_start_s, 0.4);
+  EXPECT_DOUBLE_EQ(m.speech_duration_s, 3.3);
   const UtteranceMsg back = fromLcm(m);
+  EXPECT_EQ(back.slot.delivery, dialogue::Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(back.slot.start_s, 0.4);
+  EXPECT_DOUBLE_EQ(back.slot.duration_s, 3.3);
   EXPECT_EQ(back.stamp.utime, stamp.utime);
   EXPECT_EQ(back.stamp.step, stamp.step);
   EXPECT_EQ(back.stamp.human_id, stamp.human_id);
@@ -67,7 +74,7 @@ TEST(ConversionsDialogue, UtteranceRoundTrip) {
 
 TEST(ConversionsDialogue, RoundThreeHasNoTCrossOnTheWire) {
   const utterance_t m =
-      toLcm({1, -1, 1}, {SpeechAct::kThank, Side::kUndefined, 3, "Thank you."}, std::nullopt);
+      toLcm({1, -1, 1}, {SpeechAct::kThank, Side::kUndefined, 3, "Thank you."}, std::nullopt, {});
   EXPECT_TRUE(std::isnan(m.t_cross_s));
   EXPECT_EQ(m.direction, situation_t::DIR_UNDEFINED);
   EXPECT_FALSE(fromLcm(m).t_cross_s.has_value());
@@ -75,7 +82,8 @@ TEST(ConversionsDialogue, RoundThreeHasNoTCrossOnTheWire) {
 
 TEST(ConversionsDialogue, BadUtterancesAreRejected) {
   const utterance_t good =
-      toLcm({1, 4, 1}, {SpeechAct::kInformDirection, Side::kLeft, 1, "x"}, 7.0);
+      toLcm({1, 4, 1}, {SpeechAct::kInformDirection, Side::kLeft, 1, "x"}, 7.0,
+            {dialogue::Delivery::kTooLate, 0.0, 1.2});
   EXPECT_NO_THROW(fromLcm(good));
   auto bad = [&](auto mutate) {
     utterance_t m = good;
@@ -91,6 +99,12 @@ TEST(ConversionsDialogue, BadUtterancesAreRejected) {
   EXPECT_THROW(
       fromLcm(bad([](utterance_t& m) { m.t_cross_s = std::numeric_limits<double>::infinity(); })),
       RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.delivery = 0; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.delivery = 4; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_duration_s = -0.1; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_start_s = std::nan(""); })),
+               RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_start_s = 1e9; })), RejectedMessage);
 }
 
 TEST(ConversionsDialogue, RobotActionRoundTripAndRejection) {

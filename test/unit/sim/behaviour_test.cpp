@@ -33,6 +33,7 @@ struct Trace {
   double min_clearance_m{0.0};
   std::vector<AgentState> last;
   int human_wall_collisions{0};
+  std::vector<CueOutcome> cues;
 
   double maxAbsDev() const {
     double m = 0.0;
@@ -85,6 +86,7 @@ Trace runHeadOn(const HeadOn& h) {
       if (e.kind == SimEvent::Kind::kCollision && e.agent_id == 1 && e.other_id == kWallId)
         ++tr.human_wall_collisions;
     tr.last = r.agents;
+    tr.cues.insert(tr.cues.end(), r.cues.begin(), r.cues.end());
     if (tr.crossing_t_s > 0.0 && r.t_s > tr.crossing_t_s + 6.0) break;
   }
   tr.status = sim.status();
@@ -185,17 +187,151 @@ TEST(ObliviousHuman, CollidesWithARobotThatDoesNotAvoid) {
   EXPECT_LT(tr.maxAbsDev(), 1e-9);
 }
 
-TEST(ResponsiveHuman, YieldsOnlyAfterTheCueToTheAskedSide) {
+// The head-on layout: 24 m apart, closing at up to 1.6 m/s; at 9.5 s the robot is about 9.6 m
+// away, within the default hearing range (10 m), and they cross at about 15 s. The human walks
+// -x: its left is -y.
+constexpr double kHeard_s = 9.5;
+
+BehaviourConfig responsive(double compliance = 1.0) {
+  BehaviourConfig c = config(BehaviourType::kResponsive);
+  c.responsive.compliance_request = compliance;
+  c.responsive.compliance_statement = compliance;
+  return c;
+}
+
+Cue cue(CueKind kind, Side side, double t_s, bool repeat = false, std::int32_t id = 1) {
+  Cue c;
+  c.human_id = id;
+  c.kind = kind;
+  c.side = side;
+  c.repeat = repeat;
+  c.t_s = t_s;
+  return c;
+}
+
+double minDev(const Trace& tr) { return *std::min_element(tr.dev_m.begin(), tr.dev_m.end()); }
+double maxDev(const Trace& tr) { return *std::max_element(tr.dev_m.begin(), tr.dev_m.end()); }
+
+TEST(ResponsiveHuman, AskedToMoveGoesToTheAskedSideAfterItsReactionTime) {
   HeadOn h;
   h.robot_lane_m = 0.6;
-  h.behaviour = config(BehaviourType::kResponsive);
-  constexpr double kCue_s = 6.0;
-  h.cues.push_back({1, Side::kLeft, kCue_s});  // human walks -x: its left is -y
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s));
   const Trace tr = runHeadOn(h);
-  const double react_s = h.behaviour.responsive.reaction_time_s;
-  EXPECT_LT(tr.maxAbsDevBefore(kCue_s + react_s), 1e-6);
-  EXPECT_LT(*std::min_element(tr.dev_m.begin(), tr.dev_m.end()), -0.6);
+  ASSERT_EQ(tr.cues.size(), 1u);
+  const CueOutcome& o = tr.cues[0];
+  EXPECT_TRUE(o.responds && o.heard && o.complies);
+  EXPECT_NEAR(o.distance_m, 9.6, 0.3);
+  // Reaction time: a log-normal draw around 1 s, cut at reaction_time_max_s.
+  EXPECT_GT(o.act_s - kHeard_s, 0.2);
+  EXPECT_LE(o.act_s - kHeard_s, h.behaviour.responsive.reaction_time_max_s);
+  EXPECT_LT(tr.maxAbsDevBefore(o.act_s), 1e-6);
+  EXPECT_LT(minDev(tr), -0.6);
   EXPECT_NE(tr.status, SimStatus::kCollision);
+}
+
+TEST(ResponsiveHuman, ToldTheRobotsSideKeepsToTheOtherByAModestAmount) {
+  HeadOn h;
+  h.robot_lane_m = -0.6;  // the robot passes on the human's left (-y)...
+  h.behaviour = responsive();
+  // ... and says so: "I will pass on your left" -> the human keeps to its right (+y).
+  h.cues.push_back(cue(CueKind::kKeepSide, Side::kRight, kHeard_s));
+  const Trace told = runHeadOn(h);
+  EXPECT_NEAR(maxDev(told), h.behaviour.responsive.inform_offset_m, 0.05);
+  h.cues = {cue(CueKind::kMoveToSide, Side::kRight, kHeard_s)};
+  const Trace asked = runHeadOn(h);
+  EXPECT_GT(maxDev(asked), maxDev(told) + 0.2);  // a request moves it further than a statement
+}
+
+TEST(ResponsiveHuman, WithoutASideKeepsAwayFromTheRobot) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;  // robot on +y: away is -y
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kKeepSide, Side::kUndefined, kHeard_s));  // "... if needed."
+  EXPECT_LT(minDev(runHeadOn(h)), -0.3);
+}
+
+TEST(ResponsiveHuman, EachRepeatMovesItFurther) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s));
+  const double once = -minDev(runHeadOn(h));
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s + 1.5, /*repeat=*/true));
+  const double more = -minDev(runHeadOn(h));
+  EXPECT_NEAR(more - once, h.behaviour.responsive.repeat_increment_m, 0.05);
+}
+
+TEST(ResponsiveHuman, GoesOnWhenTheRobotSaysItWillWait) {
+  HeadOn h;
+  h.robot_lane_m = 1.5;  // clear of the human's line: no sidestep needed
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s));
+  const Trace asked = runHeadOn(h);
+  h.cues.push_back(cue(CueKind::kRobotMakesRoom, Side::kUndefined, kHeard_s + 0.1));
+  const Trace waited = runHeadOn(h);
+  EXPECT_LT(minDev(asked), -0.5);
+  EXPECT_GT(minDev(waited), -0.25);  // it had barely begun to move aside, and walks on
+}
+
+TEST(ResponsiveHuman, DoesNotHearBeyondItsHearingRange) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, 3.0));  // 19 m away
+  const Trace tr = runHeadOn(h);
+  ASSERT_EQ(tr.cues.size(), 1u);
+  EXPECT_FALSE(tr.cues[0].heard);
+  h.cues.clear();
+  EXPECT_EQ(tr.dev_m, runHeadOn(h).dev_m);  // as if nothing was said
+}
+
+TEST(ResponsiveHuman, ANonCompliantPersonHearsAndDoesNothing) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = responsive(/*compliance=*/0.0);
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s));
+  const Trace tr = runHeadOn(h);
+  ASSERT_EQ(tr.cues.size(), 1u);
+  EXPECT_TRUE(tr.cues[0].heard);
+  EXPECT_FALSE(tr.cues[0].complies);
+  h.cues.clear();
+  EXPECT_EQ(tr.dev_m, runHeadOn(h).dev_m);
+}
+
+// The draws follow their stated distributions over seeds, and what a person hears never changes
+// the other draws of the run: a speaking and a muted run walk the same until the words act.
+TEST(ResponsiveHuman, DrawsFollowTheModelAndLeaveTheWalkingNoiseAlone) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.velocity_noise_m_s = 0.05;
+  h.behaviour = config(BehaviourType::kResponsive);  // default compliance
+  std::vector<double> reaction_s;
+  int complied = 0;
+  constexpr int kSeeds = 200;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    h.seed = static_cast<std::uint64_t>(seed);
+    h.cues = {cue(CueKind::kKeepSide, Side::kRight, kHeard_s)};
+    const Trace spoken = runHeadOn(h);
+    ASSERT_EQ(spoken.cues.size(), 1u);
+    reaction_s.push_back(spoken.cues[0].act_s - kHeard_s);
+    complied += spoken.cues[0].complies ? 1 : 0;
+    if (seed <= 5) {
+      h.cues.clear();
+      const Trace muted = runHeadOn(h);
+      const double acts_s = spoken.cues[0].act_s;
+      for (std::size_t i = 0; i < muted.t_s.size() && muted.t_s[i] < acts_s; ++i)
+        ASSERT_EQ(spoken.dev_m[i], muted.dev_m[i]) << "seed " << seed << " t " << muted.t_s[i];
+    }
+  }
+  std::sort(reaction_s.begin(), reaction_s.end());
+  const ResponsiveParams& p = h.behaviour.responsive;
+  EXPECT_NEAR(reaction_s[kSeeds / 2], p.reaction_time_median_s, 0.1);
+  // 5 % and 95 % quantiles of the log-normal: median ×/÷ exp(1.645 σ).
+  EXPECT_NEAR(reaction_s[kSeeds / 20], p.reaction_time_median_s * std::exp(-1.645 * 0.3), 0.12);
+  EXPECT_NEAR(reaction_s[kSeeds * 19 / 20], p.reaction_time_median_s * std::exp(1.645 * 0.3), 0.2);
+  // Statements are followed with compliance_statement (binomial sd ≈ 0.035 for 200 draws).
+  EXPECT_NEAR(static_cast<double>(complied) / kSeeds, p.compliance_statement, 0.1);
 }
 
 TEST(ResponsiveHuman, WithoutCueBehavesMinimally) {
@@ -211,9 +347,23 @@ TEST(ResponsiveHuman, WithoutCueBehavesMinimally) {
 TEST(ResponsiveHuman, CueForAnotherHumanIsIgnored) {
   HeadOn h;
   h.robot_lane_m = 0.6;
-  h.behaviour = config(BehaviourType::kResponsive);
-  h.cues.push_back({7, Side::kLeft, 2.0});
-  EXPECT_LT(runHeadOn(h).maxAbsDev(), 0.4);
+  h.behaviour = responsive();
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s, false, 7));
+  const Trace tr = runHeadOn(h);
+  EXPECT_TRUE(tr.cues.empty());
+  EXPECT_LT(tr.maxAbsDev(), 0.4);
+}
+
+TEST(MinimalHuman, HearsNothing) {
+  HeadOn h;
+  h.robot_lane_m = 0.6;
+  h.behaviour = config(BehaviourType::kMinimal);
+  const Trace silent = runHeadOn(h);
+  h.cues.push_back(cue(CueKind::kMoveToSide, Side::kLeft, kHeard_s));
+  const Trace told = runHeadOn(h);
+  ASSERT_EQ(told.cues.size(), 1u);
+  EXPECT_FALSE(told.cues[0].responds);
+  EXPECT_EQ(told.dev_m, silent.dev_m);
 }
 
 TEST(LateFacilitatingHuman, StartsYieldingAboutThreeSecondsBefore) {

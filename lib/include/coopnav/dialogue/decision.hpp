@@ -85,6 +85,14 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir);
 struct DecisionConfig {
   double round1_t_cross_s{7.0};  ///< [s] round 1 when t_CROSS first falls to <= this (§II-D)
   double round2_t_cross_s{4.0};  ///< [s] round 2 when t_CROSS first falls to <= this (§II-D)
+  /// [s] Round 2 judges how the human responded to round 1's words, so it waits until they have
+  /// been heard (DecisionInput::heard_by_s) and this long more: a reaction (≈ 1 s, notes
+  /// §7) and a second of moving, for CM to show it. Not in the paper, whose rounds are times to
+  /// crossing only: a 3 s sentence said at t_CROSS 7 s ends at 4 s, and judging the human then
+  /// judges someone who has not yet heard it. 0 = the paper's reading.
+  double round2_response_s{2.0};
+  /// [s] ... but round 2 never waits beyond t_CROSS <= this, so that a dock is still possible.
+  double round2_latest_t_cross_s{2.5};
   /// Round 2 with an input unknown (RobotIsConstrained, CM, d_h or IsContributing; e.g. the
   /// distance server is down) while nothing known rules a dock out (the robot is not known to be
   /// free, the human not known to have moved enough nor to be moving aside): dock as a precaution
@@ -121,6 +129,9 @@ struct DecisionInput {
   SituationSnapshot situation;
   PathSnapshot path;
   bool crossed{false};  ///< the agents have crossed (see CrossedTracker)
+  /// [s] when the robot's words said to this human so far have ended (same time base as t_s);
+  /// nullopt when nothing was said to it (or the robot is muted).
+  std::optional<double> heard_by_s;
 };
 
 struct Utterance {

@@ -20,11 +20,37 @@
 
 namespace coopnav::sim {
 
-/// An utterance addressed to one human asking it to move to a side (as the human sees it).
+/// What an utterance of the robot means to the person it is addressed to (the dialogue manager's
+/// speech acts, as a person takes them).
+enum class CueKind : std::uint8_t {
+  kKeepSide,        ///< "I will pass on your left" (or its repeat): keep to the other side
+  kMoveToSide,      ///< "Could you move to your right?" (or "a little more"): a request
+  kRobotMakesRoom,  ///< "I will wait here for you to pass" (dock, wider place, retreat, stop): go on
+  kThank,           ///< "Thank you": nothing to do
+};
+const char* toString(CueKind k);
+
+/// An utterance addressed to one human.
 struct Cue {
   std::int32_t human_id{0};
-  Side side{Side::kUndefined};  ///< side the human is asked to move to, from its own view
-  double t_s{0.0};              ///< sim time at which the human has heard the request
+  CueKind kind{CueKind::kMoveToSide};
+  /// Side to keep to or move to, from the human's own view; kUndefined = the side away from the
+  /// robot (e.g. "It is narrow here. I will wait at the side if needed.").
+  Side side{Side::kUndefined};
+  bool repeat{false};  ///< the robot says it again or asks for more: a person does more
+  /// Sim time at which the words have been heard (the end of the utterance); for the cues a
+  /// behaviour sees (BehaviourContext::cues), the time it starts acting on them.
+  double t_s{0.0};
+};
+
+/// What became of a cue once its words were heard (Simulation; reported for the logs).
+struct CueOutcome {
+  Cue cue;
+  double distance_m{0.0};  ///< robot-human centre distance when the words ended
+  bool responds{false};    ///< the human's behaviour reacts to words at all (responsive)
+  bool heard{false};       ///< within hearing_range_m
+  bool complies{false};    ///< heard, and the compliance draw said yes
+  double act_s{0.0};       ///< when it starts acting on it (heard + reaction time), if it complies
 };
 
 /// Everything a behaviour may look at. Pointers are non-owning and valid for the call only.
@@ -42,7 +68,9 @@ struct BehaviourContext {
   double robot_band_stamp_s{0.0};    ///< sim time of the band's t_s = 0
   const std::vector<AgentState>* other_humans{nullptr};  ///< never contains self
   const DistanceMap* map{nullptr};                       ///< nullptr = no walls
-  const std::vector<Cue>* cues{nullptr};  ///< cues addressed to this human, heard by t_s, in order
+  /// Cues addressed to this human that it has heard, complies with and acts on by t_s, in the
+  /// order it acts on them (t_s = when it starts acting).
+  const std::vector<Cue>* cues{nullptr};
 };
 
 /// What a behaviour is doing, for logs and tests.
@@ -192,15 +220,36 @@ struct LateFacilitatingParams {
   }
 };
 
-/// Minimal until a cue addressed to it asks it to move, then yields to the asked side.
+/// Minimal until the robot's words reach it; then it does what a person told so would do
+/// (docs/human-models.md "Responsive"): keeps to the other side when told the robot's side
+/// (inform_offset_m), moves to the asked side when asked (yield.offset_m), each repeat adds
+/// repeat_increment_m, and goes on past a robot that says it will wait. A person hears only
+/// within hearing_range_m, complies with a request with probability compliance_request and with
+/// a statement with compliance_statement (Nikolaidis et al. 2018: commands 100 %, state-conveying
+/// statements 60 % adaptation), and starts acting after a log-normal reaction time (median
+/// reaction_time_median_s, log-sd reaction_time_log_sd; notes/social-nav.md §7 T_react ≈ 1 s).
+/// The draws are the simulator's (Simulation, one stream per human), so the same seed gives
+/// the same person.
 struct ResponsiveParams {
-  double reaction_time_s{0.8};     ///< from hearing the request to starting to move
-  double repeat_increment_m{0.2};  ///< each further request to the same side adds this
+  double reaction_time_median_s{1.0};  ///< from the end of the words to starting to move [s]
+  double reaction_time_log_sd{0.3};    ///< log-normal shape: 90 % within ×/÷ 1.64 of the median
+  double reaction_time_max_s{3.0};     ///< draws are cut here
+  double hearing_range_m{10.0};        ///< farther than this the words are not heard [m]
+  double compliance_request{0.9};      ///< P(moves | asked to move)
+  double compliance_statement{0.6};    ///< P(keeps to the other side | told the robot's side)
+  double inform_offset_m{0.4};         ///< shift when told the robot's side (modest) [m]
+  double repeat_increment_m{0.2};      ///< each repeat or "more" to the same side adds this [m]
   MinimalParams minimal;
-  YieldParams yield{0.75};
+  YieldParams yield{0.75};  ///< offset_m: the shift when asked to move
   template <class V>
   void visit(V& v) {
-    v.number("reaction_time_s", reaction_time_s, 0.0, 10.0);
+    v.number("reaction_time_median_s", reaction_time_median_s, 0.0, 10.0);
+    v.number("reaction_time_log_sd", reaction_time_log_sd, 0.0, 2.0);
+    v.number("reaction_time_max_s", reaction_time_max_s, 0.0, 30.0);
+    v.number("hearing_range_m", hearing_range_m, 0.0, 1000.0);
+    v.number("compliance_request", compliance_request, 0.0, 1.0);
+    v.number("compliance_statement", compliance_statement, 0.0, 1.0);
+    v.number("inform_offset_m", inform_offset_m, 0.0, 3.0);
     v.number("repeat_increment_m", repeat_increment_m, 0.0, 2.0);
     v.nested("minimal", minimal);
     v.nested("yield", yield);

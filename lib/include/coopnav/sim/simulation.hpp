@@ -116,6 +116,7 @@ struct StepResult {
   double t_s{0.0};
   std::vector<AgentState> agents;  ///< robot first (id 0, world-frame velocity), then humans
   std::vector<SimEvent> events;
+  std::vector<CueOutcome> cues;  ///< cues whose words ended during the step, in time order
   SimStatus status{SimStatus::kRunning};
 };
 
@@ -158,7 +159,11 @@ class Simulation {
   /// the acceleration limits). After the run has ended, returns the final state unchanged.
   StepResult step(const Velocity2& robot_cmd_body);
 
-  /// Delivers an utterance to a human (heard at cue.t_s; may be in the past or future).
+  /// Delivers an utterance to a human: its words end at cue.t_s (a past time counts as the next
+  /// physics step). A responsive human then draws whether it heard (hearing_range_m) and complies,
+  /// and its reaction time (ResponsiveParams), from a stream of its own, so that what it hears
+  /// does not change the other draws of the run (a muted twin run walks the same). An unknown
+  /// human id is ignored.
   void addCue(const Cue& cue);
   /// The robot's latest band, its t_s = 0 at stamp_s (sim time). Behaviours may read it.
   void setRobotBand(const Band& band, double stamp_s);
@@ -183,12 +188,16 @@ class Simulation {
     Path2 path;
     double preferred_speed_m_s{1.0};
     std::unique_ptr<HumanBehaviour> behaviour;
-    std::vector<Cue> cues;
+    std::vector<Cue> pending;  ///< words not yet ended, by t_s
+    std::vector<Cue> acting;   ///< complied with, t_s = when it starts acting, by t_s
     Rng rng;
+    Rng cue_rng;  ///< the hearing, compliance and reaction draws only
     bool at_goal{false};
   };
 
-  void physicsStep(const Velocity2& cmd_body, std::vector<SimEvent>& events);
+  void physicsStep(const Velocity2& cmd_body, StepResult& out);
+  /// The cues of `h` whose words have ended by now: heard?, complies?, when it acts.
+  void hearCues(Human& h, std::vector<CueOutcome>& out);
   void integrateRobot(const Velocity2& cmd_body, double dt_s);
   void checkCollisions(std::vector<SimEvent>& events);
   /// True once nobody has moved more than standstill_distance_m for standstill_time_s.

@@ -13,7 +13,7 @@ COOPNAV_DEBS=(
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless libjchart2d-java
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev
-  iproute2 procps python3
+  iproute2 procps python3 espeak-ng sox
   clang-14 libclang-rt-14-dev clang-format clang-tidy
 )
 

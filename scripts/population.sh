@@ -3,15 +3,20 @@
 # from a seed (tools/population), runs them JOBS at a time, each on a udpm port of its own and in
 # a folder of its own, plus one run without humans per corridor layout (the time-to-goal
 # baseline), and writes DIR/population.json and DIR/population.txt. The exit code is non-zero
-# when a contact had the robot at fault (1) or a run left no summary (3).
+# when a contact had the robot at fault (1) or a run left no summary (3), muted twins included.
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
 #                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
+#                         [--cue-effect]
 #   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
 #   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
 #   table says how often the region planned with at round 1 is the one walked to;
-#   --profile: the path assessment profile, as scripts/run.sh)
+#   --profile: the path assessment profile, as scripts/run.sh;
+#   --cue-effect: every head-on human responsive (the other draws as the seed's), every encounter
+#   run twice, speaking in DIR/runs/<name> and with the dialogue manager muted (--set muted=true)
+#   in DIR/runs/<name>_muted, same scenario file and seed; the table adds what the spoken cue
+#   changes (docs/population.md "Speaking and muted"); default DIR runs/population-<seed>-cue)
 # Environment: COOPNAV_POP_PORT_BASE (7400; run k of JOBS uses base + its slot),
 # COOPNAV_POP_RUN_TIMEOUT_S (900: wall seconds before a run is stopped).
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
@@ -26,7 +31,7 @@ if [ "${1:-}" = "--worker" ]; then
   trap coopnav_stop_all EXIT
   trap 'coopnav_stop_all; exit 143' INT TERM
   scenario="$2" dir="$3" port="$4"
-  name="$(basename "$scenario" .yaml)"
+  name="$(basename "$scenario" .yaml)"  # a muted twin runs its encounter's file: same name
   rm -rf "$dir"
   start_s=$(date +%s.%N)
   rc=0
@@ -37,7 +42,7 @@ if [ "${1:-}" = "--worker" ]; then
       >"$dir/summarize.log" 2>&1 || true
   fi
   state="$(grep -o '"final_state": "[A-Z_]*"' "$dir/summary.json" 2>/dev/null | cut -d'"' -f4)"
-  printf '%-22s %-20s %6.1f s wall\n' "$name" "${state:-NO_SUMMARY}" \
+  printf '%-22s %-20s %6.1f s wall\n' "$(basename "$dir")" "${state:-NO_SUMMARY}" \
     "$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')"
   exit 0
 fi
@@ -47,6 +52,7 @@ seed=1
 jobs="$(nproc)"
 out=""
 build=1
+cue_effect=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --n) n="$2"; shift 2 ;;
@@ -64,7 +70,8 @@ while [ $# -gt 0 ]; do
 --set publish_human_goals=false"
       shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --cue-effect) cue_effect=1; shift ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -84,11 +91,23 @@ for d in "${COOPNAV_DAEMONS[@]}" world_sim; do
     exit 2
   fi
 done
+if [ "$cue_effect" -eq 1 ] && ! errors="$("$(coopnav_bin dialogue_manager)" \
+    -c "$COOPNAV_ROOT/config/dialogue_manager.yaml" --set muted=true --print-config 2>&1 >/dev/null)"; then
+  echo "population.sh: dialogue_manager does not take --set muted=true (rebuild?):" >&2
+  echo "$errors" >&2
+  exit 2
+fi
 
+gen_args=()
+if [ "$cue_effect" -eq 1 ]; then
+  gen_args=(--behaviour responsive --cue-effect)
+  out="${out:-$COOPNAV_ROOT/runs/population-$seed-cue}"
+fi
 out="${out:-$COOPNAV_ROOT/runs/population-$seed}"
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
-"$pop" generate --n "$n" --seed "$seed" --out "$out" --maps-dir "$COOPNAV_ROOT/config/maps"
+"$pop" generate --n "$n" --seed "$seed" --out "$out" --maps-dir "$COOPNAV_ROOT/config/maps" \
+  "${gen_args[@]}"
 
 port_base="${COOPNAV_POP_PORT_BASE:-7400}"
 timeout_s="${COOPNAV_POP_RUN_TIMEOUT_S:-900}"
@@ -117,16 +136,24 @@ mapfile -t lines <"$out/jobs.txt"
 echo "population: ${#lines[@]} runs, $jobs at a time, in $out"
 start_s=$(date +%s.%N)
 for line in "${lines[@]}"; do
-  name="${line%%$'\t'*}"
-  scenario="$out/${line#*$'\t'}"
+  # name<TAB>scenario[<TAB>muted]: a muted twin (--cue-effect) runs its encounter's file with the
+  # dialogue manager deciding and acting as usual but saying nothing.
+  IFS=$'\t' read -r name scenario mode <<<"$line"
+  scenario="$out/$scenario"
   while [ "${#free_slots[@]}" -eq 0 ]; do
     wait -n 2>/dev/null || true
     reap
   done
   slot="${free_slots[0]}"
   free_slots=("${free_slots[@]:1}")
-  timeout -k 20 "$timeout_s" bash "$0" --worker "$scenario" "$out/runs/$name" \
-    "$((port_base + slot))" &
+  if [ "${mode:-}" = muted ]; then
+    COOPNAV_DAEMON_ARGS_dialogue_manager="${COOPNAV_DAEMON_ARGS_dialogue_manager:-} --set muted=true" \
+      timeout -k 20 "$timeout_s" bash "$0" --worker "$scenario" "$out/runs/$name" \
+      "$((port_base + slot))" &
+  else
+    timeout -k 20 "$timeout_s" bash "$0" --worker "$scenario" "$out/runs/$name" \
+      "$((port_base + slot))" &
+  fi
   slot_of[$!]="$slot"
 done
 while [ "${#slot_of[@]}" -gt 0 ]; do

@@ -24,6 +24,14 @@ std::string formatTCross(std::optional<double> t_cross_s) {
   return t_cross_s ? fmt::format("{:.2f} s", *t_cross_s) : std::string("-");
 }
 
+std::string formatOptional(std::optional<double> v) {
+  return v ? fmt::format("{:.3f}", *v) : std::string("unknown");
+}
+
+const char* tristateName(Tristate t) {
+  return t == Tristate::kTrue ? "TRUE" : (t == Tristate::kFalse ? "FALSE" : "UNKNOWN");
+}
+
 std::string idList(const std::vector<std::int32_t>& ids) {
   std::string s;
   for (std::size_t i = 0; i < ids.size() && i < kIdsPerLogLine; ++i)
@@ -500,7 +508,18 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
   auto t = tracked_.find(id);
   in.crossed = t != tracked_.end() && t->second.crossed.crossed;
   in.heard_by_s = h.heard_by_s;
-  emit(run, stamp, h.decision.step(in), situation.t_cross_s);
+  const dialogue::DecisionOutput out = h.decision.step(in);
+  for (const auto& r : out.rounds)
+    if (r.round == 2)
+      log().info(
+          "dialogue_manager: step {} human {} round 2 on CM {} m against d_h {} m, "
+          "IsContributing {}, RobotIsConstrained {}{}",
+          stamp.step, id, formatOptional(in.path.cm_window_m), formatOptional(situation.d_h_m),
+          tristateName(in.path.is_contributing), tristateName(situation.robot_is_constrained),
+          h.heard_by_s ? fmt::format(" ({:.2f} s after round 1's words ended)",
+                                     in.t_s - *h.heard_by_s)
+                       : "");
+  emit(run, stamp, out, situation.t_cross_s);
 }
 
 // ---- output ----

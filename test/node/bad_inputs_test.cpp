@@ -1353,7 +1353,7 @@ class BadInputDialogueManager : public ::testing::Test {
     return dut_.spinUntil([&] { return acked(step); }, 5s);
   }
 
-  Dut dut_{"dialogue_manager", {}};
+  Dut dut_{"dialogue_manager", {"--set", "round2_response_s=0"}};  // the paper's round 2 timing
   std::vector<utterance_t> utterances_;
   std::vector<robot_action_t> actions_;
   std::vector<std::int64_t> acks_;
@@ -1635,6 +1635,8 @@ TEST_F(BadInputWorldSim, BadBandsAndUtterancesAreRejectedOrDroppedAndTheRunGoesO
   u.utime = states_.back().utime;
   u.step = -1;
   u.human_id = 1;
+  u.round = 1;
+  u.delivery = utterance_t::DELIVERY_SAID;
   u.speech_act = 99;
   dut_.publish(channels::kUtterance, u);
   u.speech_act = utterance_t::ACT_ASK_TO_MOVE;
@@ -1643,10 +1645,19 @@ TEST_F(BadInputWorldSim, BadBandsAndUtterancesAreRejectedOrDroppedAndTheRunGoesO
   u.direction = situation_t::DIR_UNDEFINED;  // ask to move, but to no side
   dut_.publish(channels::kUtterance, u);
   u.direction = situation_t::DIR_LEFT;
+  u.delivery = 9;
+  dut_.publish(channels::kUtterance, u);
+  u.delivery = utterance_t::DELIVERY_SAID;
+  u.speech_duration_s = std::nan("");  // words that never end would never be heard
+  dut_.publish(channels::kUtterance, u);
+  u.speech_duration_s = 1.5;
+  u.speech_start_s = 1e12;
+  dut_.publish(channels::kUtterance, u);
+  u.speech_start_s = 0.0;
   u.human_id = 404;  // not in the scenario
   dut_.publish(channels::kUtterance, u);
-  const daemon_status_t after = dut_.countersReach(before.rejected + 5, before.dropped + 1);
-  EXPECT_EQ(after.rejected, before.rejected + 5);
+  const daemon_status_t after = dut_.countersReach(before.rejected + 8, before.dropped + 1);
+  EXPECT_EQ(after.rejected, before.rejected + 8);
   EXPECT_EQ(after.dropped, before.dropped + 1);
   // Finite but absurd robot bands: the humans' predictions must not turn into NaN.
   b = corridorBands(-1);

@@ -81,6 +81,7 @@ class HostileDialogue : public QuietLog {
  protected:
   void start(const InputLimits& limits = {}) {
     config_.limits = limits;
+    config_.round2_response_s = 0.0;  // round 2 at its t_CROSS threshold, as the paper has it
     rt_.setLimits(limits);
     node_ = std::make_unique<DialogueManagerNode>(config_, rt_);
   }

@@ -129,8 +129,10 @@ class Harness {
     a.participant = kParticipant;
     lcm_.publish(channels::kStepAck, &a);
   }
+  /// "Could you move aside?", said at once, lasting `duration_s` (or decided and not said).
   void sendAskToMove(std::int64_t step, std::int64_t utime, std::int32_t human_id,
-                     std::int8_t dir) {
+                     std::int8_t dir, double duration_s = 0.0,
+                     std::int8_t delivery = utterance_t::DELIVERY_SAID) {
     utterance_t u{};
     u.utime = utime;
     u.step = step;
@@ -140,6 +142,9 @@ class Harness {
     u.round = 1;
     u.t_cross_s = 5.0;
     u.text = "Could you move aside?";
+    u.delivery = delivery;
+    u.speech_start_s = 0.0;
+    u.speech_duration_s = duration_s;
     lcm_.publish(channels::kUtterance, &u);
   }
 
@@ -455,31 +460,37 @@ TEST(WorldSimNode, SigtermExitsCleanlyWithinOneSecond) {
 }
 
 TEST(WorldSimNode, AskToMoveMakesAResponsiveHumanYieldToTheAskedSide) {
-  // Human 1 walks -x on y = 3; its left is -y. Cued at step 5, it yields; uncued it keeps its line
-  // (the robot is still far: a minimal human has not reacted yet at the end).
-  double final_y[2] = {0.0, 0.0};
-  for (int cued = 0; cued < 2; ++cued) {
-    SCOPED_TRACE(cued);
+  // Human 1 walks -x on y = 3; its left is -y. Asked at step 5 with words lasting 0.5 s, it
+  // yields once it has heard them and reacted; unasked, or asked by a muted robot, it keeps its
+  // line (the robot is still far: a minimal human has not reacted yet at the end). Its scenario
+  // makes it hear at any distance and always comply.
+  double final_y[3] = {0.0, 0.0, 0.0};
+  for (int run = 0; run < 3; ++run) {
+    SCOPED_TRACE(run);
     Harness h;
     Participant p;
-    if (cued) {
-      p.before_command = [](Harness& hh, const agent_states_t& s) {
-        if (s.step == 5) hh.sendAskToMove(s.step, s.utime, 1, situation_t::DIR_LEFT);
+    if (run > 0) {
+      const std::int8_t delivery =
+          run == 1 ? utterance_t::DELIVERY_SAID : utterance_t::DELIVERY_MUTED;
+      p.before_command = [delivery](Harness& hh, const agent_states_t& s) {
+        if (s.step == 5) hh.sendAskToMove(s.step, s.utime, 1, situation_t::DIR_LEFT, 0.5, delivery);
       };
     }
     EXPECT_EQ(runWithParticipant(h, "tiny_responsive.yaml", p).exit_code, 0);
     ASSERT_FALSE(h.states().empty());
     ASSERT_NE(h.final(), nullptr);
     EXPECT_EQ(h.final()->state, sim_status_t::STATE_TIME_LIMIT) << h.final()->detail;
-    final_y[cued] = h.states().back().humans[0].y_m;
-    if (cued) {
-      // Nothing before the cue is heard plus the reaction time (0.5 s + 0.8 s).
+    final_y[run] = h.states().back().humans[0].y_m;
+    if (run == 1) {
+      // Nothing moves before the words have ended (0.5 s + 0.5 s) and a reaction time has
+      // passed (log-normal, 5 % quantile 0.6 s).
       for (const auto& s : h.states())
-        if (s.utime < 1300000) {
+        if (s.utime < 1400000) {
           EXPECT_NEAR(s.humans[0].y_m, 3.0, 1e-9) << s.step;
         }
     }
   }
+  EXPECT_NEAR(final_y[2], final_y[0], 1e-9);  // muted: as if nothing was said
   EXPECT_NEAR(final_y[0], 3.0, 0.05);
   EXPECT_LT(final_y[1], 3.0 - 0.5);
 }

@@ -60,6 +60,15 @@ std::string directionName(std::int8_t dir) {
   return codeName(kNames, situation_t::DIR_RIGHT, 3, dir, "dir_");
 }
 
+std::string deliveryName(std::int8_t delivery) {
+  static const char* const kNames[] = {"said", "muted", "too_late"};
+  return codeName(kNames, utterance_t::DELIVERY_SAID, 3, delivery, "delivery_");
+}
+
+bool wasSaid(std::int8_t delivery) {
+  return delivery != utterance_t::DELIVERY_MUTED && delivery != utterance_t::DELIVERY_TOO_LATE;
+}
+
 double utimeToS(std::int64_t utime) { return static_cast<double>(utime) * 1e-6; }
 
 const HumanAnalysis* RunAnalysis::human(std::int32_t id) const {

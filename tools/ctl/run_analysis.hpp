@@ -27,6 +27,11 @@ std::string simStateName(std::int8_t state);           ///< sim_status_t.STATE_*
 std::string crossingName(std::int8_t status);          ///< situation_t.CROSSING_*
 std::string predicateName(std::int8_t pred);           ///< "TRUE", "FALSE", "UNKNOWN"
 std::string directionName(std::int8_t dir);            ///< "left", "right", "undefined"
+/// utterance_t.DELIVERY_*: "said", "muted", "too_late" ("delivery_<n>" for any other code).
+std::string deliveryName(std::int8_t delivery);
+/// True unless the utterance was decided but not said (muted, too late); an unknown code counts
+/// as said, as the transcript prints it.
+bool wasSaid(std::int8_t delivery);
 
 double utimeToS(std::int64_t utime);
 

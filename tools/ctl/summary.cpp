@@ -169,7 +169,8 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
   o["docked"] = h.docked;
   bool thanked = false;
   for (const auto& u : run.utterances)
-    thanked = thanked || (u.human_id == h.id && u.speech_act == utterance_t::ACT_THANK);
+    thanked = thanked ||
+              (u.human_id == h.id && u.speech_act == utterance_t::ACT_THANK && wasSaid(u.delivery));
   o["thanked"] = thanked;
 
   if (h.first_round_situation) {
@@ -208,6 +209,11 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
       j["text"] = e.text;
       j["round"] = std::int64_t{e.round};
       j["direction"] = e.direction;
+      j["delivery"] = e.delivery;
+      j["speech_start_s"] = numberOrNull(e.speech_start_s);
+      j["speech_duration_s"] = numberOrNull(e.speech_duration_s);
+      // How long before t_CROSS the words end (< 0: after it); what a listener has left to act.
+      j["lead_s"] = numberOrNull(e.t_cross_s - (e.speech_start_s + e.speech_duration_s));
     } else {
       j["kind"] = e.kind == Kind::kAction ? "action" : "recorder";
       j[e.kind == Kind::kAction ? "action" : "command"] = e.what;

@@ -119,7 +119,21 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
         e.text = u.text;
         e.round = u.round;
         e.direction = directionName(u.direction);
-        e.line = prefix(e.utime, e.human_id, e.t_cross_s) + "  SAY " + e.what + " " +
+        e.delivery = deliveryName(u.delivery);
+        e.speech_start_s = u.speech_start_s;
+        e.speech_duration_s = u.speech_duration_s;
+        // A said line stays as it was before deliveries existed (golden transcripts compare it);
+        // an utterance decided but not said says why in place of SAY.
+        std::string verb = "SAY";
+        if (u.delivery == utterance_t::DELIVERY_MUTED) {
+          verb = "NOT SAID (muted)";
+        } else if (u.delivery == utterance_t::DELIVERY_TOO_LATE) {
+          verb = "NOT SAID (too late: its " + fixed(u.speech_duration_s, 2) +
+                 " s of speech would end " +
+                 fixed(u.speech_start_s + u.speech_duration_s - u.t_cross_s, 2) +
+                 " s after the crossing)";
+        }
+        e.line = prefix(e.utime, e.human_id, e.t_cross_s) + "  " + verb + " " + e.what + " " +
                  jsonQuote(e.text) + " (round " + std::to_string(e.round);
         if (u.direction != situation_t::DIR_UNDEFINED) e.line += ", direction " + e.direction;
         e.line += ")";

@@ -1,8 +1,9 @@
 #pragma once
-/// @file The transcript of a recorded run: what the robot said and did, when (simulated time) and
-/// at which t_CROSS, why a situation was unknown (first occurrence of each reason), the final CM
-/// per human and the final simulator status. Deterministic: the same message contents give the
-/// same bytes (no wall-clock values, fixed float formats, a fixed order within a time stamp).
+/// @file The transcript of a recorded run: what the robot said (and decided but did not say: muted,
+/// or too late to end before the crossing) and did, when (simulated time) and at which t_CROSS, why
+/// a situation was unknown (first occurrence of each reason), the final CM per human and the final
+/// simulator status. Deterministic: the same message contents give the same bytes (no wall-clock
+/// values, fixed float formats, a fixed order within a time stamp).
 
 #include <cstdint>
 #include <string>
@@ -32,7 +33,12 @@ struct TranscriptEntry {
   std::string text;           ///< utterance text or reason
   int round{0};               ///< utterances only
   std::string direction;      ///< utterances only: "left", "right", "undefined"
-  std::string line;           ///< the formatted transcript line (no newline)
+  /// Utterances only: "said", "muted", "too_late" (deliveryName); a SAY line unless muted or too
+  /// late (NOT SAID).
+  std::string delivery;
+  double speech_start_s{0.0};     ///< utterances only: [s] after utime when speaking starts
+  double speech_duration_s{0.0};  ///< utterances only: [s] how long saying the text takes
+  std::string line;               ///< the formatted transcript line (no newline)
 };
 
 struct TranscriptOptions {

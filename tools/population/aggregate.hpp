@@ -9,6 +9,8 @@
 /// `docks`, `retreats`, `guard_steps`. A missing field is unknown (null in the output), so the
 /// tool reads summaries written before and after those fields exist.
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -16,6 +18,7 @@
 #include <optional>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,12 +32,25 @@ using Json = nlohmann::ordered_json;
 inline constexpr const char* kPlanFormat = "coopnav-population-plan/1";
 inline constexpr const char* kPopulationFormat = "coopnav-population/1";
 
+/// Options of a generated population that its plan records (only when set: a plain
+/// population's plan.json is what it was before they existed).
+struct PlanOptions {
+  std::string head_on_behaviour;  ///< generate --behaviour: every head-on human's behaviour
+  bool muted_twins{false};        ///< generate --cue-effect: every encounter also runs muted
+};
+
+/// The run of an encounter with the dialogue manager muted (same scenario file and seed).
+inline std::string mutedTwinName(const std::string& name) { return name + "_muted"; }
+
 /// What the generator wrote, for the aggregation and for a reader of the run directory.
-inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t seed) {
+inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t seed,
+                     const PlanOptions& options = {}) {
   Json plan;
   plan["format"] = kPlanFormat;
   plan["seed"] = seed;
   plan["n"] = encounters.size();
+  if (!options.head_on_behaviour.empty()) plan["head_on_behaviour"] = options.head_on_behaviour;
+  if (options.muted_twins) plan["cue_effect"] = true;
   Json list = Json::array();
   std::set<std::string> baselines;
   Json base_list = Json::array();
@@ -45,6 +61,7 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
     j["baseline"] = baselineName(e.layout);
     j["layout"] = e.layout.key;
     j["width_m"] = e.layout.width_m;
+    if (options.muted_twins) j["muted_twin"] = mutedTwinName(e.name);
     Json humans = Json::array();
     for (const auto& h : e.humans) {
       Json hj;
@@ -144,6 +161,324 @@ inline Json contactOf(const Json* run) {
 /// Causes that fail the population: the robot may have driven into someone (or something).
 inline bool isSafetyFailure(const std::string& cause) {
   return cause == "robot_at_fault" || cause == "robot_hit_wall" || cause == "unattributed";
+}
+
+// ---- The spoken cue's effect: each encounter spoken to and with the dialogue manager muted.
+
+/// The world simulator's account of what each human heard (world_sim.log lines "human N heard
+/// <cue> at D m; acts at T s", "... and does not comply", "human N did not hear <cue>: ..."), for
+/// the cue-effect section: [{"id", "cues", "heard", "complied", "not_heard", "not_complied"}] in
+/// id order. Thanks are left out (nothing to comply with). coopnav_population adds it to a run's
+/// summary entry as "hearing"; summary.json itself does not have it.
+inline Json hearingFromWorldSimLog(const std::string& log_text) {
+  static const std::regex kCue("human ([0-9]+) (heard|did not hear) ([a-z_]+)");
+  struct Counts {
+    int complied = 0, not_complied = 0, not_heard = 0;
+  };
+  std::map<int, Counts> counts;
+  std::istringstream lines(log_text);
+  std::string line;
+  std::smatch m;
+  while (std::getline(lines, line)) {
+    if (!std::regex_search(line, m, kCue) || m[3].str() == "thank") continue;
+    Counts& c = counts[std::stoi(m[1].str())];
+    if (m[2].str() == "did not hear")
+      ++c.not_heard;
+    else if (line.find("does not comply", static_cast<std::size_t>(m.position(0))) !=
+             std::string::npos)
+      ++c.not_complied;
+    else
+      ++c.complied;
+  }
+  Json out = Json::array();
+  for (const auto& [id, c] : counts)
+    out.push_back(Json{{"id", id},
+                       {"cues", c.complied + c.not_complied + c.not_heard},
+                       {"heard", c.complied + c.not_complied},
+                       {"complied", c.complied},
+                       {"not_heard", c.not_heard},
+                       {"not_complied", c.not_complied}});
+  return out;
+}
+
+namespace detail {
+
+/// The entry of human `id` in a summary entry's humans; nullptr when absent.
+inline const Json* humanOf(const Json* run, double id) {
+  const Json* list = field(run, "humans");
+  if (list == nullptr || !list->is_array()) return nullptr;
+  for (const auto& h : *list)
+    if (number(field(&h, "id")) == id) return &h;
+  return nullptr;
+}
+
+inline Json medianOrNull(const std::vector<double>& v) {
+  const double m = median(v);
+  return std::isfinite(m) ? Json(m) : Json();
+}
+inline Json meanOrNull(const std::vector<double>& v) {
+  const double m = mean(v);
+  return std::isfinite(m) ? Json(m) : Json();
+}
+inline Json minOrNull(const std::vector<double>& v) {
+  return v.empty() ? Json() : Json(*std::min_element(v.begin(), v.end()));
+}
+
+}  // namespace detail
+
+/// One half of a pair (speaking or muted) for the head-on human `head_id`: outcome, its
+/// interaction CM and verdict, whether the robot docked, time to goal, min clearance, the
+/// contact's cause, the cues decided for it (THANK aside: no cue to act on) by delivery, the said
+/// cues' lead before t_CROSS (summary `lead_s`), and what it heard (null without world_sim.log).
+inline Json cueSide(const Json* run, double head_id) {
+  using namespace detail;
+  Json s;
+  const std::string outcome = run ? text(field(run, "final_state")) : "NO_SUMMARY";
+  s["outcome"] = outcome.empty() ? "UNKNOWN" : outcome;
+  const Json* h = humanOf(run, head_id);
+  s["cm_interaction_m"] = numberOrNull(field(h, "cm_interaction_m"));
+  s["is_contributing_interaction"] = boolOrNull(field(h, "is_contributing_interaction"));
+  Json docked = boolOrNull(field(run, "docked"));
+  if (docked.is_null() && numberOrNull(field(run, "docks")).is_number())
+    docked = number(field(run, "docks")) > 0;
+  s["docked"] = docked;
+  s["robot_time_to_goal_s"] = numberOrNull(field(run, "robot_time_to_goal_s"));
+  s["min_clearance_m"] = numberOrNull(field(run, "min_clearance_m"));
+  s["contact"] = contactOf(run)["cause"];
+  int said = 0, too_late = 0, muted = 0;
+  Json leads = Json::array();
+  const Json* transcript = field(h, "transcript");
+  if (transcript != nullptr && transcript->is_array()) {
+    for (const auto& e : *transcript) {
+      if (text(field(&e, "kind")) != "say" || text(field(&e, "act")) == "THANK") continue;
+      // A summary from before deliveries has none: everything it lists was said.
+      const std::string delivery = text(field(&e, "delivery"));
+      if (delivery == "muted") {
+        ++muted;
+      } else if (delivery == "too_late") {
+        ++too_late;
+      } else {
+        ++said;
+        const Json lead = numberOrNull(field(&e, "lead_s"));
+        if (lead.is_number()) leads.push_back(lead);
+      }
+    }
+  }
+  s["cues_said"] = said;
+  s["cues_too_late"] = too_late;
+  s["cues_muted"] = muted;
+  s["lead_s"] = std::move(leads);
+  const Json* hearing = field(run, "hearing");
+  Json heard, complied;
+  if (hearing != nullptr && hearing->is_array()) {
+    heard = 0;
+    complied = 0;
+    for (const auto& x : *hearing)
+      if (number(field(&x, "id")) == head_id) {
+        heard = numberOrNull(field(&x, "heard"));
+        complied = numberOrNull(field(&x, "complied"));
+      }
+  }
+  s["heard"] = std::move(heard);
+  s["complied"] = std::move(complied);
+  return s;
+}
+
+/// The overall figures of a set of pairs (cueEffect's records), over the pairs whose two runs
+/// both left a summary. CM: paired over the pairs where both have one; the difference is
+/// speaking − muted, with a percentile bootstrap 95 % interval of its mean (2000 resamples, a
+/// fixed seed) and an exact sign test. Docks avoided: muted docked and speaking did not; added:
+/// the reverse.
+inline Json cueEffectGroup(const std::vector<const Json*>& pairs) {
+  using namespace detail;
+  int both = 0, cm_pairs = 0, greater = 0, smaller = 0, ties = 0;
+  std::vector<double> cm_s, cm_m, cm_d, ttg_s, ttg_m, ttg_d, clr_s, clr_m, leads;
+  int dock_s = 0, dock_m = 0, avoided = 0, added = 0, docks_known = 0;
+  int not_reached_s = 0, not_reached_m = 0, contacts_s = 0, contacts_m = 0, fault_s = 0,
+      fault_m = 0, contrib_s = 0, contrib_m = 0, judged_s = 0, judged_m = 0;
+  int said = 0, too_late = 0, with_hearing = 0, heard = 0, complied = 0;
+  for (const Json* p : pairs) {
+    const Json& sp = p->at("speaking");
+    const Json& mu = p->at("muted");
+    if (sp.at("outcome") == "NO_SUMMARY" || mu.at("outcome") == "NO_SUMMARY") continue;
+    ++both;
+    if (sp.at("cm_interaction_m").is_number() && mu.at("cm_interaction_m").is_number()) {
+      ++cm_pairs;
+      const double a = sp.at("cm_interaction_m").get<double>();
+      const double b = mu.at("cm_interaction_m").get<double>();
+      cm_s.push_back(a);
+      cm_m.push_back(b);
+      cm_d.push_back(a - b);
+      (a > b ? greater : (a < b ? smaller : ties)) += 1;
+    }
+    if (sp.at("docked").is_boolean() && mu.at("docked").is_boolean()) {
+      ++docks_known;
+      const bool ds = sp.at("docked").get<bool>(), dm = mu.at("docked").get<bool>();
+      dock_s += ds ? 1 : 0;
+      dock_m += dm ? 1 : 0;
+      avoided += dm && !ds ? 1 : 0;
+      added += ds && !dm ? 1 : 0;
+    }
+    const Json& ts = sp.at("robot_time_to_goal_s");
+    const Json& tm = mu.at("robot_time_to_goal_s");
+    if (ts.is_number())
+      ttg_s.push_back(ts.get<double>());
+    else
+      ++not_reached_s;
+    if (tm.is_number())
+      ttg_m.push_back(tm.get<double>());
+    else
+      ++not_reached_m;
+    if (ts.is_number() && tm.is_number()) ttg_d.push_back(ts.get<double>() - tm.get<double>());
+    if (sp.at("min_clearance_m").is_number())
+      clr_s.push_back(sp.at("min_clearance_m").get<double>());
+    if (mu.at("min_clearance_m").is_number())
+      clr_m.push_back(mu.at("min_clearance_m").get<double>());
+    const std::string cs = sp.at("contact").get<std::string>();
+    const std::string cm = mu.at("contact").get<std::string>();
+    contacts_s += cs != "none" && cs != "no_run" ? 1 : 0;
+    contacts_m += cm != "none" && cm != "no_run" ? 1 : 0;
+    fault_s += isSafetyFailure(cs) ? 1 : 0;
+    fault_m += isSafetyFailure(cm) ? 1 : 0;
+    if (sp.at("is_contributing_interaction").is_boolean()) {
+      ++judged_s;
+      contrib_s += sp.at("is_contributing_interaction").get<bool>() ? 1 : 0;
+    }
+    if (mu.at("is_contributing_interaction").is_boolean()) {
+      ++judged_m;
+      contrib_m += mu.at("is_contributing_interaction").get<bool>() ? 1 : 0;
+    }
+    said += sp.at("cues_said").get<int>();
+    too_late += sp.at("cues_too_late").get<int>();
+    for (const auto& l : sp.at("lead_s")) leads.push_back(l.get<double>());
+    if (sp.at("heard").is_number()) {
+      ++with_hearing;
+      heard += sp.at("heard").get<int>();
+      complied += sp.at("complied").get<int>();
+    }
+  }
+  Json g;
+  g["pairs"] = pairs.size();
+  g["pairs_run"] = both;
+  Rng rng(0xC0E0EFFEC7ULL);
+  const auto ci = bootstrapMeanInterval(cm_d, 0.95, 2000, rng);
+  g["cm"] = Json{
+      {"pairs", cm_pairs},
+      {"mean_speaking_m", meanOrNull(cm_s)},
+      {"mean_muted_m", meanOrNull(cm_m)},
+      {"median_speaking_m", medianOrNull(cm_s)},
+      {"median_muted_m", medianOrNull(cm_m)},
+      {"mean_difference_m", meanOrNull(cm_d)},
+      {"difference_ci95_m", std::isfinite(ci.first) ? Json::array({ci.first, ci.second}) : Json()},
+      {"speaking_higher", greater},
+      {"muted_higher", smaller},
+      {"ties", ties},
+      {"sign_test_p", cm_pairs ? Json(signTestP(greater, smaller)) : Json()},
+      {"contributing_speaking", contrib_s},
+      {"judged_speaking", judged_s},
+      {"contributing_muted", contrib_m},
+      {"judged_muted", judged_m}};
+  g["docked"] = Json{{"pairs", docks_known},
+                     {"speaking", dock_s},
+                     {"muted", dock_m},
+                     {"avoided", avoided},
+                     {"added", added}};
+  g["time_to_goal"] = Json{{"median_speaking_s", medianOrNull(ttg_s)},
+                           {"median_muted_s", medianOrNull(ttg_m)},
+                           {"median_difference_s", medianOrNull(ttg_d)},
+                           {"not_reached_speaking", not_reached_s},
+                           {"not_reached_muted", not_reached_m}};
+  g["min_clearance"] = Json{{"min_speaking_m", minOrNull(clr_s)},
+                            {"median_speaking_m", medianOrNull(clr_s)},
+                            {"min_muted_m", minOrNull(clr_m)},
+                            {"median_muted_m", medianOrNull(clr_m)}};
+  g["contacts"] = Json{{"speaking", contacts_s},
+                       {"muted", contacts_m},
+                       {"robot_at_fault_or_unattributed_speaking", fault_s},
+                       {"robot_at_fault_or_unattributed_muted", fault_m}};
+  g["cues"] = Json{{"said", said},
+                   {"too_late", too_late},
+                   {"lead_median_s", medianOrNull(leads)},
+                   {"lead_min_s", minOrNull(leads)}};
+  g["hearing"] = with_hearing
+                     ? Json{{"runs", with_hearing}, {"heard", heard}, {"complied", complied}}
+                     : Json();
+  return g;
+}
+
+/// The cue-effect section of population.json (null when the plan has no muted twins): one record
+/// per encounter (its head-on human, speaking against muted), the muted half's failures (they
+/// count towards the exit code as the speaking half's do), the figures over all pairs and per
+/// layout (corridor width).
+inline Json cueEffect(const Json& plan, const std::map<std::string, Json>& summaries) {
+  using namespace detail;
+  auto summaryOf = [&](const std::string& name) -> const Json* {
+    auto it = summaries.find(name);
+    return it == summaries.end() ? nullptr : &it->second;
+  };
+  Json records = Json::array();
+  int muted_failed = 0;
+  std::map<std::string, int> muted_causes;
+  for (const auto& e : plan.at("encounters")) {
+    if (!e.contains("muted_twin")) continue;
+    const std::string name = e.at("name").get<std::string>();
+    const std::string twin = e.at("muted_twin").get<std::string>();
+    double head_id = std::nan("");
+    for (const auto& h : e.at("humans"))
+      if (h.at("role") == "head_on") head_id = h.at("id").get<double>();
+    const Json* sp_run = summaryOf(name);
+    const Json* mu_run = summaryOf(twin);
+    if (mu_run == nullptr) ++muted_failed;
+    Json r;
+    r["name"] = name;
+    r["muted_run"] = twin;
+    r["layout"] = e.at("layout");
+    r["width_m"] = e.at("width_m");
+    r["head_on_id"] = std::isfinite(head_id) ? Json(head_id) : Json();
+    r["speaking"] = cueSide(sp_run, head_id);
+    r["muted"] = cueSide(mu_run, head_id);
+    const Json& a = r["speaking"]["cm_interaction_m"];
+    const Json& b = r["muted"]["cm_interaction_m"];
+    r["cm_difference_m"] =
+        a.is_number() && b.is_number() ? Json(a.get<double>() - b.get<double>()) : Json();
+    const Json& ds = r["speaking"]["docked"];
+    const Json& dm = r["muted"]["docked"];
+    r["dock"] = !ds.is_boolean() || !dm.is_boolean() ? Json()
+                : ds == dm                           ? Json("same")
+                : dm.get<bool>()                     ? Json("avoided")
+                                                     : Json("added");
+    const std::string cause = r["muted"]["contact"].get<std::string>();
+    if (cause != "none" && cause != "no_run") ++muted_causes[cause];
+    records.push_back(std::move(r));
+  }
+  if (records.empty()) return Json();
+  std::vector<const Json*> all;
+  std::map<std::string, std::vector<const Json*>> by_layout;
+  for (const auto& r : records) {
+    all.push_back(&r);
+    by_layout[r.at("layout").get<std::string>()].push_back(&r);
+  }
+  int safety = 0;
+  Json causes = Json::object();
+  for (const auto& [k, v] : muted_causes) {
+    causes[k] = v;
+    if (isSafetyFailure(k)) safety += v;
+  }
+  Json c;
+  c["pairs"] = records.size();
+  c["muted_failed_runs"] = muted_failed;
+  c["muted_contacts_by_cause"] = std::move(causes);
+  c["muted_robot_at_fault_or_unattributed"] = safety;
+  c["overall"] = cueEffectGroup(all);
+  Json layouts = Json::object();
+  for (const auto& [key, list] : by_layout) {
+    Json g = cueEffectGroup(list);
+    g["width_m"] = list.front()->at("width_m");
+    layouts[key] = std::move(g);
+  }
+  c["by_layout"] = std::move(layouts);
+  c["encounters"] = std::move(records);
+  return c;
 }
 
 /// population.json from the plan and the summary entries by run name (encounters and
@@ -382,12 +717,24 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   doc["seed"] = plan.at("seed");
   doc["totals"] = std::move(totals);
   doc["runs"] = std::move(runs);
+  // Only with muted twins (population.sh --cue-effect).
+  if (Json cue = cueEffect(plan, summaries); !cue.is_null()) doc["cue_effect"] = std::move(cue);
   return doc;
 }
 
-/// True when the population fails: a contact with the robot at fault (or one it cannot clear).
+/// True when the population fails: a contact with the robot at fault (or one it cannot clear),
+/// in an encounter or in its muted twin.
 inline bool populationFails(const Json& population) {
-  return population.at("totals").at("robot_at_fault_or_unattributed").get<int>() > 0;
+  const Json* cue = detail::field(&population, "cue_effect");
+  const int muted = cue ? cue->at("muted_robot_at_fault_or_unattributed").get<int>() : 0;
+  return population.at("totals").at("robot_at_fault_or_unattributed").get<int>() + muted > 0;
+}
+
+/// Runs that left no summary: encounters and their muted twins.
+inline int runsWithoutSummary(const Json& population) {
+  const Json* cue = detail::field(&population, "cue_effect");
+  return population.at("totals").at("failed_runs").get<int>() +
+         (cue ? cue->at("muted_failed_runs").get<int>() : 0);
 }
 
 namespace detail {
@@ -412,7 +759,142 @@ inline std::string tri(const Json& v) {
 }
 }  // namespace detail
 
-/// The plain-text table: one line per run, then the totals.
+namespace detail {
+/// num() without the sign of a value that rounds to zero ("-0.00" reads as a direction).
+inline std::string numz(const Json& v, const char* format) {
+  std::string t = num(v, format);
+  if (t[0] == '-' && t.size() > 1 && t.find_first_not_of("-0.") == std::string::npos) t.erase(0, 1);
+  return t;
+}
+/// numz() with a "+" before a positive value: a difference.
+inline std::string signedNum(const Json& v, const char* format) {
+  std::string t = numz(v, format);
+  if (t == "-" || t[0] == '-' || t.find_first_not_of("0.") == std::string::npos) return t;
+  return "+" + t;
+}
+inline std::string shortCause(const std::string& cause) {
+  if (cause == "none") return "-";
+  if (cause == "robot_at_fault") return "FAULT";
+  if (cause == "human_walked_in") return "walked_in";
+  if (cause == "robot_hit_wall") return "WALL";
+  if (cause == "unattributed") return "UNATTR";
+  return cause;
+}
+inline std::string yesNo(const Json& v) {
+  return v.is_boolean() ? (v.get<bool>() ? "y" : "n") : std::string("?");
+}
+}  // namespace detail
+
+/// The cue-effect section of population.txt: one line per encounter, the figures over all pairs,
+/// then per layout.
+inline std::string formatCueEffect(const Json& cue) {
+  using namespace detail;
+  std::string s;
+  s += "\n# cue effect: each encounter spoken to (S) and with the dialogue manager muted (M), same "
+       "scenario and seed; CM etc. of the head-on human\n";
+  s +=
+      "# dock: y/n; contact: - none, walked_in, FAULT (robot at fault), WALL, UNATTR; cues: said / "
+      "not said (too late); lead: said cues' end before t_CROSS [s]; heard/complied: world_sim\n";
+  s += pad("run", 10) + pad("layout", 16) + pad("CM S/M", 12) + pad("dCM", 7) + pad("dock", 6) +
+       pad("ttg_s S/M", 13) + pad("min_clr S/M", 13) + pad("contact S/M", 21) + pad("cues", 6) +
+       pad("heard", 7) + "lead_s\n";
+  for (const auto& r : cue.at("encounters")) {
+    const Json& a = r.at("speaking");
+    const Json& b = r.at("muted");
+    std::string leads;
+    for (const auto& l : a.at("lead_s")) leads += (leads.empty() ? "" : ",") + numz(l, "%.1f");
+    s += pad(r.at("name").get<std::string>(), 10) + pad(r.at("layout").get<std::string>(), 16) +
+         pad(numz(a.at("cm_interaction_m"), "%.2f") + "/" + numz(b.at("cm_interaction_m"), "%.2f"),
+             12) +
+         pad(signedNum(r.at("cm_difference_m"), "%.2f"), 7) +
+         pad(yesNo(a.at("docked")) + "/" + yesNo(b.at("docked")), 6) +
+         pad(numz(a.at("robot_time_to_goal_s"), "%.1f") + "/" +
+                 numz(b.at("robot_time_to_goal_s"), "%.1f"),
+             13) +
+         pad(numz(a.at("min_clearance_m"), "%.2f") + "/" + numz(b.at("min_clearance_m"), "%.2f"),
+             13) +
+         pad(shortCause(a.at("contact").get<std::string>()) + "/" +
+                 shortCause(b.at("contact").get<std::string>()),
+             21) +
+         pad(a.at("cues_said").dump() + "/" + a.at("cues_too_late").dump(), 6) +
+         pad(numz(a.at("heard"), "%.0f") + "/" + numz(a.at("complied"), "%.0f"), 7) +
+         (leads.empty() ? "-" : leads) + "\n";
+  }
+  const Json& o = cue.at("overall");
+  const Json& cm = o.at("cm");
+  const Json& d = o.at("docked");
+  const Json& t = o.at("time_to_goal");
+  const Json& c = o.at("min_clearance");
+  const Json& k = o.at("contacts");
+  const Json& q = o.at("cues");
+  s += "cue effect over " + cue.at("pairs").dump() +
+       " encounters (both halves with a summary: " + o.at("pairs_run").dump() +
+       "; muted runs without a summary " + cue.at("muted_failed_runs").dump() + "):\n";
+  std::string interval = "-";
+  if (cm.at("difference_ci95_m").is_array())
+    interval = signedNum(cm.at("difference_ci95_m").at(0), "%.3f") + " .. " +
+               signedNum(cm.at("difference_ci95_m").at(1), "%.3f");
+  s += "  CM of the head-on human, " + cm.at("pairs").dump() + " pairs: mean speaking " +
+       numz(cm.at("mean_speaking_m"), "%.3f") + " m, muted " + numz(cm.at("mean_muted_m"), "%.3f") +
+       " m (medians " + numz(cm.at("median_speaking_m"), "%.3f") + " / " +
+       numz(cm.at("median_muted_m"), "%.3f") + ")\n";
+  s += "  paired difference speaking - muted: mean " +
+       signedNum(cm.at("mean_difference_m"), "%.3f") + " m, 95 % bootstrap interval " + interval +
+       " m; speaking higher " + cm.at("speaking_higher").dump() + ", muted higher " +
+       cm.at("muted_higher").dump() + ", ties " + cm.at("ties").dump() + ", sign test p " +
+       numz(cm.at("sign_test_p"), "%.3g") + "\n";
+  s += "  IsContributing (interaction): speaking " + cm.at("contributing_speaking").dump() + "/" +
+       cm.at("judged_speaking").dump() + ", muted " + cm.at("contributing_muted").dump() + "/" +
+       cm.at("judged_muted").dump() + "\n";
+  s += "  docked: speaking " + d.at("speaking").dump() + ", muted " + d.at("muted").dump() +
+       " of " + d.at("pairs").dump() + " pairs; docks avoided by speaking " +
+       d.at("avoided").dump() + ", added " + d.at("added").dump() + "\n";
+  s += "  time to goal: median speaking " + numz(t.at("median_speaking_s"), "%.2f") + " s, muted " +
+       numz(t.at("median_muted_s"), "%.2f") + " s, paired median difference " +
+       signedNum(t.at("median_difference_s"), "%.2f") + " s; not reached " +
+       t.at("not_reached_speaking").dump() + " / " + t.at("not_reached_muted").dump() + "\n";
+  s += "  min clearance: speaking min " + numz(c.at("min_speaking_m"), "%.3f") + " m, median " +
+       numz(c.at("median_speaking_m"), "%.3f") + " m; muted min " +
+       numz(c.at("min_muted_m"), "%.3f") + " m, median " + numz(c.at("median_muted_m"), "%.3f") +
+       " m\n";
+  s += "  contacts: speaking " + k.at("speaking").dump() + ", muted " + k.at("muted").dump() +
+       " (robot at fault or unattributed " +
+       k.at("robot_at_fault_or_unattributed_speaking").dump() + " / " +
+       k.at("robot_at_fault_or_unattributed_muted").dump() + ")\n";
+  s += "  cues said " + q.at("said").dump() + ", not said (too late) " + q.at("too_late").dump() +
+       "; lead of the said ones before t_CROSS: median " + numz(q.at("lead_median_s"), "%.2f") +
+       " s, min " + numz(q.at("lead_min_s"), "%.2f") + " s\n";
+  if (o.at("hearing").is_object())
+    s += "  heard (world_sim): " + o.at("hearing").at("heard").dump() + " cues heard, " +
+         o.at("hearing").at("complied").dump() + " complied with\n";
+  s += "by layout: pairs, CM mean S/M (difference), docked S/M (avoided/added), ttg median S/M "
+       "[s], min clearance S/M [m], contacts S/M, lead median/min [s], too late\n";
+  for (const auto& [key, g] : cue.at("by_layout").items()) {
+    const Json& gc = g.at("cm");
+    const Json& gd = g.at("docked");
+    const Json& gt = g.at("time_to_goal");
+    const Json& gl = g.at("min_clearance");
+    const Json& gk = g.at("contacts");
+    const Json& gq = g.at("cues");
+    s += "  " + pad(key, 16) + pad(g.at("pairs_run").dump(), 4) +
+         pad(numz(gc.at("mean_speaking_m"), "%.2f") + "/" + numz(gc.at("mean_muted_m"), "%.2f") +
+                 " (" + signedNum(gc.at("mean_difference_m"), "%.2f") + ")",
+             20) +
+         pad(gd.at("speaking").dump() + "/" + gd.at("muted").dump() + " (" +
+                 gd.at("avoided").dump() + "/" + gd.at("added").dump() + ")",
+             12) +
+         pad(numz(gt.at("median_speaking_s"), "%.1f") + "/" + numz(gt.at("median_muted_s"), "%.1f"),
+             12) +
+         pad(numz(gl.at("min_speaking_m"), "%.2f") + "/" + numz(gl.at("min_muted_m"), "%.2f"), 11) +
+         pad(gk.at("speaking").dump() + "/" + gk.at("muted").dump(), 6) +
+         pad(numz(gq.at("lead_median_s"), "%.1f") + "/" + numz(gq.at("lead_min_s"), "%.1f"), 10) +
+         gq.at("too_late").dump() + "\n";
+  }
+  return s;
+}
+
+/// The plain-text table: one line per run, then the totals (and the cue effect, with muted
+/// twins).
 inline std::string formatTable(const Json& population) {
   using namespace detail;
   std::string s;
@@ -489,6 +971,7 @@ inline std::string formatTable(const Json& population) {
          num(gi.at("accuracy_at_round1"), "%.3f") +
          " (oncoming humans with an estimate: " + gi.at("humans").dump() + ")\n";
   }
+  if (population.contains("cue_effect")) s += formatCueEffect(population.at("cue_effect"));
   return s;
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -269,10 +270,27 @@ inline std::string encounterName(std::size_t index) {
   return buf;
 }
 
+/// Whether `name` is one of behaviourNames().
+inline bool isBehaviourName(const std::string& name) {
+  const auto& names = behaviourNames();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
 /// The n encounters of `seed`. The head-on human's behaviour runs through the six in a seeded
 /// order per block of six (every behaviour equally often); everything else is drawn.
+///
+/// head_on_behaviour (one of behaviourNames(), or empty): every head-on human gets this
+/// behaviour instead, and everything else stays as the seed draws it without the option (layout,
+/// positions, speeds, the other humans, the scenario seed): the population's stream still draws
+/// the params of the behaviour the head-on human would have had, and the params of the one it is
+/// given come from a stream of their own, seeded by the encounter's seed. A head-on human that
+/// has that behaviour anyway keeps its own params, so the encounters the option does not change
+/// are the same files byte for byte. Throws std::invalid_argument for an unknown behaviour.
 inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t seed,
-                                                 const Ranges& r = {}) {
+                                                 const Ranges& r = {},
+                                                 const std::string& head_on_behaviour = "") {
+  if (!head_on_behaviour.empty() && !isBehaviourName(head_on_behaviour))
+    throw std::invalid_argument("no behaviour " + head_on_behaviour);
   const std::vector<Layout> layouts = allLayouts();
   const auto& names = behaviourNames();
   Rng rng(seed ^ 0xC00B0A7ULL);
@@ -312,6 +330,11 @@ inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t se
     h.speed_m_s = speed();
     h.velocity_noise_m_s = noise();
     h.params = drawParams(h.behaviour, rng);
+    if (!head_on_behaviour.empty() && head_on_behaviour != h.behaviour) {
+      Rng own(e.seed ^ 0x4EAD0BEA5ULL);
+      h.behaviour = head_on_behaviour;
+      h.params = drawParams(h.behaviour, own);
+    }
     e.humans.push_back(h);
 
     const double p = rng.unit();

@@ -1,11 +1,14 @@
 // coopnav_population: the generator and the aggregation of scripts/population.sh
 // (docs/population.md).
 //   coopnav_population generate --n N --seed S --out DIR --maps-dir config/maps
+//                               [--behaviour B] [--cue-effect]
 //     DIR/scenarios/*.yaml (encounters and one run without humans per layout), DIR/maps/ (the
-//     maps they use), DIR/plan.json, DIR/jobs.txt (one "name<TAB>scenario" line per run)
+//     maps they use), DIR/plan.json, DIR/jobs.txt (one "name<TAB>scenario" line per run, and
+//     with --cue-effect after each encounter its muted twin "name_muted<TAB>scenario<TAB>muted").
+//     --behaviour: every head-on human gets behaviour B, the other draws stay the seed's.
 //   coopnav_population aggregate --dir DIR
-//     reads DIR/plan.json and DIR/runs/<name>/summary.json, writes DIR/population.json and
-//     DIR/population.txt, prints the totals.
+//     reads DIR/plan.json and DIR/runs/<name>/summary.json (and world_sim.log beside it: what the
+//     humans heard), writes DIR/population.json and DIR/population.txt, prints the totals.
 //   coopnav_population check --dir DIR
 //     reads population.json back and checks it against plan.json and population.txt.
 // Exit codes: 0 fine; 1 a contact with the robot at fault (or one the summaries cannot clear);
@@ -40,8 +43,9 @@ std::string readFile(const fs::path& p) {
   return s.str();
 }
 
-int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::path& maps_dir) {
-  const auto encounters = pop::generatePopulation(n, seed);
+int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::path& maps_dir,
+             const pop::PlanOptions& options) {
+  const auto encounters = pop::generatePopulation(n, seed, {}, options.head_on_behaviour);
   fs::create_directories(out / "scenarios");
   fs::create_directories(out / "maps");
   // Stale files of an earlier, larger population in the same folder would be run again.
@@ -59,6 +63,9 @@ int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::p
   for (const auto& e : encounters) {
     writeFile(out / "scenarios" / (e.name + ".yaml"), pop::scenarioYaml(e));
     jobs += e.name + "\tscenarios/" + e.name + ".yaml\n";
+    // Beside its encounter, so that a population stopped half-way still has whole pairs.
+    if (options.muted_twins)
+      jobs += pop::mutedTwinName(e.name) + "\tscenarios/" + e.name + ".yaml\tmuted\n";
   }
   for (const auto& m : maps) {
     // The map YAML names its image; copy both so the run folder stands on its own.
@@ -72,8 +79,9 @@ int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::p
     fs::copy_file(maps_dir / image, out / "maps" / image, fs::copy_options::overwrite_existing);
   }
   writeFile(out / "jobs.txt", jobs);
-  writeFile(out / "plan.json", coopnav::ctl::dumpJson(pop::planJson(encounters, seed)));
-  std::cout << "coopnav_population: " << encounters.size() << " encounters and " << baselines.size()
+  writeFile(out / "plan.json", coopnav::ctl::dumpJson(pop::planJson(encounters, seed, options)));
+  std::cout << "coopnav_population: " << encounters.size() << " encounters"
+            << (options.muted_twins ? " (each also muted)" : "") << " and " << baselines.size()
             << " runs without humans in " << out.string() << "\n";
   return 0;
 }
@@ -84,7 +92,10 @@ int aggregate(const fs::path& dir) {
     throw std::runtime_error((dir / "plan.json").string() + " is not a population plan");
   std::map<std::string, pop::Json> summaries;
   std::vector<std::string> names;
-  for (const auto& e : plan.at("encounters")) names.push_back(e.at("name").get<std::string>());
+  for (const auto& e : plan.at("encounters")) {
+    names.push_back(e.at("name").get<std::string>());
+    if (e.contains("muted_twin")) names.push_back(e.at("muted_twin").get<std::string>());
+  }
   for (const auto& b : plan.at("baselines")) names.push_back(b.at("name").get<std::string>());
   for (const auto& name : names) {
     const fs::path p = dir / "runs" / name / "summary.json";
@@ -92,7 +103,12 @@ int aggregate(const fs::path& dir) {
     try {
       const pop::Json doc = coopnav::ctl::readSummaryFile(p.string());
       const pop::Json& list = doc.at("scenarios");
-      if (!list.empty()) summaries[name] = list.at(0);
+      if (list.empty()) continue;
+      summaries[name] = list.at(0);
+      // What the simulated humans heard is in world_sim's log only (one line per cue).
+      const fs::path sim_log = dir / "runs" / name / "world_sim.log";
+      if (fs::exists(sim_log))
+        summaries[name]["hearing"] = pop::hearingFromWorldSimLog(readFile(sim_log));
     } catch (const std::exception& ex) {
       std::cerr << "coopnav_population: " << ex.what() << " (counted as a run without summary)\n";
     }
@@ -107,7 +123,7 @@ int aggregate(const fs::path& dir) {
               << (dir / "population.txt").string() << "\n";
     return 1;
   }
-  if (population.at("totals").at("failed_runs").get<int>() > 0) return 3;
+  if (pop::runsWithoutSummary(population) > 0) return 3;
   return 0;
 }
 
@@ -148,6 +164,22 @@ int check(const fs::path& dir) {
   want(outcomes == static_cast<int>(runs.size()), "outcomes do not add up to the runs");
   want(contacts == t.at("contacts").get<int>(), "contacts_by_cause do not add up to contacts");
   want(contacts == from_runs, "contacts do not match the runs' contact causes");
+  // With muted twins: one pair per encounter, in plan order, and the section in the table.
+  if (plan.value("cue_effect", false)) {
+    const pop::Json* cue = doc.contains("cue_effect") ? &doc.at("cue_effect") : nullptr;
+    want(cue != nullptr, "plan has muted twins but population.json no cue_effect");
+    if (cue != nullptr) {
+      const pop::Json& pairs = cue->at("encounters");
+      want(pairs.size() == encounters.size(),
+           "cue_effect: " + std::to_string(pairs.size()) + " pairs for " +
+               std::to_string(encounters.size()) + " encounters");
+      for (std::size_t i = 0; i < std::min(pairs.size(), encounters.size()); ++i)
+        want(pairs[i].at("name") == encounters[i].at("name"),
+             "cue_effect.encounters[" + std::to_string(i) + "] is not " +
+                 encounters[i].at("name").get<std::string>());
+      want(table.find("# cue effect") != std::string::npos, "no cue effect in the table");
+    }
+  }
   for (const auto& p : problems) std::cerr << "coopnav_population check: " << p << "\n";
   if (problems.empty())
     std::cout << "coopnav_population check: " << runs.size() << " runs, well formed\n";
@@ -167,13 +199,20 @@ int main(int argc, char** argv) {
   gen->add_option("--seed", seed, "population seed");
   gen->add_option("--out", out, "output folder")->required();
   gen->add_option("--maps-dir", maps_dir, "folder of the maps (config/maps)")->required();
+  pop::PlanOptions plan_options;
+  const auto& behaviours = pop::behaviourNames();
+  gen->add_option("--behaviour", plan_options.head_on_behaviour,
+                  "every head-on human has this behaviour (the other draws stay the seed's)")
+      ->check(CLI::IsMember(std::vector<std::string>(behaviours.begin(), behaviours.end())));
+  gen->add_flag("--cue-effect", plan_options.muted_twins,
+                "also run every encounter with the dialogue manager muted (jobs.txt, plan.json)");
   auto* agg = app.add_subcommand("aggregate", "write population.json and population.txt");
   agg->add_option("--dir", dir, "the population folder")->required();
   auto* chk = app.add_subcommand("check", "check population.json against the plan and the table");
   chk->add_option("--dir", dir, "the population folder")->required();
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*gen) return generate(n, seed, out, maps_dir);
+    if (*gen) return generate(n, seed, out, maps_dir, plan_options);
     if (*chk) return check(dir);
     return aggregate(dir);
   } catch (const std::exception& ex) {

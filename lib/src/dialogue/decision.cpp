@@ -149,7 +149,8 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
     // Round 2 never in the same step as round 1: its CM needs samples since the recorder start.
     // ... and not before the human could have acted on round 1's words (round2_response_s),
     // unless the crossing is too near to wait longer.
-    const bool responded = !in.heard_by_s || in.t_s >= *in.heard_by_s + config_.round2_response_s ||
+    const bool responded = config_.round2_response_s <= 0.0 || !in.heard_by_s ||
+                           in.t_s >= *in.heard_by_s + config_.round2_response_s ||
                            *t_cross <= config_.round2_latest_t_cross_s;
     if (fired_[0] && !fired_round1_now && !fired_[1] && *t_cross <= config_.round2_t_cross_s &&
         responded) {

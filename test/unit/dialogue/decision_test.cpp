@@ -239,6 +239,52 @@ TEST(Decision, RoundTwoNeverFiresInTheStepOfRoundOne) {
   EXPECT_EQ(out.rounds[0].round, 2);
 }
 
+// Round 2 judges the response to round 1's words: it waits until they have been heard and
+// round2_response_s more, but never beyond round2_latest_t_cross_s.
+TEST(Decision, RoundTwoWaitsForTheResponseToRoundOnesWords) {
+  const DecisionConfig config;  // response 2 s, latest t_CROSS 3 s
+  HumanDecision dut(config);
+  ASSERT_EQ(dut.step(neutral(0.0, 7.0)).rounds.size(), 1u);  // round 1 at t = 0
+  // Its words ended at t = 3.1 s: round 2 waits until 5.1 s although t_CROSS is below 4 s.
+  double t_s = 3.0;
+  for (; t_s < 5.05; t_s += 0.1) {
+    DecisionInput in = neutral(t_s, 7.0 - t_s * 0.7);  // t_CROSS 4.9 .. 3.5
+    in.heard_by_s = 3.1;
+    ASSERT_TRUE(dut.step(in).rounds.empty()) << "t " << t_s;
+  }
+  DecisionInput in = neutral(5.1, 3.4);
+  in.heard_by_s = 3.1;
+  const DecisionOutput out = dut.step(in);
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, 2);
+}
+
+TEST(Decision, RoundTwoWaitsNoLaterThanItsLatestTCross) {
+  HumanDecision dut;
+  ASSERT_EQ(dut.step(neutral(0.0, 7.0)).rounds.size(), 1u);
+  DecisionInput in = neutral(2.0, 3.2);
+  in.heard_by_s = 3.5;  // a long sentence, or one that waited for the voice
+  EXPECT_TRUE(dut.step(in).rounds.empty());
+  in = neutral(2.1, DecisionConfig{}.round2_latest_t_cross_s);
+  in.heard_by_s = 3.5;
+  const DecisionOutput out = dut.step(in);
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].round, 2);
+}
+
+TEST(Decision, WithNothingSaidOrNoResponseTimeRoundTwoIsAtItsThreshold) {
+  HumanDecision silent;  // round 1 said nothing (or the robot is muted): no words to wait for
+  ASSERT_EQ(silent.step(neutral(0.0, 7.0)).rounds.size(), 1u);
+  EXPECT_EQ(silent.step(neutral(3.0, 4.0)).rounds.size(), 1u);
+  DecisionConfig paper;
+  paper.round2_response_s = 0.0;
+  HumanDecision dut(paper);
+  ASSERT_EQ(dut.step(neutral(0.0, 7.0)).rounds.size(), 1u);
+  DecisionInput in = neutral(3.0, 4.0);
+  in.heard_by_s = 3.0;
+  EXPECT_EQ(dut.step(in).rounds.size(), 1u);
+}
+
 TEST(Decision, UnknownTCrossFiresNothing) {
   HumanDecision dut;
   DecisionInput in = neutral(0.0, 0.0);

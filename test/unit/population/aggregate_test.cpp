@@ -181,3 +181,195 @@ TEST(PopulationStats, MannWhitneyAuc) {
   EXPECT_DOUBLE_EQ(pop::median({3, 1, 2}), 2.0);
   EXPECT_DOUBLE_EQ(pop::median({4, 1, 2, 3}), 2.5);
 }
+
+namespace {
+
+Json sayEntry(const char* act, const char* delivery, Json lead_s) {
+  return Json{{"kind", "say"}, {"act", act}, {"delivery", delivery}, {"lead_s", std::move(lead_s)}};
+}
+
+// A run of a cue-effect pair: the head-on human (id 1) with its CM and the transcript of what was
+// decided for it.
+Json cueRun(double cm, bool docked, double ttg, double clearance, Json transcript) {
+  Json h = assessed(1, cm, cm > 0.4);
+  h["transcript"] = std::move(transcript);
+  Json r = run("GOAL_REACHED", nullptr, Json::array({std::move(h)}), ttg);
+  r["docked"] = docked;
+  r["min_clearance_m"] = clearance;
+  return r;
+}
+
+Json twinned(const char* name, const char* layout, double width_m) {
+  Json e = encounter(name, Json::array({human(1, "head_on", "responsive")}));
+  e["layout"] = layout;
+  e["width_m"] = width_m;
+  e["muted_twin"] = pop::mutedTwinName(name);
+  return e;
+}
+
+}  // namespace
+
+// Given four encounters each run speaking and muted (a: the cue avoids a dock; b: speaking docks
+// where muted did not; c: no difference; d: its muted twin left no summary), when aggregated,
+// then each pair and the overall and per-layout figures are as counted by hand, and the muted
+// half counts towards the failures.
+TEST(PopulationCueEffect, PairsSpeakingAgainstMuted) {
+  const Json p =
+      plan(Json::array({twinned("a", "corridor_1.70", 1.7), twinned("b", "corridor_1.70", 1.7),
+                        twinned("c", "corridor_3.00", 3.0), twinned("d", "corridor_3.00", 3.0)}));
+  std::map<std::string, Json> s;
+  s["a"] = cueRun(0.6, false, 40.0, 0.3,
+                  Json::array({sayEntry("INFORM_DIRECTION", "said", 4.0),
+                               sayEntry("INFORM_DOCKING", "too_late", -0.5),
+                               sayEntry("THANK", "said", nullptr)}));
+  s["a"]["hearing"] = Json::array({Json{{"id", 1}, {"heard", 1}, {"complied", 1}}});
+  s["a_muted"] =
+      cueRun(0.1, true, 48.0, 0.1, Json::array({sayEntry("INFORM_DIRECTION", "muted", 4.2)}));
+  s["b"] = cueRun(0.5, true, 45.0, 0.2, Json::array({sayEntry("ASK_TO_MOVE", "said", 2.0)}));
+  s["b_muted"] = cueRun(0.2, false, 41.0, 0.25, Json::array());
+  s["c"] = cueRun(0.3, false, 38.0, 0.5, Json::array({sayEntry("INFORM_DIRECTION", "said", 5.0)}));
+  s["c_muted"] = cueRun(0.3, false, 38.0, 0.5, Json::array());
+  s["d"] = cueRun(0.7, false, 39.0, 0.4, Json::array());
+
+  Json out = pop::aggregatePopulation(p, s);
+  ASSERT_TRUE(out.contains("cue_effect"));
+  const Json& cue = out["cue_effect"];
+  EXPECT_EQ(cue["pairs"], 4);
+  EXPECT_EQ(cue["muted_failed_runs"], 1);
+  const Json& e = cue["encounters"];
+  ASSERT_EQ(e.size(), 4u);
+  EXPECT_EQ(e[0]["muted_run"], "a_muted");
+  EXPECT_EQ(e[0]["dock"], "avoided");
+  EXPECT_EQ(e[1]["dock"], "added");
+  EXPECT_EQ(e[2]["dock"], "same");
+  EXPECT_TRUE(e[3]["dock"].is_null());
+  EXPECT_EQ(e[3]["muted"]["outcome"], "NO_SUMMARY");
+  EXPECT_NEAR(e[0]["cm_difference_m"].get<double>(), 0.5, 1e-12);
+  EXPECT_EQ(e[0]["speaking"]["cues_said"], 1);  // the thanks is no cue
+  EXPECT_EQ(e[0]["speaking"]["cues_too_late"], 1);
+  EXPECT_EQ(e[0]["speaking"]["lead_s"], Json::array({4.0}));
+  EXPECT_EQ(e[0]["speaking"]["heard"], 1);
+  EXPECT_TRUE(e[1]["speaking"]["heard"].is_null());  // no world_sim.log read
+  EXPECT_EQ(e[0]["muted"]["cues_muted"], 1);
+  EXPECT_EQ(e[0]["muted"]["cues_said"], 0);
+
+  const Json& o = cue["overall"];
+  EXPECT_EQ(o["pairs"], 4);
+  EXPECT_EQ(o["pairs_run"], 3);
+  EXPECT_EQ(o["cm"]["pairs"], 3);
+  EXPECT_NEAR(o["cm"]["mean_speaking_m"].get<double>(), 1.4 / 3.0, 1e-12);
+  EXPECT_NEAR(o["cm"]["mean_muted_m"].get<double>(), 0.2, 1e-12);
+  EXPECT_NEAR(o["cm"]["mean_difference_m"].get<double>(), 0.8 / 3.0, 1e-12);
+  EXPECT_EQ(o["cm"]["speaking_higher"], 2);
+  EXPECT_EQ(o["cm"]["muted_higher"], 0);
+  EXPECT_EQ(o["cm"]["ties"], 1);
+  EXPECT_DOUBLE_EQ(o["cm"]["sign_test_p"].get<double>(), 0.5);
+  const Json& ci = o["cm"]["difference_ci95_m"];
+  ASSERT_TRUE(ci.is_array());
+  EXPECT_GE(ci[0].get<double>(), 0.0 - 1e-12);  // a resample mean lies within the values
+  EXPECT_LE(ci[1].get<double>(), 0.5 + 1e-12);
+  EXPECT_EQ(o["cm"]["contributing_speaking"], 2);
+  EXPECT_EQ(o["cm"]["contributing_muted"], 0);
+  EXPECT_EQ(o["docked"]["speaking"], 1);
+  EXPECT_EQ(o["docked"]["muted"], 1);
+  EXPECT_EQ(o["docked"]["avoided"], 1);
+  EXPECT_EQ(o["docked"]["added"], 1);
+  EXPECT_DOUBLE_EQ(o["time_to_goal"]["median_speaking_s"].get<double>(), 40.0);
+  EXPECT_DOUBLE_EQ(o["time_to_goal"]["median_muted_s"].get<double>(), 41.0);
+  EXPECT_DOUBLE_EQ(o["time_to_goal"]["median_difference_s"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(o["min_clearance"]["min_speaking_m"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(o["min_clearance"]["median_speaking_m"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(o["min_clearance"]["min_muted_m"].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(o["min_clearance"]["median_muted_m"].get<double>(), 0.25);
+  EXPECT_EQ(o["cues"]["said"], 3);
+  EXPECT_EQ(o["cues"]["too_late"], 1);
+  EXPECT_DOUBLE_EQ(o["cues"]["lead_median_s"].get<double>(), 4.0);
+  EXPECT_DOUBLE_EQ(o["cues"]["lead_min_s"].get<double>(), 2.0);
+  EXPECT_EQ(o["hearing"]["heard"], 1);
+  EXPECT_EQ(o["contacts"]["muted"], 0);
+
+  const Json& narrow = cue["by_layout"]["corridor_1.70"];
+  EXPECT_EQ(narrow["pairs_run"], 2);
+  EXPECT_DOUBLE_EQ(narrow["width_m"].get<double>(), 1.7);
+  EXPECT_EQ(narrow["docked"]["avoided"], 1);
+  EXPECT_EQ(cue["by_layout"]["corridor_3.00"]["pairs"], 2);
+  EXPECT_EQ(cue["by_layout"]["corridor_3.00"]["pairs_run"], 1);
+
+  EXPECT_FALSE(pop::populationFails(out));
+  EXPECT_EQ(pop::runsWithoutSummary(out), 1);
+  const std::string table = pop::formatTable(out);
+  EXPECT_NE(table.find("# cue effect"), std::string::npos) << table;
+  EXPECT_NE(table.find("docks avoided by speaking 1, added 1"), std::string::npos) << table;
+  EXPECT_NE(table.find("\na         corridor_1.70   0.60/0.10   +0.50  n/y"), std::string::npos)
+      << table;
+
+  // The robot at fault in a muted twin fails the population as in an encounter.
+  s["c_muted"]["contact"] =
+      Json{{"human_id", 1}, {"t_s", 9.0}, {"robot_at_fault", true}, {"robot_speed_m_s", 0.3}};
+  out = pop::aggregatePopulation(p, s);
+  EXPECT_TRUE(pop::populationFails(out));
+  EXPECT_EQ(out["cue_effect"]["muted_robot_at_fault_or_unattributed"], 1);
+  EXPECT_EQ(out["cue_effect"]["overall"]["contacts"]["robot_at_fault_or_unattributed_muted"], 1);
+  EXPECT_EQ(out["totals"]["robot_at_fault_or_unattributed"], 0);
+
+  // Without muted twins there is no section.
+  EXPECT_FALSE(pop::aggregatePopulation(plan(Json::array({encounter("a", Json::array())})), s)
+                   .contains("cue_effect"));
+}
+
+TEST(PopulationCueEffect, PlanRecordsTheOptionsOnlyWhenSet) {
+  const auto es = pop::generatePopulation(3, 5, {}, "responsive");
+  const Json plain = pop::planJson(es, 5);
+  EXPECT_FALSE(plain.contains("cue_effect"));
+  EXPECT_FALSE(plain.contains("head_on_behaviour"));
+  EXPECT_FALSE(plain["encounters"][0].contains("muted_twin"));
+  const Json twins = pop::planJson(es, 5, {"responsive", true});
+  EXPECT_EQ(twins["cue_effect"], true);
+  EXPECT_EQ(twins["head_on_behaviour"], "responsive");
+  EXPECT_EQ(twins["encounters"][2]["muted_twin"], "pop_0003_muted");
+}
+
+TEST(PopulationCueEffect, HearingIsReadFromWorldSimLog) {
+  const std::string log =
+      "[2026-01-01 00:00:00.000] [world_sim:42] [info] world_sim: t = 12.40 s: human 1 heard "
+      "keep_side left at 6.1 m; acts at 13.30 s\n"
+      "[2026-01-01 00:00:00.100] [world_sim:42] [info] world_sim: t = 15.00 s: human 1 heard "
+      "move_to_side right (repeat) at 3.0 m and does not comply\n"
+      "[2026-01-01 00:00:00.200] [world_sim:42] [info] world_sim: t = 16.00 s: human 2 did not "
+      "hear keep_side left: 12.3 m from the robot\n"
+      "[2026-01-01 00:00:00.300] [world_sim:42] [info] world_sim: t = 20.00 s: human 1 heard "
+      "thank at 1.0 m; acts at 20.90 s\n"
+      "[2026-01-01 00:00:00.400] [world_sim:42] [info] world_sim: step 3: utterance of step 2 "
+      "to human 1\n";
+  const Json h = pop::hearingFromWorldSimLog(log);
+  ASSERT_EQ(h.size(), 2u);
+  EXPECT_EQ(h[0], (Json{{"id", 1},
+                        {"cues", 2},
+                        {"heard", 2},
+                        {"complied", 1},
+                        {"not_heard", 0},
+                        {"not_complied", 1}}));
+  EXPECT_EQ(h[1]["id"], 2);
+  EXPECT_EQ(h[1]["not_heard"], 1);
+  EXPECT_EQ(h[1]["heard"], 0);
+  EXPECT_TRUE(pop::hearingFromWorldSimLog("").empty());
+}
+
+TEST(PopulationStats, SignTestMeanAndBootstrap) {
+  EXPECT_DOUBLE_EQ(pop::signTestP(5, 0), 2.0 / 32.0);
+  EXPECT_DOUBLE_EQ(pop::signTestP(0, 5), 2.0 / 32.0);
+  EXPECT_NEAR(pop::signTestP(1, 9), 2.0 * 11.0 / 1024.0, 1e-12);
+  EXPECT_DOUBLE_EQ(pop::signTestP(3, 3), 1.0);
+  EXPECT_DOUBLE_EQ(pop::signTestP(0, 0), 1.0);
+  EXPECT_DOUBLE_EQ(pop::mean({1.0, 2.0, std::nan(""), 6.0}), 3.0);
+  EXPECT_TRUE(std::isnan(pop::mean({})));
+  pop::Rng a(7), b(7);
+  const auto ia = pop::bootstrapMeanInterval({1, 2, 3, 4, 5}, 0.95, 1000, a);
+  const auto ib = pop::bootstrapMeanInterval({1, 2, 3, 4, 5}, 0.95, 1000, b);
+  EXPECT_EQ(ia, ib);  // a seeded generator: the same interval
+  EXPECT_LT(ia.first, 3.0);
+  EXPECT_GT(ia.second, 3.0);
+  EXPECT_GE(ia.first, 1.0);
+  EXPECT_LE(ia.second, 5.0);
+  EXPECT_TRUE(std::isnan(pop::bootstrapMeanInterval({1.0}, 0.95, 100, a).first));
+}

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <string>
 
 namespace pop = coopnav::population;
@@ -138,4 +139,57 @@ TEST(PopulationGenerator, ScenarioYamlHasTheDocumentedShape) {
   e.layout = pop::mapLayouts().at(0);
   EXPECT_NE(pop::scenarioYaml(e).find("  file: ../maps/open.yaml\n"), std::string::npos);
   EXPECT_EQ(pop::baselineName(pop::syntheticCorridor(2.25)), "base_corridor_2_25");
+}
+
+// Given a seed, when every head-on human is made responsive (generate --behaviour responsive),
+// then only the head-on humans' behaviour and params change: layouts, positions, speeds, noise,
+// the other humans and the scenario seeds are the seed's, the params lie in the responsive
+// ranges, and the encounters whose head-on human was responsive anyway are the same bytes.
+TEST(PopulationGenerator, HeadOnBehaviourOptionKeepsEveryOtherDraw) {
+  const auto plain = pop::generatePopulation(60, 5);
+  const auto resp = pop::generatePopulation(60, 5, {}, "responsive");
+  ASSERT_EQ(plain.size(), resp.size());
+  std::set<std::string> layouts;
+  int unchanged = 0;
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    const pop::Encounter& a = plain[i];
+    const pop::Encounter& b = resp[i];
+    layouts.insert(b.layout.key);
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.seed, b.seed);
+    EXPECT_EQ(a.layout.key, b.layout.key);
+    ASSERT_EQ(a.humans.size(), b.humans.size()) << a.name;
+    for (std::size_t k = 0; k < a.humans.size(); ++k) {
+      const pop::HumanSpec& x = a.humans[k];
+      const pop::HumanSpec& y = b.humans[k];
+      EXPECT_EQ(x.role, y.role);
+      EXPECT_EQ(x.start_x_m, y.start_x_m);
+      EXPECT_EQ(x.start_y_m, y.start_y_m);
+      EXPECT_EQ(x.goal_x_m, y.goal_x_m);
+      EXPECT_EQ(x.speed_m_s, y.speed_m_s);
+      EXPECT_EQ(x.velocity_noise_m_s, y.velocity_noise_m_s);
+      if (k > 0) {
+        EXPECT_EQ(x.behaviour, y.behaviour);
+        EXPECT_EQ(x.params, y.params);
+      }
+    }
+    const pop::HumanSpec& h = b.humans.at(0);
+    EXPECT_EQ(h.behaviour, "responsive");
+    EXPECT_GE(param(h, "reaction_time_median_s"), 0.7);
+    EXPECT_LE(param(h, "reaction_time_median_s"), 1.3);
+    EXPECT_GE(param(h, "repeat_increment_m"), 0.1);
+    EXPECT_LE(param(h, "repeat_increment_m"), 0.3);
+    EXPECT_GE(param(h, "yield.offset_m"), 0.6);
+    EXPECT_LE(param(h, "yield.offset_m"), 0.9);
+    if (a.humans.at(0).behaviour == "responsive") {
+      ++unchanged;
+      EXPECT_EQ(pop::scenarioYaml(a), pop::scenarioYaml(b));
+    }
+  }
+  EXPECT_EQ(unchanged, 10);  // one head-on behaviour in six
+  EXPECT_GE(layouts.size(), 10u);
+  EXPECT_EQ(allYaml(resp), allYaml(pop::generatePopulation(60, 5, {}, "responsive")));
+  EXPECT_TRUE(pop::isBehaviourName("responsive"));
+  EXPECT_FALSE(pop::isBehaviourName("recorded"));
+  EXPECT_THROW(pop::generatePopulation(6, 5, {}, "recorded"), std::invalid_argument);
 }

@@ -190,6 +190,9 @@ utterance_t say(int k, std::int8_t act, std::int8_t dir, std::int8_t round, doub
   u.round = round;
   u.t_cross_s = t_cross;
   u.text = text;
+  u.delivery = utterance_t::DELIVERY_SAID;
+  u.speech_start_s = 0.0;
+  u.speech_duration_s = 1.5;
   return u;
 }
 
@@ -488,10 +491,76 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   EXPECT_EQ(entries[1].at("direction"), "left");
   EXPECT_DOUBLE_EQ(entries[1].at("t_s").get<double>(), 1.0);
   EXPECT_DOUBLE_EQ(entries[1].at("t_cross_s").get<double>(), 7.0);
+  EXPECT_EQ(entries[1].at("delivery"), "said");
+  EXPECT_EQ(entries[1].at("speech_start_s"), 0.0);
+  EXPECT_EQ(entries[1].at("speech_duration_s"), 1.5);
+  EXPECT_DOUBLE_EQ(entries[1].at("lead_s").get<double>(), 7.0 - 1.5);
   EXPECT_EQ(entries[3].at("kind"), "action");
   EXPECT_EQ(entries[3].at("action"), "DOCK");
-  // THANK after crossing: t_CROSS unknown -> null.
+  // THANK after crossing: t_CROSS unknown -> null, and so is its lead.
   EXPECT_TRUE(entries[7].at("t_cross_s").is_null());
+  EXPECT_TRUE(entries[7].at("lead_s").is_null());
+  EXPECT_FALSE(entries[0].contains("delivery"));  // only utterances have one
+}
+
+// Given a run whose dialogue manager decided three utterances, said the first after an earlier
+// one was still being spoken, was too late for the second and muted for the thanks, when the
+// transcript and the summary are built, then the said line is a plain SAY line, the others say
+// why they were not said, and the summary gives every delivery and lead.
+TEST(LogTools, UtterancesNotSaidAreTranscribedWithTheReason) {
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    using U = utterance_t;
+    for (int k = 0; k < 90; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      w.put(channels::kSituation, situationAt(k));
+      if (k == kStartStep) {
+        U u = say(k, U::ACT_INFORM_DIRECTION, situation_t::DIR_LEFT, 1, 7.0,
+                  "I will pass on your left.");
+        u.speech_start_s = 0.4;
+        w.put(channels::kUtterance, u);
+      } else if (k == 77) {
+        U u = say(k, U::ACT_REPEAT_DIRECTION, situation_t::DIR_LEFT, 2, 0.3,
+                  "I am passing on your left.");
+        u.delivery = U::DELIVERY_TOO_LATE;
+        u.speech_start_s = 0.05;
+        u.speech_duration_s = 3.11;
+        w.put(channels::kUtterance, u);
+      } else if (k == 85) {
+        U u = say(k, U::ACT_THANK, situation_t::DIR_UNDEFINED, 3, std::nan(""), "Thank you.");
+        u.delivery = U::DELIVERY_MUTED;
+        w.put(channels::kUtterance, u);
+      }
+    }
+  }
+  TranscriptOptions o;
+  o.include_unknown = false;
+  EXPECT_EQ(transcriptOf(dir.file("run.lcm"), o),
+            "# scenario (unnamed)\n"
+            "t=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"I will pass on your left.\" "
+            "(round 1, direction left)\n"
+            "t=7.70s  human 1  t_cross=0.30s  NOT SAID (too late: its 3.11 s of speech would end "
+            "2.86 s after the crossing) REPEAT_DIRECTION \"I am passing on your left.\" (round 2, "
+            "direction left)\n"
+            "t=8.50s  human 1  t_cross=-  NOT SAID (muted) THANK \"Thank you.\" (round 3)\n");
+
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json h =
+      parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm"))).at("humans").at(0);
+  EXPECT_EQ(h.at("thanked"), false) << "a muted thanks is not said";
+  const Json& t = h.at("transcript");
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_EQ(t[0].at("delivery"), "said");
+  EXPECT_DOUBLE_EQ(t[0].at("lead_s").get<double>(), 7.0 - 0.4 - 1.5);
+  EXPECT_EQ(t[1].at("delivery"), "too_late");
+  EXPECT_DOUBLE_EQ(t[1].at("speech_start_s").get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(t[1].at("speech_duration_s").get<double>(), 3.11);
+  EXPECT_DOUBLE_EQ(t[1].at("lead_s").get<double>(), 0.3 - 0.05 - 3.11);
+  EXPECT_EQ(t[2].at("delivery"), "muted");
+  EXPECT_TRUE(t[2].at("lead_s").is_null());
+  EXPECT_EQ(deliveryName(0), "delivery_0");
+  EXPECT_TRUE(wasSaid(0));
 }
 
 velocity_command_t command(int k, std::int8_t mode, std::int8_t guard) {

@@ -89,10 +89,10 @@ struct DecisionConfig {
   /// been heard (DecisionInput::heard_by_s) and this long more: a reaction (≈ 1 s, notes
   /// §7) and a second of moving, for CM to show it. Not in the paper, whose rounds are times to
   /// crossing only: a 3 s sentence said at t_CROSS 7 s ends at 4 s, and judging the human then
-  /// judges someone who has not yet heard it. 0 = the paper's reading.
+  /// judges someone who has not yet heard it. 0 = the paper's reading: no wait at all.
   double round2_response_s{2.0};
   /// [s] ... but round 2 never waits beyond t_CROSS <= this, so that a dock is still possible.
-  double round2_latest_t_cross_s{2.5};
+  double round2_latest_t_cross_s{3.0};
   /// Round 2 with an input unknown (RobotIsConstrained, CM, d_h or IsContributing; e.g. the
   /// distance server is down) while nothing known rules a dock out (the robot is not known to be
   /// free, the human not known to have moved enough nor to be moving aside): dock as a precaution

@@ -1,0 +1,105 @@
+// How long the robot's words take and when they are said (lib/dialogue/speech_timing.hpp): the
+// estimate against espeak-ng's measured durations, one voice without overlap, no cue after the
+// crossing, WAV durations.
+#include "coopnav/dialogue/speech_timing.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+
+namespace coopnav::dialogue {
+namespace {
+
+// espeak-ng 1.51, en-us, 175 wpm, durations of its WAV files (notes/social-nav.md §7 and the
+// dialogue manager's templates).
+TEST(SpeechDuration, EstimateIsWithinFourTenthsOfASecondOfEspeak) {
+  const struct {
+    const char* text;
+    double measured_s;
+  } kMeasured[] = {
+      {"Thank you.", 0.888},
+      {"I will pass on your left.", 1.557},
+      {"I am passing on your left.", 1.611},
+      {"I will wait here for you to pass.", 1.929},
+      {"Could you move a little more to your right, please?", 2.621},
+      {"It is narrow here. I will wait at the side if needed.", 3.303},
+      {"It is narrow here. Could you move to your left, please?", 3.337},
+      {"I will stop here. Please pass carefully.", 2.749},
+  };
+  for (const auto& m : kMeasured)
+    EXPECT_NEAR(estimateSpeechDuration(m.text, 175.0), m.measured_s, 0.4) << m.text;
+  // A sentence said faster takes less time; no words take none.
+  EXPECT_NEAR(estimateSpeechDuration("I will pass on your left.", 350.0),
+              estimateSpeechDuration("I will pass on your left.", 175.0) / 2.0, 1e-12);
+  EXPECT_EQ(estimateSpeechDuration("  ", 175.0), 0.0);
+}
+
+TEST(SpeechTimeline, OneVoiceNeverOverlaps) {
+  SpeechTimeline voice;
+  const SpeechSlot a = voice.plan(10.0, 3.0, 20.0, false);
+  EXPECT_EQ(a.delivery, Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(a.start_s, 0.0);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 13.0);
+  // Decided 1 s later (e.g. for a second human): it starts when the first has ended.
+  const SpeechSlot b = voice.plan(11.0, 1.5, 20.0, false);
+  EXPECT_EQ(b.delivery, Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(b.start_s, 2.0);
+  EXPECT_DOUBLE_EQ(b.end_s(), 3.5);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 14.5);
+  // Decided after the voice is free: at once.
+  EXPECT_DOUBLE_EQ(voice.plan(15.0, 1.0, std::nullopt, false).start_s, 0.0);
+}
+
+TEST(SpeechTimeline, ACueThatWouldEndAfterTheCrossingIsNotSaid) {
+  SpeechTimeline voice;
+  // Crossing at 12 s: a 3 s sentence decided at 10 s would end at 13 s.
+  const SpeechSlot late = voice.plan(10.0, 3.0, 12.0, false);
+  EXPECT_EQ(late.delivery, Delivery::kTooLate);
+  EXPECT_DOUBLE_EQ(10.0 + late.end_s() - 12.0, 1.0);  // how far past the crossing
+  // It does not take the voice: a short one still fits.
+  EXPECT_EQ(voice.plan(10.0, 1.5, 12.0, false).delivery, Delivery::kSaid);
+  // Waiting for the voice can make a cue too late as well.
+  EXPECT_EQ(voice.plan(10.5, 1.5, 12.5, false).delivery, Delivery::kTooLate);
+  // Thanks have no deadline.
+  EXPECT_EQ(voice.plan(10.5, 1.0, std::nullopt, false).delivery, Delivery::kSaid);
+}
+
+TEST(SpeechTimeline, MutedSaysNothingAndKeepsTheVoiceFree) {
+  SpeechTimeline voice;
+  const SpeechSlot m = voice.plan(5.0, 2.0, 20.0, true);
+  EXPECT_EQ(m.delivery, Delivery::kMuted);
+  EXPECT_DOUBLE_EQ(m.duration_s, 2.0);  // what it would have taken, for the log
+  EXPECT_EQ(voice.plan(5.0, 2.0, 20.0, false).start_s, 0.0);
+}
+
+std::string le32(std::uint32_t v) {
+  std::string s(4, '\0');
+  for (int i = 0; i < 4; ++i) s[static_cast<std::size_t>(i)] = static_cast<char>((v >> (8 * i)) & 0xff);
+  return s;
+}
+
+/// A mono 16-bit PCM WAV at `rate_hz` with `samples` samples; `data_size` as written in the header
+/// (a streaming writer leaves 0x7fffffff there).
+std::string wav(std::uint32_t rate_hz, std::uint32_t samples, std::uint32_t data_size) {
+  std::string fmt = le32(16) + std::string("\x01\x00\x01\x00", 4) + le32(rate_hz) +
+                    le32(rate_hz * 2) + std::string("\x02\x00\x10\x00", 4);
+  std::string data(samples * 2, '\0');
+  return "RIFF" + le32(36 + samples * 2) + "WAVE" + "fmt " + fmt + "LIST" + le32(3) + "abc" +
+         std::string(1, '\0') + "data" + le32(data_size) + data;
+}
+
+TEST(WavDuration, DataOverByteRateAndOnlyTheBytesPresent) {
+  const auto d = wavDurationSeconds(wav(22050, 22050, 44100));
+  ASSERT_TRUE(d.has_value());
+  EXPECT_DOUBLE_EQ(*d, 1.0);  // (a padded odd-sized chunk before "data" is skipped)
+  const auto streamed = wavDurationSeconds(wav(22050, 11025, 0x7fffffff));
+  ASSERT_TRUE(streamed.has_value());
+  EXPECT_DOUBLE_EQ(*streamed, 0.5);
+  EXPECT_FALSE(wavDurationSeconds("RIFF....WAVE").has_value());
+  EXPECT_FALSE(wavDurationSeconds("not a wav file at all").has_value());
+  EXPECT_FALSE(wavDurationSeconds("").has_value());
+}
+
+}  // namespace
+}  // namespace coopnav::dialogue

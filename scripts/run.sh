@@ -4,21 +4,26 @@
 # records an LCM log, and prints the transcript (what the robot said and did, when, and why);
 # then the CM table beside the paper's Table I. Writes runs/<timestamp>/ and runs/latest.
 #
-#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated] [scenario.yaml ...]
+#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated] [--speech]
+#                  [scenario.yaml ...]
 #   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml; --profile:
-#   the path assessment profile, config/path_assessor[_calibrated].yaml, default paper)
+#   the path assessment profile, config/path_assessor[_calibrated].yaml, default paper;
+#   --speech: espeak-ng says each utterance into DIR/<scenario>/speech/*.wav, and the dialogue
+#   manager plans with the durations it measures; DIR without spaces)
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 source "$COOPNAV_ROOT/scripts/scenario.sh"
 
 out=""
 build=1
+speech=0
 scenarios=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
-    -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --speech) speech=1; shift ;;
+    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) scenarios+=("$1"); shift ;;
   esac
@@ -60,6 +65,7 @@ trap 'coopnav_stop_all; exit 130' INT TERM
 
 summaries=()
 failed=0
+dm_args="${COOPNAV_DAEMON_ARGS_dialogue_manager:-}"  # --speech adds to these per scenario
 for scenario in "${scenarios[@]}"; do
   scenario="$(cd "$(dirname "$scenario")" && pwd)/$(basename "$scenario")"
   name="$(basename "$scenario" .yaml)"
@@ -67,6 +73,10 @@ for scenario in "${scenarios[@]}"; do
   echo "== $name  ($scenario)"
   start_s=$(date +%s.%N)
   rc=0
+  if [ "$speech" -eq 1 ]; then
+    export COOPNAV_DAEMON_ARGS_dialogue_manager="$dm_args --set speech.enabled=true \
+--set speech.wav_dir=$dir/speech"
+  fi
   coopnav_run_scenario "$scenario" "$dir" "$port" || rc=$?
   end_s=$(date +%s.%N)
   port=$((port + 1))

@@ -2,7 +2,8 @@
 # The main job end to end, as a user runs it: scripts/run.sh over the paper's four scenarios
 # (real processes, lockstep, LCM logs), twice. Checks the paper's claims on the results
 # (CM(facilitating) > tau > CM(minimal) in both corridors, narrow + minimal docks without a
-# collision, facilitating humans are thanked, every cue >= 3 s before crossing), that the two
+# collision, facilitating humans are thanked, round 1 >= 3 s before crossing and every cue's
+# words ended before it), that the two
 # runs give identical transcripts and CM values, and that replaying a recorded log into fresh
 # assessors and dialogue manager reproduces the recorded transcript.
 set -euo pipefail
@@ -50,9 +51,14 @@ for name, s in a.items():
         bad.append(f"{name}: collision ({s['detail']})")
     for h in s["humans"]:
         for e in h["transcript"]:
-            if e.get("kind", "say") == "say" and e.get("round") in (1, 2):
-                if e["t_cross_s"] is None or e["t_cross_s"] < 3.0:
-                    bad.append(f"{name}: cue at t={e['t_s']} given {e['t_cross_s']} s before crossing")
+            if (e.get("kind", "say") == "say" and e.get("round") in (1, 2)
+                    and e.get("delivery", "said") == "said"):
+                # Round 1 early enough to be acted on; every said cue's words end before the
+                # crossing (round 2 may wait for the response to round 1 until t_CROSS 3 s).
+                if e["round"] == 1 and (e["t_cross_s"] is None or e["t_cross_s"] < 3.0):
+                    bad.append(f"{name}: round 1 at t={e['t_s']} given {e['t_cross_s']} s before crossing")
+                if not (e.get("lead_s") is not None and e["lead_s"] > 0.0):
+                    bad.append(f"{name}: cue at t={e['t_s']} ends {e.get('lead_s')} s before crossing")
     for ha, hb in zip(s["humans"], b[name]["humans"]):
         for key in ("cm_interaction_m", "cm_window_m", "docked", "thanked"):
             if ha[key] != hb[key]:

@@ -221,7 +221,7 @@ struct LateFacilitatingParams {
 };
 
 /// Minimal until the robot's words reach it; then it does what a person told so would do
-/// (docs/human-models.md "Responsive"): keeps to the other side when told the robot's side
+/// (docs/scenario-format.md, `responsive`): keeps to the other side when told the robot's side
 /// (inform_offset_m), moves to the asked side when asked (yield.offset_m), each repeat adds
 /// repeat_increment_m, and goes on past a robot that says it will wait. A person hears only
 /// within hearing_range_m, complies with a request with probability compliance_request and with

@@ -92,6 +92,12 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
 
 namespace detail {
 
+/// The summary entry of run `name`; nullptr for a run that produced none.
+inline const Json* findRun(const std::map<std::string, Json>& summaries, const std::string& name) {
+  auto it = summaries.find(name);
+  return it == summaries.end() ? nullptr : &it->second;
+}
+
 inline const Json* field(const Json* v, const char* key) {
   if (v == nullptr || !v->is_object()) return nullptr;
   auto it = v->find(key);
@@ -412,10 +418,7 @@ inline Json cueEffectGroup(const std::vector<const Json*>& pairs) {
 /// layout (corridor width).
 inline Json cueEffect(const Json& plan, const std::map<std::string, Json>& summaries) {
   using namespace detail;
-  auto summaryOf = [&](const std::string& name) -> const Json* {
-    auto it = summaries.find(name);
-    return it == summaries.end() ? nullptr : &it->second;
-  };
+  auto summaryOf = [&](const std::string& name) { return findRun(summaries, name); };
   Json records = Json::array();
   int muted_failed = 0;
   std::map<std::string, int> muted_causes;
@@ -485,10 +488,7 @@ inline Json cueEffect(const Json& plan, const std::map<std::string, Json>& summa
 /// baselines; a missing entry is a run that produced no summary).
 inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Json>& summaries) {
   using namespace detail;
-  auto summaryOf = [&](const std::string& name) -> const Json* {
-    auto it = summaries.find(name);
-    return it == summaries.end() ? nullptr : &it->second;
-  };
+  auto summaryOf = [&](const std::string& name) { return findRun(summaries, name); };
   Json runs = Json::array();
   std::map<std::string, int> outcomes;
   std::map<std::string, int> causes{

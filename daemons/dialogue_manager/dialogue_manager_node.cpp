@@ -94,24 +94,23 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
 
 void DialogueManagerNode::measureTemplates() {
   using dialogue::SpeechAct;
-  std::size_t failed = 0;
+  std::vector<std::string> texts;
   for (int a = static_cast<int>(SpeechAct::kInformDirection);
-       a <= static_cast<int>(SpeechAct::kInformStopping); ++a)
-    for (const Side side : {Side::kLeft, Side::kRight}) {
-      const auto act = static_cast<SpeechAct>(a);
-      for (const std::string& text :
-           {dialogue::renderText(config_.templates, act, side),
-            act == SpeechAct::kInformDocking ? config_.templates.inform_precautionary_docking
-                                             : std::string()}) {
-        if (text.empty() || measured_s_.count(text)) continue;
-        if (const auto d = speech_.measure(text))
-          measured_s_[text] = *d;
-        else
-          ++failed;
-      }
-    }
-  log().info("dialogue_manager: speech: measured {} template texts ({} failed, estimated)",
-             measured_s_.size(), failed);
+       a <= static_cast<int>(SpeechAct::kInformStopping); ++a) {
+    const auto act = static_cast<SpeechAct>(a);
+    for (const Side side : {Side::kLeft, Side::kRight})
+      texts.push_back(dialogue::renderText(config_.templates, act, side));
+  }
+  texts.push_back(config_.templates.inform_precautionary_docking);
+  std::sort(texts.begin(), texts.end());
+  texts.erase(std::unique(texts.begin(), texts.end()), texts.end());
+  const auto seconds = speech_.measure(texts);
+  for (std::size_t i = 0; i < texts.size(); ++i)
+    if (seconds[i]) measured_s_[texts[i]] = *seconds[i];
+  log().info(
+      "dialogue_manager: speech: measured {} of {} template texts with {} (the others are "
+      "estimated)",
+      measured_s_.size(), texts.size(), config_.speech.program);
   for (const auto& [text, d] : measured_s_)
     log().debug("dialogue_manager: speech: {:.3f} s \"{}\"", d, text);
 }
@@ -516,9 +515,9 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
           "IsContributing {}, RobotIsConstrained {}{}",
           stamp.step, id, formatOptional(in.path.cm_window_m), formatOptional(situation.d_h_m),
           tristateName(in.path.is_contributing), tristateName(situation.robot_is_constrained),
-          h.heard_by_s ? fmt::format(" ({:.2f} s after round 1's words ended)",
-                                     in.t_s - *h.heard_by_s)
-                       : "");
+          h.heard_by_s
+              ? fmt::format(" ({:.2f} s after round 1's words ended)", in.t_s - *h.heard_by_s)
+              : "");
   emit(run, stamp, out, situation.t_cross_s);
 }
 
@@ -557,9 +556,9 @@ void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
         log().info("dialogue_manager: to human {}: \"{}\" ({}, round {}; {:.2f} s{})",
                    stamp.human_id, u.text, dialogue::toString(u.act), u.round, slot.duration_s,
                    slot.start_s > 0.0 ? fmt::format(", after {:.2f} s", slot.start_s) : "");
-        speech_pending_.push_back({u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime,
-                                                       stamp.human_id, u.round,
-                                                       dialogue::toString(u.act))});
+        speech_pending_.push_back(
+            {u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id, u.round,
+                                 dialogue::toString(u.act))});
         break;
       case dialogue::Delivery::kMuted:
         log().info("dialogue_manager: muted: not said to human {}: \"{}\" ({}, round {})",

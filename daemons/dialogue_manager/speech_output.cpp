@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 #include "config/config.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
@@ -157,34 +158,36 @@ pid_t SpeechOutput::spawn(const std::vector<std::string>& args) {
   return pid;
 }
 
-std::optional<double> SpeechOutput::measure(const std::string& text) {
-  if (!usable_) return std::nullopt;
+std::vector<std::optional<double>> SpeechOutput::measure(const std::vector<std::string>& texts) {
+  std::vector<std::optional<double>> seconds(texts.size());
+  if (!usable_) return seconds;
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-  if (ec) return std::nullopt;
-  const std::filesystem::path wav =
-      dir / ("coopnav_speech_measure_" + std::to_string(::getpid()) + ".wav");
-  std::vector<std::string> args{program_path_,
-                                "-v",
-                                config_.voice,
-                                "-s",
-                                std::to_string(config_.rate_wpm),
-                                "-w",
-                                wav.string(),
-                                "--",
-                                text};
-  const pid_t pid = spawn(args);
-  if (pid < 0) return std::nullopt;
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  if (ec) return seconds;
+  // One child per text, all at once: start-up waits for the slowest, not for the sum.
+  std::vector<std::pair<pid_t, std::filesystem::path>> children;
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    const std::filesystem::path wav =
+        dir /
+        ("coopnav_speech_measure_" + std::to_string(::getpid()) + "_" + std::to_string(i) + ".wav");
+    const pid_t pid = spawn({program_path_, "-v", config_.voice, "-s",
+                             std::to_string(config_.rate_wpm), "-w", wav.string(), "--", texts[i]});
+    children.emplace_back(pid, wav);
   }
-  std::optional<double> seconds;
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-    std::ifstream in(wav, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    seconds = dialogue::wavDurationSeconds(bytes);
+  for (std::size_t i = 0; i < children.size(); ++i) {
+    const auto& [pid, wav] = children[i];
+    if (pid < 0) continue;
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+      std::ifstream in(wav, std::ios::binary);
+      const std::string bytes((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+      seconds[i] = dialogue::wavDurationSeconds(bytes);
+    }
+    std::filesystem::remove(wav, ec);
   }
-  std::filesystem::remove(wav, ec);
   return seconds;
 }
 

@@ -47,10 +47,11 @@ class SpeechOutput {
   /// Reaps a finished child without blocking and starts the next queued utterance.
   void poll();
 
-  /// Synthesises `text` into a temporary WAV file, waiting for the program (start-up only: it
-  /// blocks), and returns how long it takes to say [s]; nullopt when speech is not usable or the
-  /// program fails. The decisions plan with these durations (lib/dialogue/speech_timing.hpp).
-  std::optional<double> measure(const std::string& text);
+  /// Synthesises each text into a temporary WAV file, all at once, waits for the programs
+  /// (start-up only: it blocks) and returns how long each takes to say [s], in order; nullopt
+  /// for one whose program failed, all nullopt when speech is not usable. The decisions plan
+  /// with these durations (lib/dialogue/speech_timing.hpp).
+  std::vector<std::optional<double>> measure(const std::vector<std::string>& texts);
 
   /// The argument vector for one utterance (argv[0] = the resolved program). Public for tests.
   std::vector<std::string> argumentsFor(const std::string& text, const std::string& wav_stem) const;

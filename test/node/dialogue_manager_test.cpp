@@ -92,7 +92,7 @@ class DialogueManagerTest : public ::testing::Test {
   /// The flowchart tests run round 2 at its t_CROSS threshold only, as the paper does
   /// (round2_response_s 0); the wait for a response to round 1's words has tests of its own.
   void start(std::vector<std::string> extra = {}) {
-    std::vector<std::string> args{"--lcm-url", test::testLcmUrl(), "--log-level", "warn",
+    std::vector<std::string> args{"--lcm-url", test::testLcmUrl(),   "--log-level", "warn",
                                   "--set",     "round2_response_s=0"};
     args.insert(args.end(), extra.begin(), extra.end());
     dut_ = std::make_unique<test::ChildProcess>(test::daemonPath("dialogue_manager"), args);

@@ -130,9 +130,8 @@ class Harness {
     lcm_.publish(channels::kStepAck, &a);
   }
   /// "Could you move aside?", said at once, lasting `duration_s` (or decided and not said).
-  void sendAskToMove(std::int64_t step, std::int64_t utime, std::int32_t human_id,
-                     std::int8_t dir, double duration_s = 0.0,
-                     std::int8_t delivery = utterance_t::DELIVERY_SAID) {
+  void sendAskToMove(std::int64_t step, std::int64_t utime, std::int32_t human_id, std::int8_t dir,
+                     double duration_s = 0.0, std::int8_t delivery = utterance_t::DELIVERY_SAID) {
     utterance_t u{};
     u.utime = utime;
     u.step = step;

@@ -81,9 +81,8 @@ TEST(ConversionsDialogue, RoundThreeHasNoTCrossOnTheWire) {
 }
 
 TEST(ConversionsDialogue, BadUtterancesAreRejected) {
-  const utterance_t good =
-      toLcm({1, 4, 1}, {SpeechAct::kInformDirection, Side::kLeft, 1, "x"}, 7.0,
-            {dialogue::Delivery::kTooLate, 0.0, 1.2});
+  const utterance_t good = toLcm({1, 4, 1}, {SpeechAct::kInformDirection, Side::kLeft, 1, "x"}, 7.0,
+                                 {dialogue::Delivery::kTooLate, 0.0, 1.2});
   EXPECT_NO_THROW(fromLcm(good));
   auto bad = [&](auto mutate) {
     utterance_t m = good;

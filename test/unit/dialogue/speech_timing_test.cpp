@@ -75,7 +75,8 @@ TEST(SpeechTimeline, MutedSaysNothingAndKeepsTheVoiceFree) {
 
 std::string le32(std::uint32_t v) {
   std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i) s[static_cast<std::size_t>(i)] = static_cast<char>((v >> (8 * i)) & 0xff);
+  for (int i = 0; i < 4; ++i)
+    s[static_cast<std::size_t>(i)] = static_cast<char>((v >> (8 * i)) & 0xff);
   return s;
 }
 

@@ -25,7 +25,8 @@ namespace coopnav::sim {
 enum class CueKind : std::uint8_t {
   kKeepSide,        ///< "I will pass on your left" (or its repeat): keep to the other side
   kMoveToSide,      ///< "Could you move to your right?" (or "a little more"): a request
-  kRobotMakesRoom,  ///< "I will wait here for you to pass" (dock, wider place, retreat, stop): go on
+  kRobotMakesRoom,  ///< "I will wait here for you to pass" (dock, wider place, retreat, stop): go
+                    ///< on
   kThank,           ///< "Thank you": nothing to do
 };
 const char* toString(CueKind k);

@@ -160,7 +160,8 @@ class WorldSimNode {
   template <class Store>
   void accept(const char* participant, const char* channel, std::int64_t step,
               const std::string& key, Store&& store);
-  /// A simulated human hears an utterance (only a request to move changes it).
+  /// A said utterance becomes a cue the addressed human hears when its words end (what it does
+  /// then is its behaviour's: lib/sim, ResponsiveParams).
   void hear(const utterance_t& msg);
   void storeBands(const bands_t& msg);
 

@@ -17,6 +17,14 @@
 #   COOPNAV_PROFILE=calibrated  the assessment profile (default paper): the path assessor runs
 #                               config/path_assessor_<profile>.yaml (paper: path_assessor.yaml)
 #                               and the dialogue manager acts on that profile's assessments
+#   COOPNAV_NETNS_PREFIX=P      every process on a host of its own: the network namespace
+#                               P-<name> (P-recorder: the recorder and the scripts' coopnav_ctl),
+#                               made by scripts/netns.sh (scripts/multihost.sh); the URL has ttl=1
+#                               so that multicast leaves the host. With COOPNAV_LOSS each host
+#                               gets its own relay between its process (a host-local port) and
+#                               the network, or, when COOPNAV_NETNS_NETEM holds netem's other
+#                               arguments (e.g. "delay 20ms 5ms"), netem on every link instead
+#                               (the recorder's excepted, as the relay spares it)
 #   COOPNAV_DAEMON_ARGS_<name>  extra arguments of that daemon or of world_sim (word-split),
 #                               e.g. --set k=v
 #   coopnav_scenario_hook       a function run while world_sim runs (in the foreground of the
@@ -35,6 +43,14 @@ declare -A COOPNAV_DAEMON_URL=()
 coopnav_daemon_url() {
   local url="${COOPNAV_DAEMON_URL[$1]:-}"
   echo "${url:-$LCM_DEFAULT_URL}"
+}
+
+# What runs a process of the run on its host: _cn_on is empty on one host, else
+# `ip netns exec P-<name>` (COOPNAV_NETNS_PREFIX).
+_cn_on=()
+_cn_host() {  # NAME
+  _cn_on=()
+  if [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then _cn_on=(ip netns exec "$COOPNAV_NETNS_PREFIX-$1"); fi
 }
 
 coopnav_start_daemon() {  # NAME
@@ -59,7 +75,8 @@ coopnav_start_daemon() {  # NAME
   local extra_var="COOPNAV_DAEMON_ARGS_$d"
   local extra=()
   read -r -a extra <<<"${!extra_var:-}"
-  "$(coopnav_bin "$d")" "${args[@]}" "${extra[@]}" --lcm-url "$(coopnav_daemon_url "$d")" \
+  _cn_host "$d"
+  "${_cn_on[@]}" "$(coopnav_bin "$d")" "${args[@]}" "${extra[@]}" --lcm-url "$(coopnav_daemon_url "$d")" \
     >>"$_cn_dir/$d.log" 2>&1 &
   COOPNAV_DAEMON_PID[$d]=$!
   COOPNAV_PIDS+=($!)
@@ -74,10 +91,38 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
   ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
   mkdir -p "$_cn_dir"
   echo "$_cn_scenario" >"$_cn_dir/scenario.path"  # replay.sh finds the map through it
-  export LCM_DEFAULT_URL="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=4194304"
+  # ttl=0 keeps multicast on the host; across hosts (COOPNAV_NETNS_PREFIX) it must leave it.
+  local ttl=0 netem_on=0
+  if [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then ttl=1; fi
+  export LCM_DEFAULT_URL="udpm://239.255.76.67:$port?ttl=$ttl&recv_buf_size=4194304"
   COOPNAV_DAEMON_PID=()
   COOPNAV_DAEMON_URL=()
-  if [ -n "${COOPNAV_LOSS:-}" ]; then
+  if [ -n "${COOPNAV_LOSS:-}" ] && [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then
+    if [ -n "${COOPNAV_NETNS_NETEM:-}" ]; then
+      # The kernel drops and delays on every link; the recorder's link is spared, as the relay
+      # spares the logger (a log that lacks a message is a wrong transcript, not a lossy run).
+      declare -F coopnav_netns_netem >/dev/null || source "$COOPNAV_ROOT/scripts/netns.sh"
+      coopnav_netns_netem "$COOPNAV_NETNS_PREFIX" on \
+        "loss $(awk -v l="$COOPNAV_LOSS" 'BEGIN { printf "%g%%", 100 * l }') $COOPNAV_NETNS_NETEM" \
+        recorder || { echo "coopnav: netem refused on $COOPNAV_NETNS_PREFIX-*" >&2; return 1; }
+      netem_on=1
+    else
+      # No netem: on each host a relay between its process (a host-local port: ttl=0 stays in
+      # the namespace) and the network drops that fraction of what goes out and of what comes
+      # in, i.e. of each of the two links a message between two hosts crosses. Seeds differ per
+      # host: the relay's decisions depend on the seed, its endpoints and the message only.
+      local priv="udpm://239.255.76.67:$((port + 1))?ttl=0&recv_buf_size=4194304" seed
+      seed="${COOPNAV_LOSS_SEED:-1}"
+      for d in "${COOPNAV_DAEMONS[@]}" world_sim; do
+        COOPNAV_DAEMON_URL[$d]="$priv"
+        _cn_host "$d"
+        coopnav_spawn "$_cn_dir/relay_$d.log" "${_cn_on[@]}" \
+          "$COOPNAV_BUILD_DIR/tools/coopnav_lossy_relay" --endpoint "$priv" \
+          --endpoint "$LCM_DEFAULT_URL" --loss "$COOPNAV_LOSS" --seed "$seed"
+        seed=$((seed + 1))
+      done
+    fi
+  elif [ -n "${COOPNAV_LOSS:-}" ]; then
     # Every process on a port of its own; the relay joins them (lossless towards the logger and
     # the scripts, which stay on the shared URL).
     local p=$((port + 1)) eps=()
@@ -90,28 +135,40 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
       "${eps[@]}" --lossless "$LCM_DEFAULT_URL" --loss "$COOPNAV_LOSS" \
       --seed "${COOPNAV_LOSS_SEED:-1}"
   fi
-  coopnav_record "$_cn_dir/$name.lcm" 'COOPNAV_.*' "$_cn_dir/record.log"
+  if [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then
+    # coopnav_record (lib.sh) on the recorder's host.
+    _cn_host recorder
+    coopnav_spawn "$_cn_dir/record.log" "${_cn_on[@]}" "$COOPNAV_BUILD_DIR/tools/coopnav_record" \
+      -f -c 'COOPNAV_.*' --lcm-url "$LCM_DEFAULT_URL" "$_cn_dir/$name.lcm"
+  else
+    coopnav_record "$_cn_dir/$name.lcm" 'COOPNAV_.*' "$_cn_dir/record.log"
+  fi
   local ready=()
   for d in "${COOPNAV_DAEMONS[@]}"; do
     case " ${COOPNAV_ABSENT:-} " in *" $d "*) continue ;; esac
     coopnav_start_daemon "$d"
     ready+=("$d")
   done
-  if ! "$ctl" wait-ready "${ready[@]}" --timeout-s 60; then
+  _cn_host recorder  # the scripts listen where the recorder does
+  if ! "${_cn_on[@]}" "$ctl" wait-ready "${ready[@]}" --timeout-s 60; then
     echo "coopnav: daemons did not come up for $name; see $_cn_dir/*.log" >&2
     coopnav_stop_all
+    if [ "$netem_on" = 1 ]; then coopnav_netns_netem "$COOPNAV_NETNS_PREFIX" off; fi
     return 1
   fi
   sleep 0.3  # the recorder subscribes before the first step
   local sim_extra=()
   read -r -a sim_extra <<<"${COOPNAV_DAEMON_ARGS_world_sim:-}"
-  "$(coopnav_bin world_sim)" -c "$_cn_cfg/world_sim.yaml" --set "scenario=$_cn_scenario" \
-    "${sim_extra[@]}" --lcm-url "$(coopnav_daemon_url world_sim)" >"$_cn_dir/world_sim.log" 2>&1 &
+  _cn_host world_sim
+  "${_cn_on[@]}" "$(coopnav_bin world_sim)" -c "$_cn_cfg/world_sim.yaml" \
+    --set "scenario=$_cn_scenario" "${sim_extra[@]}" --lcm-url "$(coopnav_daemon_url world_sim)" \
+    >"$_cn_dir/world_sim.log" 2>&1 &
   local sim=$!
   if declare -F coopnav_scenario_hook >/dev/null; then coopnav_scenario_hook "$name" || true; fi
   wait "$sim" || rc=$?
   coopnav_wait_recorded "$_cn_dir/$name.lcm"
   if declare -F coopnav_scenario_after_hook >/dev/null; then coopnav_scenario_after_hook "$name"; fi
   coopnav_stop_all
+  if [ "$netem_on" = 1 ]; then coopnav_netns_netem "$COOPNAV_NETNS_PREFIX" off; fi
   return "$rc"
 }

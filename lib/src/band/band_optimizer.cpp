@@ -5,11 +5,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <functional>
 #include <initializer_list>
 #include <limits>
 #include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "coopnav/band/costs/acceleration_cost.hpp"
 #include "coopnav/band/costs/agent_safety_cost.hpp"
@@ -100,6 +104,7 @@ class ProblemBuilder {
     double* values;
     int size;
     bool constant;
+    int agent;  ///< index into the agents: whose band (Ceres' band orderings)
   };
   /// Most parameter blocks of one term (relative velocity: two segments of two bands).
   static constexpr int kMaxTermParams = 6;
@@ -118,7 +123,7 @@ class ProblemBuilder {
   const std::vector<std::size_t>& blocks(int term) const { return blocks_[term]; }
 
   void build() {
-    for (auto& a : agents_) addBand(a);
+    for (std::size_t k = 0; k < agents_.size(); ++k) addBand(agents_[k], static_cast<int>(k));
     for (std::size_t i = 0; i < agents_.size(); ++i) {
       for (std::size_t j = i + 1; j < agents_.size(); ++j) addCoupling(i, j);
     }
@@ -200,15 +205,15 @@ class ProblemBuilder {
     r.num_params = static_cast<int>(params.size());
   }
 
-  void addBand(BandAgent& a) {
+  void addBand(BandAgent& a, int agent) {
     TimedElasticBand& b = *a.band;
     const std::size_t n = b.size();
     if (n < 2) return;
     // Interleaved pose, ΔT, pose, …: the unknowns of one band in time order, which keeps the
     // normal equations banded before any fill-reducing ordering. First and last pose are fixed.
     for (std::size_t i = 0; i < n; ++i) {
-      params_.push_back({b.poseData(i), 3, i == 0 || i + 1 == n});
-      if (i + 1 < n) params_.push_back({b.dtData(i), 1, false});
+      params_.push_back({b.poseData(i), 3, i == 0 || i + 1 == n, agent});
+      if (i + 1 < n) params_.push_back({b.dtData(i), 1, false, agent});
     }
 
     const MotionLimits& lim = a.limits;
@@ -395,9 +400,81 @@ class SparseLmBackend final : public Backend {
   SparseLm lm_;
 };
 
+/// The options of a thread's ScopedCeresBackendOptions (nullptr: the defaults).
+thread_local const CeresBackendOptions* t_ceres_options = nullptr;
+
+ceres::Solver::Options toCeres(const CeresBackendOptions& c) {
+  ceres::Solver::Options o;
+  // Tuned: plain λI damping as g2o (min = max LM diagonal), initial trust radius 1, no line
+  // search, one thread (the terms of a band share its BandTrig). With Ceres' defaults a cycle
+  // takes 3x as long, and Jacobi-scaled damping stalls in the flat θ/y directions.
+  o.minimizer_type = ceres::TRUST_REGION;
+  o.trust_region_strategy_type = c.strategy;
+  o.dogleg_type = c.dogleg;
+  o.linear_solver_type = c.linear_solver;
+  o.sparse_linear_algebra_library_type = c.sparse_library;
+  o.preconditioner_type = c.preconditioner;
+  o.use_explicit_schur_complement = c.use_explicit_schur_complement;
+  o.dynamic_sparsity = c.dynamic_sparsity;
+  o.use_postordering = c.use_postordering;
+  o.jacobi_scaling = c.jacobi_scaling;
+  o.use_inner_iterations = c.use_inner_iterations;
+  o.min_lm_diagonal = 1.0;
+  o.max_lm_diagonal = 1.0;
+  o.initial_trust_region_radius = c.initial_trust_region_radius;
+  o.eta = c.eta;
+  o.num_threads = 1;
+  o.logging_type = ceres::SILENT;
+  o.minimizer_progress_to_stdout = false;
+  return o;
+}
+
+/// The elimination ordering `kind` asks for; nullptr: Ceres' own.
+std::shared_ptr<ceres::ParameterBlockOrdering> makeOrdering(const ProblemBuilder& pb,
+                                                            CeresBackendOptions::Ordering kind) {
+  using Ordering = CeresBackendOptions::Ordering;
+  if (kind == Ordering::kAutomatic) return nullptr;
+  const auto& params = pb.params();
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  if (kind == Ordering::kBandsPlanningLast) {
+    int last = 0;
+    for (const auto& p : params) last = std::max(last, p.agent);
+    // Agent k > 0 in group k − 1, the planning agent (0) after all of them.
+    for (const auto& p : params)
+      ordering->AddElementToGroup(p.values, p.agent == 0 ? last : p.agent - 1);
+    return ordering;
+  }
+  // Schur solvers need group 0 to be an independent set (no residual block over two of its
+  // blocks): greedily in band order, each block taken excludes every block it shares a term with.
+  std::unordered_map<const double*, std::size_t> index;
+  for (std::size_t k = 0; k < params.size(); ++k) index.emplace(params[k].values, k);
+  std::vector<std::vector<std::size_t>> terms_of(params.size());
+  const auto& residuals = pb.residuals();
+  for (std::size_t r = 0; r < residuals.size(); ++r) {
+    for (int q = 0; q < residuals[r].num_params; ++q)
+      terms_of[index.at(residuals[r].params[q])].push_back(r);
+  }
+  const bool poses = kind == Ordering::kPosesFirst;
+  std::vector<char> excluded(params.size(), 0);
+  for (std::size_t k = 0; k < params.size(); ++k) {
+    const bool candidate = !params[k].constant && (params[k].size == 3) == poses;
+    if (!candidate || excluded[k]) {
+      ordering->AddElementToGroup(params[k].values, 1);
+      continue;
+    }
+    ordering->AddElementToGroup(params[k].values, 0);
+    for (const std::size_t r : terms_of[k]) {
+      for (int q = 0; q < residuals[r].num_params; ++q)
+        excluded[index.at(residuals[r].params[q])] = 1;
+    }
+  }
+  return ordering;
+}
+
 class CeresBackend final : public Backend {
  public:
-  explicit CeresBackend(const ProblemBuilder& pb) {
+  CeresBackend(const ProblemBuilder& pb, const CeresBackendOptions& options)
+      : opt_(toCeres(options)) {
     ceres::Problem::Options po;
     po.enable_fast_removal = false;
     // The builder owns the cost functions; parameter blocks are the bands' own storage,
@@ -411,20 +488,7 @@ class CeresBackend final : public Backend {
     }
     for (const auto& r : pb.residuals())
       ids_.push_back(problem_->AddResidualBlock(r.cost.get(), nullptr, r.paramVector()));
-    // Tuned: plain λI damping as g2o (no Jacobi scaling, min = max LM diagonal), initial trust
-    // radius 1, no line search, one thread (the terms of a band share its BandTrig). With Ceres'
-    // defaults a cycle takes 3x as long, and Jacobi-scaled damping stalls in the flat θ/y
-    // directions.
-    opt_.minimizer_type = ceres::TRUST_REGION;
-    opt_.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-    opt_.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-    opt_.jacobi_scaling = false;
-    opt_.min_lm_diagonal = 1.0;
-    opt_.max_lm_diagonal = 1.0;
-    opt_.initial_trust_region_radius = 1.0;
-    opt_.num_threads = 1;
-    opt_.logging_type = ceres::SILENT;
-    opt_.minimizer_progress_to_stdout = false;
+    opt_.linear_solver_ordering = makeOrdering(pb, options.ordering);
   }
   SolveOutcome solve(int max_iterations, const std::function<bool()>& out_of_time) override {
     struct Stop : ceres::IterationCallback {
@@ -460,7 +524,10 @@ class CeresBackend final : public Backend {
 };
 
 std::unique_ptr<Backend> makeBackend(const ProblemBuilder& pb, const BandPlannerConfig& cfg) {
-  if (cfg.solver == "ceres") return std::make_unique<CeresBackend>(pb);
+  if (cfg.solver == "ceres") {
+    return std::make_unique<CeresBackend>(
+        pb, t_ceres_options != nullptr ? *t_ceres_options : CeresBackendOptions{});
+  }
   return std::make_unique<SparseLmBackend>(pb, cfg.initial_damping_scale);
 }
 
@@ -477,6 +544,155 @@ double evaluateTerms(const ProblemBuilder& pb, Backend& backend, std::vector<Ter
 }
 
 }  // namespace
+
+std::string CeresBackendOptions::name() const {
+  std::string n = strategy == ceres::LEVENBERG_MARQUARDT ? "LM"
+                  : dogleg == ceres::TRADITIONAL_DOGLEG  ? "DOGLEG"
+                                                         : "SUBSPACE_DOGLEG";
+  n += std::string(" ") + ceres::LinearSolverTypeToString(linear_solver);
+  const bool sparse = linear_solver == ceres::SPARSE_NORMAL_CHOLESKY ||
+                      linear_solver == ceres::SPARSE_SCHUR ||
+                      (linear_solver == ceres::ITERATIVE_SCHUR && use_explicit_schur_complement);
+  if (sparse) n += std::string("/") + ceres::SparseLinearAlgebraLibraryTypeToString(sparse_library);
+  if (linear_solver == ceres::ITERATIVE_SCHUR || linear_solver == ceres::CGNR)
+    n += std::string("/") + ceres::PreconditionerTypeToString(preconditioner);
+  switch (ordering) {
+    case Ordering::kAutomatic:
+      break;
+    case Ordering::kTimeDiffsFirst:
+      n += " order=dt-first";
+      break;
+    case Ordering::kPosesFirst:
+      n += " order=poses-first";
+      break;
+    case Ordering::kBandsPlanningLast:
+      n += " order=bands,planning-last";
+      break;
+  }
+  if (use_explicit_schur_complement) n += " explicit-schur";
+  if (dynamic_sparsity) n += " dynamic-sparsity";
+  if (use_postordering) n += " postordering";
+  if (jacobi_scaling) n += " jacobi-scaling";
+  if (use_inner_iterations) n += " inner-iterations";
+  if (initial_trust_region_radius != CeresBackendOptions{}.initial_trust_region_radius) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, " radius=%g", initial_trust_region_radius);
+    n += buf;
+  }
+  if ((linear_solver == ceres::ITERATIVE_SCHUR || linear_solver == ceres::CGNR) &&
+      eta != CeresBackendOptions{}.eta) {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, " eta=%g", eta);
+    n += buf;
+  }
+  return n;
+}
+
+bool CeresBackendOptions::takesOurSteps() const {
+  const bool exact_solve =
+      (linear_solver != ceres::ITERATIVE_SCHUR && linear_solver != ceres::CGNR) || eta <= 1e-6;
+  return strategy == ceres::LEVENBERG_MARQUARDT && !jacobi_scaling && exact_solve &&
+         initial_trust_region_radius == 1.0 && !use_inner_iterations;
+}
+
+bool CeresBackendOptions::usable(std::string* why) const {
+  const bool needs_sparse =
+      linear_solver == ceres::SPARSE_NORMAL_CHOLESKY || linear_solver == ceres::SPARSE_SCHUR ||
+      (linear_solver == ceres::ITERATIVE_SCHUR &&
+       (use_explicit_schur_complement || preconditioner == ceres::CLUSTER_JACOBI ||
+        preconditioner == ceres::CLUSTER_TRIDIAGONAL));
+  if (needs_sparse && !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(sparse_library)) {
+    if (why != nullptr) {
+      *why = std::string(ceres::SparseLinearAlgebraLibraryTypeToString(sparse_library)) +
+             " not compiled into this Ceres";
+    }
+    return false;
+  }
+  std::string message;
+  const bool ok = toCeres(*this).IsValid(&message);
+  if (why != nullptr) *why = message;
+  return ok;
+}
+
+std::vector<CeresBackendOptions> ceresBackendConfigurations() {
+  using Ordering = CeresBackendOptions::Ordering;
+  std::vector<CeresBackendOptions> out;
+  const ceres::SparseLinearAlgebraLibraryType libs[] = {ceres::SUITE_SPARSE, ceres::EIGEN_SPARSE,
+                                                        ceres::CX_SPARSE};
+  for (const auto lib : libs) {
+    CeresBackendOptions o;  // the defaults: SPARSE_NORMAL_CHOLESKY
+    o.sparse_library = lib;
+    out.push_back(o);
+    o.ordering = Ordering::kBandsPlanningLast;
+    out.push_back(o);
+    o.ordering = Ordering::kAutomatic;
+    o.dynamic_sparsity = true;
+    out.push_back(o);
+  }
+  {
+    CeresBackendOptions o;
+    o.use_postordering = true;
+    out.push_back(o);
+  }
+  for (const auto lib : libs) {
+    for (const auto ord :
+         {Ordering::kAutomatic, Ordering::kTimeDiffsFirst, Ordering::kPosesFirst}) {
+      CeresBackendOptions o;
+      o.linear_solver = ceres::SPARSE_SCHUR;
+      o.sparse_library = lib;
+      o.ordering = ord;
+      out.push_back(o);
+    }
+  }
+  for (const auto ord : {Ordering::kAutomatic, Ordering::kTimeDiffsFirst}) {
+    CeresBackendOptions o;
+    o.linear_solver = ceres::DENSE_SCHUR;
+    o.ordering = ord;
+    out.push_back(o);
+  }
+  // Inexact steps (Ceres' default tolerance) and, as tight as a direct solve, exact ones.
+  for (const double eta : {0.1, 1e-8}) {
+    CeresBackendOptions o;
+    o.eta = eta;
+    o.linear_solver = ceres::ITERATIVE_SCHUR;
+    o.preconditioner = ceres::JACOBI;
+    out.push_back(o);
+    o.preconditioner = ceres::SCHUR_JACOBI;
+    out.push_back(o);
+    o.ordering = Ordering::kTimeDiffsFirst;
+    out.push_back(o);
+    o.ordering = Ordering::kAutomatic;
+    o.use_explicit_schur_complement = true;
+    out.push_back(o);
+    o.use_explicit_schur_complement = false;
+    o.linear_solver = ceres::CGNR;
+    o.preconditioner = ceres::JACOBI;
+    out.push_back(o);
+  }
+  // Dogleg from the tuned radius (from Ceres' default 1e4 it ends ~35x higher in the unit test).
+  for (const auto lib : {ceres::SUITE_SPARSE, ceres::EIGEN_SPARSE}) {
+    for (const auto dogleg : {ceres::TRADITIONAL_DOGLEG, ceres::SUBSPACE_DOGLEG}) {
+      CeresBackendOptions o;
+      o.strategy = ceres::DOGLEG;
+      o.dogleg = dogleg;
+      o.sparse_library = lib;
+      out.push_back(o);
+    }
+  }
+  {
+    CeresBackendOptions o;
+    o.jacobi_scaling = true;
+    out.push_back(o);
+  }
+  return out;
+}
+
+ScopedCeresBackendOptions::ScopedCeresBackendOptions(const CeresBackendOptions& options)
+    : previous_(t_ceres_options), options_(options) {
+  t_ceres_options = &options_;
+}
+
+ScopedCeresBackendOptions::~ScopedCeresBackendOptions() { t_ceres_options = previous_; }
 
 band_costs::MotionLimits makeMotionLimits(const AgentKinematics& kin, const BandWeights& w,
                                           double epsilon, double nominal_vel_m_s) {

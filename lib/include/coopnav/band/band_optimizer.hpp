@@ -8,6 +8,8 @@
 /// fractions and the weight multiplier change (rebuilding every outer iteration, as TEB does,
 /// costs 1.3-2.7 ms of a ~10 ms cycle).
 
+#include <ceres/types.h>
+
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -32,6 +34,73 @@ struct BandAgent {
   Velocity2 start_velocity_body;    ///< measured velocity at the first pose, body frame
   bool end_is_goal{false};          ///< standstill at the last pose (goal-acceleration term)
   const Path2* reference{nullptr};  ///< via-point path (nullptr: none)
+};
+
+/// How the Ceres backend (config solver "ceres") solves: the options that matter for this problem,
+/// so that bench_band can compare Ceres' configurations on the same residual blocks. The defaults
+/// are the tuned set-up every caller gets (LM, SuiteSparse normal Cholesky, plain λI damping).
+/// Whatever the choice, Ceres runs on one thread: the terms of a band share its heading cache.
+struct CeresBackendOptions {
+  /// Which parameter blocks Ceres eliminates first (Solver::Options::linear_solver_ordering).
+  enum class Ordering : std::int8_t {
+    kAutomatic,  ///< Ceres' own (for Schur solvers: its maximal independent set)
+    /// Schur: an independent set of the bands' time differences ΔT first, everything else after.
+    kTimeDiffsFirst,
+    /// Schur: an independent set of the bands' interior poses first, everything else after.
+    kPosesFirst,
+    /// One group per anticipated agent's band, the planning agent's band last: each band is
+    /// eliminated against the planning band it couples to (SuiteSparse: constrained AMD).
+    kBandsPlanningLast,
+  };
+  ceres::TrustRegionStrategyType strategy{ceres::LEVENBERG_MARQUARDT};
+  ceres::DoglegType dogleg{ceres::TRADITIONAL_DOGLEG};
+  ceres::LinearSolverType linear_solver{ceres::SPARSE_NORMAL_CHOLESKY};
+  ceres::SparseLinearAlgebraLibraryType sparse_library{ceres::SUITE_SPARSE};
+  ceres::PreconditionerType preconditioner{ceres::JACOBI};  ///< ITERATIVE_SCHUR, CGNR
+  Ordering ordering{Ordering::kAutomatic};
+  bool use_explicit_schur_complement{false};  ///< ITERATIVE_SCHUR with SCHUR_JACOBI only
+  bool dynamic_sparsity{false};               ///< SPARSE_NORMAL_CHOLESKY only
+  bool use_postordering{false};               ///< sparse Cholesky (SuiteSparse) only
+  /// Off in the tuned set-up: Jacobi-scaled damping barely damps a band's flat θ / y directions.
+  bool jacobi_scaling{false};
+  bool use_inner_iterations{false};
+  /// Trust region radius of the first step of each solve: LM's first damping is its inverse
+  /// (tuned 1: λ₀ = 1 as our LM); dogleg's first step length (Ceres' default 1e4).
+  double initial_trust_region_radius{1.0};
+  /// ITERATIVE_SCHUR / CGNR: relative residual at which the linear solve stops (Ceres' default
+  /// 0.1: inexact steps); smaller makes the steps LM's exact ones.
+  double eta{0.1};
+
+  /// Short human-readable name, e.g. "LM SPARSE_SCHUR/EIGEN_SPARSE order=dt-first".
+  std::string name() const;
+  /// Whether Ceres takes our LM's steps up to rounding (LM, λI damping from λ₀ = 1, exact linear
+  /// solves), and so reaches our final cost. The others step differently: dogleg, Jacobi-scaled
+  /// damping, inexact iterative solves (eta ≥ 1e-6).
+  bool takesOurSteps() const;
+  /// Whether this Ceres build has the library and accepts the combination (Solver::Options::
+  /// IsValid); why not in *why. An ordering's validity shows only at solve time.
+  bool usable(std::string* why = nullptr) const;
+};
+
+/// The configurations bench_band compares (and the unit tests solve with): Ceres' sparse
+/// libraries, orderings, Schur-based and iterative solvers, dogleg, and the options that change
+/// the work per iteration; all keep the tuned damping (λI, radius 1). The first is the default.
+/// Some may not be usable() in a given Ceres build.
+std::vector<CeresBackendOptions> ceresBackendConfigurations();
+
+/// Sets the Ceres backend's options for optimizeBands calls on this thread while it lives (the
+/// planner's config only names the solver; bench_band and tests pick Ceres configurations with
+/// it). Nested scopes restore the previous options.
+class ScopedCeresBackendOptions {
+ public:
+  explicit ScopedCeresBackendOptions(const CeresBackendOptions& options);
+  ~ScopedCeresBackendOptions();
+  ScopedCeresBackendOptions(const ScopedCeresBackendOptions&) = delete;
+  ScopedCeresBackendOptions& operator=(const ScopedCeresBackendOptions&) = delete;
+
+ private:
+  const CeresBackendOptions* previous_;
+  CeresBackendOptions options_;
 };
 
 /// Builds MotionLimits (√weights) from kinematics and weights; nominal_vel_m_s <= 0 disables it.

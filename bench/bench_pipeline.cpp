@@ -109,17 +109,9 @@ int main() {
     const std::string scenario = kSource + "/config/scenarios/" + name + ".yaml";
     const std::string cfg = kSource + "/config/";
     std::vector<pid_t> pids;
-    pids.push_back(coopnav::bench::spawnProcess(
-        {exe("obstacle_distance_server"), "-c", cfg + "obstacle_distance_server.yaml", "--lcm-url",
-         url, "--set", "map_file=" + scenario},
-        log_dir + "/" + name + "_server.log"));
-    pids.push_back(coopnav::bench::spawnProcess({exe("band_source"), "-c", cfg + "band_source.yaml",
-                                                 "--lcm-url", url, "--set", "map_file=" + scenario},
-                                                log_dir + "/" + name + "_band_source.log"));
-    for (const char* d : {"situation_assessor", "path_assessor", "dialogue_manager"})
-      pids.push_back(
-          coopnav::bench::spawnProcess({exe(d), "-c", cfg + d + ".yaml", "--lcm-url", url},
-                                       log_dir + "/" + name + "_" + d + ".log"));
+    for (const auto& [d, pid] :
+         coopnav::bench::startDaemons(kBuild, kSource, url, scenario, log_dir + "/" + name))
+      pids.push_back(pid);
 
     lcm::LCM lcm(url);
     Observer obs;

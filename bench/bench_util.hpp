@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace coopnav::bench {
@@ -54,6 +56,46 @@ inline pid_t startEcho(const std::string& url, const std::string& request,
     while (true) l.handleTimeout(1000);
   }
   return pid;
+}
+
+/// The daemons of one run on `url` for `scenario` (distance server, band source, both assessors,
+/// dialogue manager; the configs of config/), each logging to `log_prefix`_<daemon>.log. Returns
+/// (daemon, pid) in start order.
+inline std::vector<std::pair<std::string, pid_t>> startDaemons(const std::string& build_dir,
+                                                               const std::string& source_dir,
+                                                               const std::string& url,
+                                                               const std::string& scenario,
+                                                               const std::string& log_prefix) {
+  const std::string cfg = source_dir + "/config/";
+  auto exe = [&](const std::string& d) { return build_dir + "/daemons/" + d + "/coopnav_" + d; };
+  std::vector<std::pair<std::string, pid_t>> out;
+  for (const char* d : {"obstacle_distance_server", "band_source", "situation_assessor",
+                        "path_assessor", "dialogue_manager"}) {
+    std::vector<std::string> args{exe(d), "-c", cfg + d + ".yaml", "--lcm-url", url};
+    if (std::string(d) == "obstacle_distance_server" || std::string(d) == "band_source")
+      args.insert(args.end(), {"--set", "map_file=" + scenario});
+    out.emplace_back(d, spawnProcess(args, log_prefix + "_" + d + ".log"));
+  }
+  return out;
+}
+
+/// CPU time (user + system) a live process has used so far [s]; NaN when it cannot be read.
+inline double cpuSeconds(pid_t pid) {
+  FILE* f = std::fopen(("/proc/" + std::to_string(pid) + "/stat").c_str(), "r");
+  if (!f) return std::nan("");
+  char buf[4096];
+  const std::size_t n = std::fread(buf, 1, sizeof buf - 1, f);
+  std::fclose(f);
+  buf[n] = '\0';
+  // Fields after the command name (in parentheses, which may hold spaces): utime is the 14th
+  // field of the line, the 12th after the closing parenthesis.
+  const char* p = std::strrchr(buf, ')');
+  if (!p) return std::nan("");
+  unsigned long long utime = 0, stime = 0;
+  if (std::sscanf(p + 2, "%*c %*d %*d %*d %*d %*d %*u %*u %*u %*u %*u %llu %llu", &utime, &stime) !=
+      2)
+    return std::nan("");
+  return static_cast<double>(utime + stime) / static_cast<double>(::sysconf(_SC_CLK_TCK));
 }
 
 }  // namespace coopnav::bench

@@ -452,8 +452,10 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   if (unplanned != humans_unplanned_) {
     humans_unplanned_ = unplanned;
     if (!unplanned.empty()) {
-      log().info("band_source: more than {} humans: no band (so no assessment) this cycle for {}",
-                 config_.planner.config.max_planned_others, idList(unplanned));
+      log().info(
+          "band_source: more than {} humans: a predicted band (not planned jointly) this cycle "
+          "for {}",
+          config_.planner.config.max_planned_others, idList(unplanned));
     }
   }
   if (r.status != PlanStatus::kOk && r.status != PlanStatus::kGoalReached) {

@@ -49,6 +49,7 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.round2_response_s = round2_response_s;
   c.round2_latest_t_cross_s = round2_latest_t_cross_s;
   c.precautionary_dock = precautionary_dock;
+  c.crossing_range_m = crossing_range_m;
   c.templates = templates;
   return c;
 }
@@ -64,6 +65,7 @@ DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
       decision_config_(config.decisionConfig()),
       runtime_(runtime),
       speech_(config.speech),
+      crowd_(config.crowd),
       clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       ack_steps_(runtime.limits().max_pending_steps, runtime.limits().time_resync_messages) {
   // Step k is decided with every situation and path assessment of k and the world's agent
@@ -238,10 +240,10 @@ void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
                 throw RejectedMessage("path assessment of profile '" + msg.profile +
                                       "'; this dialogue manager acts on '" +
                                       config_.assessment_profile + "' (assessment_profile)");
-              return [this, id = msg.human_id, p](StepInputs& b) {
+              return [this, id = msg.human_id, p, utime = msg.utime](StepInputs& b) {
                 if (!b.paths.count(id) && b.paths.size() >= maxIds())
                   throw RejectedMessage("more than limits.max_ids path assessments in one step");
-                b.paths[id] = p;
+                b.paths[id] = {p, utime};
               };
             });
 }
@@ -330,6 +332,7 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
   std::set<std::int32_t> crossed_now;
   if (in.agents) {
     const AgentStatesSnapshot& a = *in.agents;
+    robot_pose_ = a.robot.pose;
     latest_agents_utime_ =
         latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
     continueSwitchedIds(a);
@@ -352,21 +355,23 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
     heard_.touch(id, now);
   }
 
-  // 3. Decisions, humans in id order (deterministic output order).
+  // 3. Decisions, humans in id order (deterministic output order), emitted together.
   std::set<std::int32_t> ids;
   for (const auto& [id, s] : in.situations) ids.insert(id);
   for (std::int32_t id : crossed_now)
     if (humans_.count(id)) ids.insert(id);
+  std::vector<Decided> decided;
   for (std::int32_t id : ids) {
     auto sit = in.situations.find(id);
     if (sit != in.situations.end()) {
-      decide(run, id, sit->second.stamp, sit->second.snapshot);
+      decided.push_back(decide(run, id, sit->second.stamp, sit->second.snapshot));
     } else {
       // Crossed on this step's agent states, no situation for it: round 3 on the last one.
       const DialogueStamp stamp{in.agents->utime, step, id};
-      decide(run, id, stamp, humans_.at(id).last_situation);
+      decided.push_back(decide(run, id, stamp, humans_.at(id).last_situation));
     }
   }
+  emitDecided(run, decided);
 
   // 4. Humans that left the scene end their interaction (stop the recorder, resume a dock).
   if (in.agents) endAbsent(run, *in.agents);
@@ -477,6 +482,7 @@ void DialogueManagerNode::forgetStale(StepNode::Step& run) {
 }
 
 void DialogueManagerNode::forget(std::int32_t id) {
+  crowd_.forget(id);
   humans_.erase(id);
   tracked_.erase(id);
   latest_path_.erase(id);
@@ -486,10 +492,12 @@ void DialogueManagerNode::forget(std::int32_t id) {
   heard_.erase(id);
 }
 
-void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
-                                 const dialogue::SituationSnapshot& situation) {
+DialogueManagerNode::Decided DialogueManagerNode::decide(
+    const StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
+    const dialogue::SituationSnapshot& situation) {
   heard_.touch(id, clockNow(stamp.utime));
-  if (history_unknown_.count(id)) return;  // see joined_late_: never a round or dock on a guess
+  // See joined_late_: never a round or dock on a guess.
+  if (history_unknown_.count(id)) return {stamp, {}, situation.t_cross_s};
   auto hit = humans_.find(id);
   if (hit == humans_.end()) {
     hit = humans_.emplace(id, Human(decision_config_)).first;
@@ -502,8 +510,18 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
   dialogue::DecisionInput in;
   in.t_s = utimeToSeconds(stamp.utime);
   in.situation = situation;
-  auto p = latest_path_.find(id);
-  if (p != latest_path_.end()) in.path = p->second;
+  if (auto p = latest_path_.find(id); p != latest_path_.end()) {
+    const double age_s = utimeDiffSeconds(stamp.utime, p->second.utime);
+    if (age_s <= config_.path_max_age_s) {
+      in.path = p->second.snapshot;
+    } else if (h.stale_path_logged_utime != p->second.utime) {
+      h.stale_path_logged_utime = p->second.utime;  // once per stale assessment
+      log().warn(
+          "dialogue_manager: step {} human {}: the latest path assessment is {:.1f} s old (over "
+          "path_max_age_s {:.1f} s): CM and IsContributing unknown",
+          stamp.step, id, age_s, config_.path_max_age_s);
+    }
+  }
   auto t = tracked_.find(id);
   in.crossed = t != tracked_.end() && t->second.crossed.crossed;
   in.heard_by_s = h.heard_by_s;
@@ -518,14 +536,39 @@ void DialogueManagerNode::decide(StepNode::Step& run, std::int32_t id, const Dia
           h.heard_by_s
               ? fmt::format(" ({:.2f} s after round 1's words ended)", in.t_s - *h.heard_by_s)
               : "");
-  emit(run, stamp, out, situation.t_cross_s);
+  return {stamp, out, situation.t_cross_s};
+}
+
+void DialogueManagerNode::emitDecided(StepNode::Step& run, std::vector<Decided>& decided) {
+  std::vector<dialogue::DecidedUtterance> utterances;
+  for (std::size_t i = 0; i < decided.size(); ++i)
+    for (std::size_t k = 0; k < decided[i].out.utterances.size(); ++k)
+      utterances.push_back({decided[i].stamp.human_id, decided[i].out.utterances[k],
+                            (i << 16) | k});  // ≤ 64 k utterances per decision: never near
+  std::vector<dialogue::CoordinatedUtterance> coordinated;
+  if (!utterances.empty()) {
+    std::vector<dialogue::CrowdMember> scene;
+    for (const auto& [id, t] : tracked_)
+      if (present_.contains(id)) scene.push_back({id, t.position_m, t.velocity_m_s});
+    bool making_room = false;
+    for (const auto& [id, h] : humans_)
+      making_room = making_room || h.decision.docked() || h.last_situation.robot_retreating;
+    coordinated = crowd_.coordinate(robot_pose_, scene, std::move(utterances), making_room);
+  }
+  for (std::size_t i = 0; i < decided.size(); ++i) {
+    std::vector<const dialogue::CoordinatedUtterance*> mine(decided[i].out.utterances.size());
+    for (const auto& c : coordinated)
+      if ((c.tag >> 16) == i) mine[c.tag & 0xffff] = &c;
+    emit(run, decided[i].stamp, decided[i].out, decided[i].t_cross_s, false, &mine);
+  }
 }
 
 // ---- output ----
 
-void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
-                               const dialogue::DecisionOutput& out, std::optional<double> t_cross_s,
-                               bool quiet) {
+void DialogueManagerNode::emit(
+    StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
+    std::optional<double> t_cross_s, bool quiet,
+    const std::vector<const dialogue::CoordinatedUtterance*>* coordinated) {
   std::string why;
   for (const auto& r : out.rounds) {
     if (!quiet)
@@ -541,16 +584,39 @@ void DialogueManagerNode::emit(StepNode::Step& run, const DialogueStamp& stamp,
   why = keptText(std::move(why), maxTextBytes());
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
   const double t_s = utimeToSeconds(stamp.utime);
-  for (const auto& u : out.utterances) {
+  for (std::size_t k = 0; k < out.utterances.size(); ++k) {
+    const dialogue::CoordinatedUtterance* c =
+        coordinated && k < coordinated->size() ? (*coordinated)[k] : nullptr;
+    const dialogue::Utterance& u = c ? c->utterance : out.utterances[k];
+    const std::vector<std::int32_t> group = c ? c->group : std::vector<std::int32_t>{};
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
+    if (c && c->verdict != dialogue::CrowdVerdict::kSay) {
+      // Decided, not said (crowd.hpp): published all the same, as every decided utterance is.
+      dialogue::SpeechSlot slot;
+      slot.delivery = c->verdict == dialogue::CrowdVerdict::kToldToGroup
+                          ? dialogue::Delivery::kToldToGroup
+                          : dialogue::Delivery::kContradicts;
+      slot.duration_s = 0.0;
+      run.publish(channels::kUtterance, toLcm(stamp, u, t, slot, group));
+      log().info("dialogue_manager: not said to human {}: \"{}\" ({}, round {}): {}",
+                 stamp.human_id, u.text, dialogue::toString(u.act), u.round, c->reason);
+      continue;
+    }
     // A cue is worth saying only if its words end before the crossing; thanks have no deadline.
     const std::optional<double> deadline_s =
         t && std::isfinite(*t) ? std::optional<double>(t_s + *t) : std::nullopt;
     const dialogue::SpeechSlot slot =
         voice_.plan(t_s, speechDuration(u.text), deadline_s, config_.muted);
-    run.publish(channels::kUtterance, toLcm(stamp, u, t, slot));
+    run.publish(channels::kUtterance, toLcm(stamp, u, t, slot, group));
     switch (slot.delivery) {
+      case dialogue::Delivery::kToldToGroup:
+      case dialogue::Delivery::kContradicts:
+        break;  // never planned by the voice
       case dialogue::Delivery::kSaid:
+        // The group hears it too: its round 2 judges them from when the words ended.
+        for (const std::int32_t id : group)
+          if (const auto h = humans_.find(id); h != humans_.end())
+            h->second.heard_by_s = t_s + slot.end_s();
         if (const auto h = humans_.find(stamp.human_id); h != humans_.end())
           h->second.heard_by_s = t_s + slot.end_s();
         log().info("dialogue_manager: to human {}: \"{}\" ({}, round {}; {:.2f} s{})",

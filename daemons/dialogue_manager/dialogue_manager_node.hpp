@@ -17,6 +17,7 @@
 
 #include "config/config.hpp"
 #include "coopnav/agent_states_t.hpp"
+#include "coopnav/dialogue/crowd.hpp"
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/path_assessment_t.hpp"
@@ -61,14 +62,32 @@ struct TemplatesConfig : dialogue::TextTemplates {
   }
 };
 
+/// Groups and addresses when several people are in the scene (lib/dialogue/crowd.hpp).
+struct CrowdConfigYaml : dialogue::CrowdConfig {
+  template <class V>
+  void visit(V& v) {
+    v("group_distance_m", group_distance_m, Range{0.0, 10.0});
+    v("group_velocity_diff_m_s", group_velocity_diff_m_s, Range{0.0, 5.0});
+    v("ahead_half_angle_rad", ahead_half_angle_rad, Range{0.0, 1.5});
+  }
+};
+
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
   double round2_response_s{dialogue::DecisionConfig{}.round2_response_s};
   double round2_latest_t_cross_s{dialogue::DecisionConfig{}.round2_latest_t_cross_s};
   bool precautionary_dock{dialogue::DecisionConfig{}.precautionary_dock};
+  double crossing_range_m{dialogue::DecisionConfig{}.crossing_range_m};
+  CrowdConfigYaml crowd;
   double crossed_hysteresis_m{0.2};
   double human_gone_s{2.0};
+  /// [s] A path assessment older than this (message time, against the situation decided on) is
+  /// not acted on: CM and IsContributing are unknown (round 2 then takes its precautionary
+  /// dock, or stays silent). The path assessor publishes every planning cycle (10 Hz); a
+  /// lockstep run never sees an older one (each step waits for it), a free-running one does
+  /// when the path assessor or its host is gone.
+  double path_max_age_s{0.5};
   int gate_timeout_ms{2000};
   bool gate_wait_for_unseen{true};
   /// The path assessment profile acted on (path_assessment_t.profile; config/path_assessor.yaml
@@ -92,8 +111,11 @@ struct DialogueManagerConfig {
     v("round2_response_s", round2_response_s, Range{0.0, 30.0});
     v("round2_latest_t_cross_s", round2_latest_t_cross_s, Range{0.0, 60.0});
     v("precautionary_dock", precautionary_dock);
+    v("crossing_range_m", crossing_range_m, Range{0.5, 50.0});
+    v("crowd", crowd);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
+    v("path_max_age_s", path_max_age_s, Range{0.05, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});
     v("gate_wait_for_unseen", gate_wait_for_unseen);
     v("assessment_profile", assessment_profile, OneOf{{"paper", "calibrated", "custom"}});
@@ -134,6 +156,11 @@ class DialogueManagerNode {
   std::size_t longestKeptTextBytes() const;
 
  private:
+  /// A path assessment and its message time: one older than path_max_age_s is not acted on.
+  struct StampedPath {
+    dialogue::PathSnapshot snapshot;
+    std::int64_t utime{0};
+  };
   /// Everything received for one step, applied in one go when the gate lets the step run.
   struct SituationIn {
     DialogueStamp stamp;
@@ -141,7 +168,7 @@ class DialogueManagerNode {
   };
   struct StepInputs {
     std::optional<AgentStatesSnapshot> agents;
-    std::map<std::int32_t, dialogue::PathSnapshot> paths;
+    std::map<std::int32_t, StampedPath> paths;
     std::map<std::int32_t, SituationIn> situations;
     std::int64_t utime{0};  ///< the step's input time (first message of it, or the clock's)
     bool has_utime{false};
@@ -150,7 +177,8 @@ class DialogueManagerNode {
     explicit Human(const dialogue::DecisionConfig& c) : decision(c) {}
     dialogue::HumanDecision decision;
     dialogue::SituationSnapshot last_situation;
-    std::optional<double> heard_by_s;  ///< [s] when the words said to it so far have ended
+    std::optional<double> heard_by_s;          ///< [s] when the words said to it so far have ended
+    std::int64_t stale_path_logged_utime{-1};  ///< the stale assessment last warned about
   };
   struct Tracked {
     dialogue::CrossedTracker crossed;
@@ -201,8 +229,18 @@ class DialogueManagerNode {
   std::size_t maxTextBytes() const { return runtime_.limits().maxTextBytes(); }
   void runStep(StepNode::Step& run);
   void process(StepNode::Step& run, StepInputs& in);
-  void decide(StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
-              const dialogue::SituationSnapshot& situation);
+  /// What one human's decision produced at this step, emitted once every human has decided (the
+  /// crowd logic judges their utterances together).
+  struct Decided {
+    DialogueStamp stamp;
+    dialogue::DecisionOutput out;
+    std::optional<double> t_cross_s;
+  };
+  Decided decide(const StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
+                 const dialogue::SituationSnapshot& situation);
+  /// Emits the step's decisions, their utterances addressed, told once per group and never
+  /// contradicting each other (lib/dialogue/crowd.hpp).
+  void emitDecided(StepNode::Step& run, std::vector<Decided>& decided);
   /// Ends the interaction of every human absent from the agent states for human_gone_s.
   void endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents);
   /// Forgets ids not heard of for limits.forget_after_s (message time) and the least recently
@@ -211,8 +249,11 @@ class DialogueManagerNode {
   void forgetStale(StepNode::Step& run);
   void forget(std::int32_t id);
   /// `quiet`: no log line per round (an interaction ended by forgetting it: one line per batch).
+  /// `coordinated`: per utterance of `out`, what the crowd logic made of it (nullptr: said as
+  /// decided, to nobody else).
   void emit(StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
-            std::optional<double> t_cross_s, bool quiet = false);
+            std::optional<double> t_cross_s, bool quiet = false,
+            const std::vector<const dialogue::CoordinatedUtterance*>* coordinated = nullptr);
 
   Config config_;
   dialogue::DecisionConfig decision_config_;
@@ -233,7 +274,9 @@ class DialogueManagerNode {
   std::int64_t newest_step_{-1};
   std::map<std::int32_t, Human> humans_;
   std::map<std::int32_t, Tracked> tracked_;
-  std::map<std::int32_t, dialogue::PathSnapshot> latest_path_;
+  std::map<std::int32_t, StampedPath> latest_path_;
+  dialogue::CrowdConversation crowd_;
+  Pose2 robot_pose_;  ///< as last seen in the agent states (where "on my left" is)
   /// The time of every input, guarded: a message stamped far from it is rejected, so one
   /// situation stamped INT64_MAX cannot pin the times below (docs/bad-inputs.md "Caps").
   MessageClock clock_;

@@ -287,6 +287,13 @@ void WorldSimNode::hear(const utterance_t& msg) {
   c.cue.human_id = human->id;
   c.step = msg.step;
   cues_.push_back(c);
+  // Words to a group are heard by everyone in it (one plan, said once: crowd.hpp).
+  for (const std::int32_t id : u.group) {
+    const std::optional<std::size_t> member = tracker_->personOf(id);
+    if (!member) continue;  // left the scene since: nobody to hear it
+    c.cue.human_id = scenario_.humans[*member].id;
+    cues_.push_back(c);
+  }
 }
 
 void WorldSimNode::onBands(const bands_t& msg) {

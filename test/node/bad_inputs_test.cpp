@@ -607,11 +607,16 @@ TEST_F(BadInputBandSource, ExactlyMaxHumansArePlannedUpToTheCapAndTheStepComplet
   ASSERT_TRUE(step(crowd));
   ASSERT_EQ(bands_.count(0), 1u);
   EXPECT_EQ(bands_[0].status, bands_t::STATUS_OK);
-  EXPECT_EQ(bands_[0].num_humans, BandPlannerConfig{}.max_planned_others);
+  // Every human has a band: the nearest max_planned_others planned jointly (first), the others
+  // predicted.
+  ASSERT_EQ(bands_[0].num_humans, 64);
   // The nearest to the robot at (6.5, 6.5): the column at x = 12.0, around y = 6.5.
-  for (const auto& h : bands_[0].humans) {
+  for (int i = 0; i < 64; ++i) {
+    const auto& h = bands_[0].humans[static_cast<std::size_t>(i)];
     ASSERT_FALSE(h.poses.empty());
-    EXPECT_NEAR(h.poses[0].x_m, 12.0, 1e-6) << "human " << h.agent_id;
+    if (i < BandPlannerConfig{}.max_planned_others) {
+      EXPECT_NEAR(h.poses[0].x_m, 12.0, 1e-6) << "human " << h.agent_id;
+    }
   }
   ASSERT_TRUE(step(corridorStates(1)));
   EXPECT_EQ(bands_[1].num_humans, 1);

@@ -61,12 +61,15 @@ std::string directionName(std::int8_t dir) {
 }
 
 std::string deliveryName(std::int8_t delivery) {
-  static const char* const kNames[] = {"said", "muted", "too_late"};
-  return codeName(kNames, utterance_t::DELIVERY_SAID, 3, delivery, "delivery_");
+  static const char* const kNames[] = {"said", "muted", "too_late", "told_to_group", "contradicts"};
+  return codeName(kNames, utterance_t::DELIVERY_SAID, 5, delivery, "delivery_");
 }
 
 bool wasSaid(std::int8_t delivery) {
-  return delivery != utterance_t::DELIVERY_MUTED && delivery != utterance_t::DELIVERY_TOO_LATE;
+  // Older logs (before deliveries) carry 0: said.
+  return delivery != utterance_t::DELIVERY_MUTED && delivery != utterance_t::DELIVERY_TOO_LATE &&
+         delivery != utterance_t::DELIVERY_TOLD_TO_GROUP &&
+         delivery != utterance_t::DELIVERY_CONTRADICTS;
 }
 
 double utimeToS(std::int64_t utime) { return static_cast<double>(utime) * 1e-6; }

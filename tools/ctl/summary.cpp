@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -225,6 +226,87 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
   return o;
 }
 
+/// The side a said utterance tells its human the robot passes on (DIR_*), 0 when it says none.
+int robotSideOf(const utterance_t& u) {
+  switch (u.speech_act) {
+    case utterance_t::ACT_INFORM_DIRECTION:
+    case utterance_t::ACT_REPEAT_DIRECTION:
+      return u.direction;
+    case utterance_t::ACT_ASK_TO_MOVE:
+    case utterance_t::ACT_ASK_TO_MOVE_MORE:
+      return -u.direction;
+    default:
+      return 0;
+  }
+}
+
+/// Checks of what was said to several people, read from the log alone (not from the dialogue
+/// manager's own bookkeeping): words said to someone the robot is not crossing (no crossing ahead
+/// in that human's latest situation), words that contradict each other (a group told two robot
+/// sides in one round; someone told the robot passes while it holds a dock), and a group told the
+/// same round twice.
+Json dialogueChecks(const RunLog& run) {
+  Json said_to_not_crossing = Json::array(), contradictions = Json::array(),
+       told_twice = Json::array();
+  std::int64_t said = 0, addressed = 0;
+  auto label = [](const utterance_t& u) {
+    return fixed(utimeToS(u.utime), 2) + " s human " + std::to_string(u.human_id) + " " +
+           speechActName(u.speech_act) + " round " + std::to_string(u.round);
+  };
+  std::vector<const utterance_t*> earlier;
+  for (const auto& u : run.utterances) {
+    if (!wasSaid(u.delivery)) continue;
+    ++said;
+    if (!u.group_ids.empty() || u.text.rfind("You ", 0) == 0 || u.text.rfind("All of you", 0) == 0)
+      ++addressed;
+    if (u.round == 1 || u.round == 2) {
+      const situation_t* latest = nullptr;
+      for (const auto& sit : run.situations)
+        if (sit.human_id == u.human_id && sit.utime <= u.utime &&
+            (!latest || sit.utime >= latest->utime))
+          latest = &sit;
+      if (!latest || latest->crossing_status != situation_t::CROSSING_OK ||
+          !(latest->t_cross_s > 0.0))
+        said_to_not_crossing.push_back(label(u));
+    }
+    // Docks open at this utterance (a dock and no resume for that human before it).
+    const int side = robotSideOf(u);
+    if (side != 0) {
+      std::map<std::int32_t, bool> open;
+      for (const auto& a : run.actions)
+        if (a.utime <= u.utime) open[a.human_id] = a.action == robot_action_t::ACTION_DOCK;
+      for (const auto& [id, is_open] : open)
+        if (is_open) {
+          contradictions.push_back(label(u) + ": says the robot passes while it waits for human " +
+                                   std::to_string(id));
+          break;
+        }
+    }
+    for (const utterance_t* e : earlier) {
+      if (e->round != u.round) continue;
+      const auto& g = e->group_ids;
+      const bool together =
+          std::find(g.begin(), g.end(), u.human_id) != g.end() ||
+          std::find(u.group_ids.begin(), u.group_ids.end(), e->human_id) != u.group_ids.end();
+      if (!together) continue;
+      const int other = robotSideOf(*e);
+      if (side != 0 && other != 0 && side != other)
+        contradictions.push_back(label(u) + ": its group was told the other side (" + label(*e) +
+                                 ")");
+      else if (u.speech_act == e->speech_act || (side != 0 && side == other))
+        told_twice.push_back(label(u) + " (" + label(*e) + ")");
+    }
+    earlier.push_back(&u);
+  }
+  Json j = Json::object();
+  j["said"] = said;
+  j["addressed"] = addressed;
+  j["said_to_not_crossing"] = std::move(said_to_not_crossing);
+  j["contradictions"] = std::move(contradictions);
+  j["told_twice"] = std::move(told_twice);
+  return j;
+}
+
 }  // namespace
 
 RobotBehaviourCounts countRobotBehaviour(const RunLog& run) {
@@ -285,6 +367,7 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   Json humans = Json::array();
   for (const auto& h : analysis.humans) humans.push_back(humanEntry(run, h, transcript));
   s["humans"] = std::move(humans);
+  s["dialogue_checks"] = dialogueChecks(run);
 
   const auto& c = run.counts;
   Json counts = Json::object();

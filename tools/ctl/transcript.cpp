@@ -132,11 +132,20 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
                  " s of speech would end " +
                  fixed(u.speech_start_s + u.speech_duration_s - u.t_cross_s, 2) +
                  " s after the crossing)";
+        } else if (u.delivery == utterance_t::DELIVERY_TOLD_TO_GROUP) {
+          verb = "NOT SAID (told to the group)";
+        } else if (u.delivery == utterance_t::DELIVERY_CONTRADICTS) {
+          verb = "NOT SAID (would contradict)";
         }
+        // Said to a group: who heard it with the human addressed.
+        std::string with;
+        for (std::size_t i = 0; i < u.group_ids.size(); ++i)
+          with += (i ? "," : " with ") + std::to_string(u.group_ids[i]);
         e.line = prefix(e.utime, e.human_id, e.t_cross_s) + "  " + verb + " " + e.what + " " +
                  jsonQuote(e.text) + " (round " + std::to_string(e.round);
         if (u.direction != situation_t::DIR_UNDEFINED) e.line += ", direction " + e.direction;
         e.line += ")";
+        if (u.delivery == utterance_t::DELIVERY_SAID && !with.empty()) e.line += with;
         break;
       }
       case RunLog::Kind::kRobotAction: {

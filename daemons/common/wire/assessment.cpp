@@ -153,6 +153,7 @@ dialogue::SituationSnapshot situationSnapshotFromLcm(const situation_t& msg) {
   s.dir = r.crossing.dir;
   s.d_h_m = r.assessment.d_h_m;
   s.d_oh_m = r.assessment.d_oh_m;
+  s.d_hr_m = r.assessment.d_hr_m;
   s.reason = r.assessment.reason;
   s.room_plan = static_cast<dialogue::RoomPlan>(r.room_plan);
   s.robot_retreating = r.robot_mode == velocity_command_t::MODE_RETREATING;

@@ -1,5 +1,6 @@
 #include "wire/dialogue.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -72,7 +73,8 @@ std::int8_t lcmPredFromTristate(Tristate t) {
 }
 
 utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
-                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot) {
+                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot,
+                  const std::vector<std::int32_t>& group) {
   utterance_t m;
   m.utime = stamp.utime;
   m.step = stamp.step;
@@ -85,6 +87,10 @@ utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
   m.delivery = static_cast<std::int8_t>(slot.delivery);
   m.speech_start_s = slot.start_s;
   m.speech_duration_s = slot.duration_s;
+  m.group_ids.assign(group.begin(),
+                     group.begin() + static_cast<std::ptrdiff_t>(
+                                         std::min<std::size_t>(group.size(), kMaxGroupIds)));
+  m.n_group = static_cast<std::int16_t>(m.group_ids.size());
   return m;
 }
 
@@ -112,7 +118,7 @@ UtteranceMsg fromLcm(const utterance_t& msg) {
     if (!std::isfinite(msg.t_cross_s)) reject("t_cross_s is infinite");
     out.t_cross_s = msg.t_cross_s;
   }
-  if (msg.delivery < utterance_t::DELIVERY_SAID || msg.delivery > utterance_t::DELIVERY_TOO_LATE)
+  if (msg.delivery < utterance_t::DELIVERY_SAID || msg.delivery > utterance_t::DELIVERY_CONTRADICTS)
     reject("unknown delivery " + std::to_string(msg.delivery));
   out.slot.delivery = static_cast<dialogue::Delivery>(msg.delivery);
   for (const auto& [name, v] : {std::pair{"speech_start_s", msg.speech_start_s},
@@ -121,6 +127,15 @@ UtteranceMsg fromLcm(const utterance_t& msg) {
       reject(std::string(name) + " " + std::to_string(v) + " not in [0, 120] s");
   out.slot.start_s = msg.speech_start_s;
   out.slot.duration_s = msg.speech_duration_s;
+  if (msg.n_group < 0 || static_cast<std::size_t>(msg.n_group) > kMaxGroupIds ||
+      msg.group_ids.size() != static_cast<std::size_t>(msg.n_group))
+    reject("n_group " + std::to_string(msg.n_group) + " not in [0, 64]");
+  for (std::size_t i = 0; i < msg.group_ids.size(); ++i) {
+    if (msg.group_ids[i] == msg.human_id) reject("group_ids holds human_id itself");
+    if (i > 0 && msg.group_ids[i] <= msg.group_ids[i - 1])
+      reject("group_ids not sorted and unique");
+  }
+  out.group = msg.group_ids;
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "coopnav/dialogue/decision.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
@@ -33,9 +34,13 @@ struct DialogueStamp {
   std::int32_t human_id{0};
 };
 
-/// Emission. t_cross_s nullopt -> NaN on the wire (round 3); `slot`: when and whether it is said.
+/// Most ids of an utterance's group_ids (agent_states_t.MAX_HUMANS: a group of the scene).
+inline constexpr std::size_t kMaxGroupIds = 64;
+/// Emission. t_cross_s nullopt -> NaN on the wire (round 3); `slot`: when and whether it is said;
+/// `group`: the other people with the human (crowd.hpp), at most kMaxGroupIds kept.
 utterance_t toLcm(const DialogueStamp& stamp, const dialogue::Utterance& u,
-                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot);
+                  std::optional<double> t_cross_s, const dialogue::SpeechSlot& slot,
+                  const std::vector<std::int32_t>& group = {});
 robot_action_t toLcm(const DialogueStamp& stamp, dialogue::RobotAction action,
                      const std::string& reason);
 /// (path_assessor_control_t: conversions_assessment.hpp, RecorderControl.)
@@ -48,6 +53,7 @@ struct UtteranceMsg {
   dialogue::Utterance utterance;
   std::optional<double> t_cross_s;
   dialogue::SpeechSlot slot;
+  std::vector<std::int32_t> group;  ///< group_ids: sorted, unique, without human_id
 };
 /// No sentence of the robot's takes longer, nor waits longer for the voice [s].
 inline constexpr double kMaxSpeechSeconds = 120.0;

@@ -268,6 +268,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     double radius_m;
   };
   std::vector<OtherWork> work;
+  std::vector<OtherAgentResult> predicted;  ///< beyond max_planned_others (not optimised)
   auto valid = [](const AgentState& st) {
     return isFinite(st.pose) && std::isfinite(st.velocity.vx_m_s) &&
            std::isfinite(st.velocity.vy_m_s);
@@ -295,10 +296,13 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       out.skipped_ids.push_back(st.id);
       continue;
     }
-    if (!planned[oi]) {
+    // Beyond the nearest max_planned_others: a band predicted, not planned jointly (walked along
+    // its reference at its speed), so that the assessors still see where it goes; no A* for it
+    // (a straight line to its goal unless a path is known), so a crowd costs little.
+    const bool predicted_only = !planned[oi];
+    if (predicted_only) {
       out.unplanned_ids.push_back(st.id);
       bands_.erase(st.id);  // its warm band would be stale by the time it is planned again
-      continue;
     }
     const AgentKinematics& k = cfg.kinematics(st.kind);
     const double radius = radiusOf(st, cfg);
@@ -318,14 +322,19 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
         const auto proj = projectOntoPath(it->second.path, pos);
         reuse = proj && proj->distance_m < cfg.global_replan_dist_m;
       }
-      if (!reuse) {
-        PathResult pr = global_->plan(pos, g, radius);
-        if (pr.status != PathStatus::kOk) pr.path = resamplePath({pos, g}, 0.1);
-        paths_[st.id] = {g, pr.path, pr.status};
+      if (!reuse && predicted_only) {
+        ref = resamplePath({pos, g}, 0.1);
         res.reference_changed = true;
+      } else {
+        if (!reuse) {
+          PathResult pr = global_->plan(pos, g, radius);
+          if (pr.status != PathStatus::kOk) pr.path = resamplePath({pos, g}, 0.1);
+          paths_[st.id] = {g, pr.path, pr.status};
+          res.reference_changed = true;
+        }
+        ref = paths_[st.id].path;
+        res.reference_status = paths_[st.id].status;
       }
-      ref = paths_[st.id].path;
-      res.reference_status = paths_[st.id].status;
     } else {
       // Unknown goal: constant-velocity prediction (CoHAN's const_vel mode).
       const Eigen::Vector2d v(st.velocity.vx_m_s, st.velocity.vy_m_s);
@@ -344,7 +353,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     TimedElasticBand band;
     bool have = false;
     auto mem = bands_.find(st.id);
-    if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2 &&
+    if (!predicted_only && cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2 &&
         !res.reference_changed) {
       TimedElasticBand warm = mem->second.band;
       warm.pruneToStart(st.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
@@ -369,9 +378,19 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       band = TimedElasticBand::fromPath(st.pose, local, nominal, cfg.dt_ref_s, end.theta_rad, prof);
     }
     res.reference_path = ref;
+    if (predicted_only) {
+      res.band = band.toBand();
+      res.predicted = true;
+      predicted.push_back(std::move(res));
+      continue;
+    }
     out.others.push_back(res);
     work.push_back({&o, std::move(band), end_is_goal, nominal, radius});
   }
+  // After the planned ones (whose order matches work's), whatever is returned below.
+  const auto addPredicted = [&] {
+    for (auto& p : predicted) out.others.push_back(std::move(p));
+  };
 
   if (at_goal) {
     // Anticipated bands as initialised (nothing to negotiate with a standing agent).
@@ -379,6 +398,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     out.agent_band = my_band.toBand();
     for (std::size_t i = 0; i < work.size(); ++i) out.others[i].band = work[i].band.toBand();
     bands_.erase(me.id);
+    addPredicted();
     return out;
   }
 
@@ -417,6 +437,40 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
       double amp = cfg.symmetry_break_offset_m;
       if (cfg.init_planning_band_aside) {
         amp = std::max(amp, needed + cfg.penalty_epsilon + 0.05 - std::abs(lateral));
+      }
+      // Others meeting the robot there too (people walking abreast, a group): the start goes
+      // around all of them on that side, never between two of them, when the room allows;
+      // else around them on the other side, if it fits there.
+      const auto clearAll = [&](double sd, double a) {
+        for (bool moved = true; moved;) {
+          moved = false;
+          for (const auto& w2 : work) {
+            const auto loc = w2.band.locate(my_band.times_s()[bi]);
+            if (!loc) continue;
+            const Eigen::Vector2d at =
+                (1.0 - loc->fraction) * w2.band.pose(loc->segment).position() +
+                loc->fraction * w2.band.pose(loc->segment + 1).position();
+            const double lat2 = cross2(h, at - pm.position());
+            const double need2 = my_radius + w2.radius_m + cfg.min_agent_robot_dist_m;
+            if (std::abs(sd * a - lat2) >= need2) continue;
+            a = sd * lat2 + need2 + cfg.penalty_epsilon + 0.05;
+            moved = true;
+          }
+        }
+        return a;
+      };
+      const double room_side = (side > 0.0 ? room_l : room_r) - my_radius - cfg.min_obstacle_dist_m;
+      const double around = clearAll(side, amp);
+      if (around <= room_side) {
+        amp = around;
+      } else {
+        const double room_other =
+            (side > 0.0 ? room_r : room_l) - my_radius - cfg.min_obstacle_dist_m;
+        const double around_other = clearAll(-side, needed + cfg.penalty_epsilon + 0.05);
+        if (around_other <= room_other) {
+          side = -side;
+          amp = around_other;
+        }
       }
       const double room = (side > 0.0 ? room_l : room_r) - my_radius - cfg.min_obstacle_dist_m;
       amp = std::clamp(amp, 0.0, std::max(room, 0.0));
@@ -501,6 +555,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     out.others[i].band = work[i].band.toBand();
     bands_[work[i].in->state.id] = {work[i].band, req.stamp_s};
   }
+  addPredicted();
   out.status = PlanStatus::kOk;
   return out;
 }

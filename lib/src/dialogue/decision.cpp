@@ -142,7 +142,10 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
   const bool t_cross_known = t_cross && std::isfinite(*t_cross);
   bool fired_round1_now = false;
   if (!in.crossed && t_cross_known) {
-    if (!fired_[0] && *t_cross <= config_.round1_t_cross_s) {
+    // Only a human being crossed starts an interaction (DecisionConfig::crossing_range_m).
+    const bool crossing = *t_cross > 0.0 && (!in.situation.d_hr_m ||
+                                             *in.situation.d_hr_m <= config_.crossing_range_m);
+    if (!fired_[0] && *t_cross <= config_.round1_t_cross_s && crossing) {
       round1(in, out);
       fired_round1_now = true;
     }

@@ -14,6 +14,10 @@ const char* toString(Delivery d) {
       return "muted";
     case Delivery::kTooLate:
       return "too_late";
+    case Delivery::kToldToGroup:
+      return "told_to_group";
+    case Delivery::kContradicts:
+      return "contradicts";
   }
   return "?";
 }

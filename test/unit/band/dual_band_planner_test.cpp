@@ -408,20 +408,26 @@ TEST_F(Degenerate, CrowdBeyondTheCapPlansOnlyTheNearest) {
   const PlanRequest req = crowd(64);
   // When one cycle is planned.
   const PlanResult r = dut.plan(req);
-  // Then the three nearest get bands, the others are reported unplanned, in request order.
+  // Then the three nearest are planned, the others reported unplanned, in request order, with
+  // a predicted band each (after the planned ones, in the same order).
   ASSERT_EQ(r.status, PlanStatus::kOk);
-  ASSERT_EQ(r.others.size(), 3u);
+  ASSERT_EQ(r.others.size(), 64u);
   ASSERT_EQ(r.unplanned_ids.size(), 61u);
+  for (std::size_t i = 0; i < r.others.size(); ++i) {
+    EXPECT_EQ(r.others[i].predicted, i >= 3) << i;
+    EXPECT_GE(r.others[i].band.poses.size(), 2u) << i;
+    if (i >= 3) {
+      EXPECT_EQ(r.others[i].id, r.unplanned_ids[i - 3]);
+    }
+  }
   std::vector<std::pair<double, std::int32_t>> by_distance;
   for (const auto& o : req.others)
     by_distance.push_back(
         {(o.state.pose.position() - req.agent.pose.position()).norm(), o.state.id});
   std::sort(by_distance.begin(), by_distance.end());
   std::set<std::int32_t> planned;
-  for (const auto& o : r.others) {
-    planned.insert(o.id);
-    EXPECT_GE(o.band.poses.size(), 2u);
-  }
+  for (const auto& o : r.others)
+    if (!o.predicted) planned.insert(o.id);
   EXPECT_EQ(planned, (std::set<std::int32_t>{by_distance[0].second, by_distance[1].second,
                                              by_distance[2].second}));
   std::size_t u = 0;
@@ -440,12 +446,14 @@ TEST_F(Degenerate, WhichHumansArePlannedDoesNotDependOnTheirOrder) {
   std::set<std::int32_t> first, second;
   {
     DualBandPlanner dut(cfg, map_);
-    for (const auto& o : dut.plan(req).others) first.insert(o.id);
+    for (const auto& o : dut.plan(req).others)
+      if (!o.predicted) first.insert(o.id);
   }
   std::reverse(req.others.begin(), req.others.end());
   {
     DualBandPlanner dut(cfg, map_);
-    for (const auto& o : dut.plan(req).others) second.insert(o.id);
+    for (const auto& o : dut.plan(req).others)
+      if (!o.predicted) second.insert(o.id);
   }
   EXPECT_EQ(first.size(), 4u);
   EXPECT_EQ(first, second);
@@ -457,8 +465,11 @@ TEST_F(Degenerate, DefaultCapPlansACrowdOfTheBandSourcesBound) {
   DualBandPlanner dut(BandPlannerConfig{}, map_);
   const PlanResult r = dut.plan(crowd(64));
   ASSERT_EQ(r.status, PlanStatus::kOk);
-  EXPECT_EQ(r.others.size(), static_cast<std::size_t>(BandPlannerConfig{}.max_planned_others));
-  EXPECT_EQ(r.others.size() + r.unplanned_ids.size(), 64u);
+  const auto planned = std::count_if(r.others.begin(), r.others.end(),
+                                     [](const OtherAgentResult& o) { return !o.predicted; });
+  EXPECT_EQ(planned, BandPlannerConfig{}.max_planned_others);
+  EXPECT_EQ(r.others.size(), 64u);
+  EXPECT_EQ(static_cast<std::size_t>(planned) + r.unplanned_ids.size(), 64u);
 }
 
 TEST(DualBandPlannerConfigTest, InvalidConfigIsReported) {

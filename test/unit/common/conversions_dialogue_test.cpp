@@ -72,6 +72,19 @@ TEST(ConversionsDialogue, UtteranceRoundTrip) {
   EXPECT_DOUBLE_EQ(*back.t_cross_s, 6.9);
 }
 
+TEST(ConversionsDialogue, GroupAndCrowdDeliveriesRoundTrip) {
+  const utterance_t m =
+      toLcm({5, 9, 2}, {SpeechAct::kInformDirection, Side::kRight, 1, "You two ahead, x"}, 6.0,
+            {dialogue::Delivery::kSaid, 0.0, 1.5}, {3});
+  EXPECT_EQ(m.n_group, 1);
+  EXPECT_EQ(fromLcm(m).group, (std::vector<std::int32_t>{3}));
+  for (const auto d : {dialogue::Delivery::kToldToGroup, dialogue::Delivery::kContradicts}) {
+    const utterance_t n =
+        toLcm({5, 9, 3}, {SpeechAct::kAskToMove, Side::kLeft, 1, "x"}, 6.0, {d, 0.0, 0.0}, {2});
+    EXPECT_EQ(fromLcm(n).slot.delivery, d);
+  }
+}
+
 TEST(ConversionsDialogue, RoundThreeHasNoTCrossOnTheWire) {
   const utterance_t m =
       toLcm({1, -1, 1}, {SpeechAct::kThank, Side::kUndefined, 3, "Thank you."}, std::nullopt, {});
@@ -99,7 +112,30 @@ TEST(ConversionsDialogue, BadUtterancesAreRejected) {
       fromLcm(bad([](utterance_t& m) { m.t_cross_s = std::numeric_limits<double>::infinity(); })),
       RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.delivery = 0; })), RejectedMessage);
-  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.delivery = 4; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.delivery = 6; })), RejectedMessage);
+  // group_ids: the count must match, ids sorted and unique, never the human itself.
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.n_group = -1; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) {
+                 m.group_ids = {2, 3};
+                 m.n_group = 1;
+               })),
+               RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) {
+                 m.group_ids = {3, 2};
+                 m.n_group = 2;
+               })),
+               RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) {
+                 m.group_ids = {1};  // human_id is 1
+                 m.n_group = 1;
+               })),
+               RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) {
+                 m.group_ids.assign(65, 0);
+                 for (int i = 0; i < 65; ++i) m.group_ids[static_cast<std::size_t>(i)] = i + 2;
+                 m.n_group = 65;
+               })),
+               RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_duration_s = -0.1; })), RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_start_s = std::nan(""); })),
                RejectedMessage);

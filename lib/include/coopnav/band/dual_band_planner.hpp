@@ -69,15 +69,21 @@ struct OtherAgentResult {
   /// case a straight line / constant-velocity path was used.
   PathStatus reference_status{PathStatus::kOk};
   bool reference_changed{false};  ///< differs from the previous call's (publish on change)
+  /// Beyond the nearest max_planned_others: the band is predicted (laid along its reference at
+  /// its speed, a straight line to its goal when no path is known), not optimised jointly.
+  bool predicted{false};
 };
 
 struct PlanResult {
   PlanStatus status{PlanStatus::kInvalidInput};
-  Band agent_band;                        ///< time from request.stamp_s
-  Path2 agent_path;                       ///< the global path the band follows
-  std::vector<OtherAgentResult> others;   ///< same order as the valid request.others
+  Band agent_band;   ///< time from request.stamp_s
+  Path2 agent_path;  ///< the global path the band follows
+  /// The planned ones in the order of the valid request.others, then the predicted ones (in
+  /// request order).
+  std::vector<OtherAgentResult> others;
   std::vector<std::int32_t> skipped_ids;  ///< others with non-finite state, ignored
-  /// Valid others beyond config max_planned_others (the farthest), in request order: no band.
+  /// Valid others beyond config max_planned_others (the farthest), in request order: their band
+  /// in `others` is predicted, not planned (OtherAgentResult::predicted).
   std::vector<std::int32_t> unplanned_ids;
   Velocity2 command_body;  ///< BODY frame: vx forward, vy left, ω; zero unless kOk
   int iterations{0};

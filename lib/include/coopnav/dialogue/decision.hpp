@@ -101,6 +101,13 @@ struct DecisionConfig {
   /// half blind drives on towards a person who does not yield, and waiting at the wall for a
   /// few seconds is the safe side of that choice. false: the paper's silent reading.
   bool precautionary_dock{true};
+  /// [m] An interaction (round 1, and so every round) begins only with a human the robot is
+  /// crossing: the closest approach is still ahead (t_CROSS > 0; at 0 the two are moving apart or
+  /// alongside) and the planned centre distance there, d_HR, is at most this. Not in the paper,
+  /// whose one human always crosses; in a crowd, the people walking away, and those the robot
+  /// passes beyond social distance, are not spoken to. 3.6 m: the outer edge of Hall's social
+  /// zone (notes/social-nav.md), taken between centres, so bodies are nearer than that.
+  double crossing_range_m{3.6};
   TextTemplates templates;
 };
 
@@ -113,7 +120,9 @@ struct SituationSnapshot {
   Side dir{Side::kUndefined};    ///< side the robot passes on, as the human sees it
   std::optional<double> d_h_m;   ///< [m] nullopt = unknown
   std::optional<double> d_oh_m;  ///< [m] body clearance away from the robot; nullopt = unknown
-  std::string reason;            ///< the assessor's why for anything unknown ("" = all known)
+  std::optional<double>
+      d_hr_m;          ///< [m] |CP_h - CP_r|, the planned passing distance; nullopt = unknown
+  std::string reason;  ///< the assessor's why for anything unknown ("" = all known)
   RoomPlan room_plan{RoomPlan::kUnknown};  ///< what a dock for this human would do now
   bool robot_retreating{false};            ///< the band source is backing away (any human)
 };

@@ -18,8 +18,10 @@ namespace coopnav::dialogue {
 /// What became of a decided utterance; values mirror coopnav_utterance_t.DELIVERY_*.
 enum class Delivery : std::int8_t {
   kSaid = 1,
-  kMuted = 2,    ///< the robot is muted: decided and logged, not said
-  kTooLate = 3,  ///< its speech would end after the crossing: not said
+  kMuted = 2,        ///< the robot is muted: decided and logged, not said
+  kTooLate = 3,      ///< its speech would end after the crossing: not said
+  kToldToGroup = 4,  ///< already said to the human's group (crowd.hpp): not said again
+  kContradicts = 5,  ///< would contradict what the robot said or does (crowd.hpp): not said
 };
 const char* toString(Delivery d);
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -105,9 +106,10 @@ class DialogueManagerTest : public ::testing::Test {
   }
   void settle(milliseconds d = milliseconds(150)) { probe_.spinFor(static_cast<int>(d.count())); }
 
-  void situation(std::int64_t step, const Sit& s) {
+  /// `utime`: the message time when not the step's (free-running messages carry their own).
+  void situation(std::int64_t step, const Sit& s, std::optional<std::int64_t> utime = {}) {
     situation_t m{};
-    m.utime = utimeOf(step);
+    m.utime = utime.value_or(utimeOf(step));
     m.step = step;
     m.human_id = s.id;
     m.crossing_status = s.crossing_status;
@@ -134,9 +136,9 @@ class DialogueManagerTest : public ::testing::Test {
     probe_.publish(channels::kSituation, m);
   }
 
-  void path(std::int64_t step, const Path& p) {
+  void path(std::int64_t step, const Path& p, std::optional<std::int64_t> utime = {}) {
     path_assessment_t m{};
-    m.utime = utimeOf(step);
+    m.utime = utime.value_or(utimeOf(step));
     m.step = step;
     m.human_id = p.id;
     m.recording = p.recording;
@@ -541,6 +543,37 @@ TEST_F(DialogueManagerTest, FreeRunningActsOnEachSituationWithTheLatestPathAsses
   EXPECT_EQ(actions_[0].step, -1);
   settle();
   EXPECT_TRUE(acks_.empty()) << "free-running steps are not acknowledged";
+}
+
+TEST_F(DialogueManagerTest, FreeRunningNeverDecidesOnAStalePathAssessment) {
+  // The path assessor (or its host) is gone: its last assessment, 3 s old when round 2 comes,
+  // is not acted on (path_max_age_s 0.5 s): CM unknown, so no dock on it (the paper's silence,
+  // precautionary_dock off); the same assessment 0.1 s old docks (the test above).
+  start({"--set", "precautionary_dock=false"});
+  const std::int64_t t0 = 5'000'000;
+  situation(-1, {1, 6.9, T, F, T, situation_t::DIR_RIGHT}, t0);
+  ASSERT_TRUE(spinUntil([&] { return utterances_.size() == 1; }, seconds(3)));
+  path(-1, {1, 0.05, F}, t0 + 100'000);
+  settle(milliseconds(100));
+  situation(-1, {1, 3.8, T, F, T, situation_t::DIR_RIGHT}, t0 + 3'100'000);
+  settle(milliseconds(300));
+  EXPECT_TRUE(actions_.empty()) << "docked on a CM assessed 3 s before";
+  EXPECT_EQ(utterances_.size(), 1u);
+}
+
+TEST_F(DialogueManagerTest, AGroupIsToldOnceAddressedToAllOfIt) {
+  start();
+  primePeers();
+  // Two people side by side 0.8 m apart ahead of the robot (facing -x), both at round 1.
+  agents(1, 10.0, 0.0, {{1, 5.0, 0.4, 0.0}, {2, 5.0, -0.4, 0.0}});
+  fullStep(1, {{1, 6.9}, {2, 6.9}}, {});
+  ASSERT_EQ(utterances_.size(), 2u);
+  EXPECT_EQ(utterances_[0].human_id, 1);
+  EXPECT_EQ(utterances_[0].delivery, utterance_t::DELIVERY_SAID);
+  EXPECT_EQ(utterances_[0].text, "You two ahead, I will pass on your left.");
+  EXPECT_EQ(utterances_[0].group_ids, (std::vector<std::int32_t>{2}));
+  EXPECT_EQ(utterances_[1].human_id, 2);
+  EXPECT_EQ(utterances_[1].delivery, utterance_t::DELIVERY_TOLD_TO_GROUP);
 }
 
 TEST_F(DialogueManagerTest, AHumanWhoLeavesTheSceneEndsItsInteraction) {

@@ -38,13 +38,9 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-struct Observer {
+struct Observer : coopnav::bench::RunObserver {
   std::map<std::int64_t, Clock::time_point> agents_at, band_at;  // step -> received
   std::vector<double> cycle_ms, decision_ms;
-  std::map<std::string, bool> ready;
-  bool done{false};
-  double sim_end_s{0.0};
-  int final_state{-1};
   int max_humans{0};
 
   void onAgents(const lcm::ReceiveBuffer*, const std::string&, const coopnav::agent_states_t* m) {
@@ -66,16 +62,6 @@ struct Observer {
     decision_ms.push_back(msSince(it->second));
     band_at.erase(it);
   }
-  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const coopnav::daemon_status_t* m) {
-    ready[m->name] = true;
-  }
-  void onSim(const lcm::ReceiveBuffer*, const std::string&, const coopnav::sim_status_t* m) {
-    if (m->state != coopnav::sim_status_t::STATE_RUNNING) {
-      done = true;
-      final_state = m->state;
-      sim_end_s = static_cast<double>(m->utime) * 1e-6;
-    }
-  }
 };
 
 struct SceneResult {
@@ -94,8 +80,7 @@ SceneResult runScene(const std::string& name, int port, const std::string& log_d
   lcm.subscribe(coopnav::channels::kAgentStates, &Observer::onAgents, &obs);
   lcm.subscribe(coopnav::channels::kBands, &Observer::onBands, &obs);
   lcm.subscribe(coopnav::channels::kStepAck, &Observer::onAck, &obs);
-  lcm.subscribe(coopnav::channels::kStatus, &Observer::onStatus, &obs);
-  lcm.subscribe(coopnav::channels::kSimStatus, &Observer::onSim, &obs);
+  coopnav::bench::watchRun(lcm, obs);
   const auto ready_deadline = Clock::now() + std::chrono::seconds(60);
   while (obs.ready.size() < daemons.size() && Clock::now() < ready_deadline) lcm.handleTimeout(100);
 

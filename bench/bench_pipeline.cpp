@@ -33,13 +33,9 @@ const std::string kSource = COOPNAV_SOURCE_DIR;
 
 std::string exe(const std::string& d) { return kBuild + "/daemons/" + d + "/coopnav_" + d; }
 
-struct Observer {
+struct Observer : coopnav::bench::RunObserver {
   std::map<std::int64_t, Clock::time_point> band_at;  // step -> band received
   std::vector<double> latency_ms;
-  std::map<std::string, bool> ready;
-  bool done{false};
-  double sim_end_s{0.0};
-  int final_state{-1};
 
   std::size_t band_bytes{0};
   void onBands(const lcm::ReceiveBuffer* rb, const std::string&, const coopnav::bands_t* m) {
@@ -53,16 +49,6 @@ struct Observer {
     latency_ms.push_back(
         std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
     band_at.erase(it);
-  }
-  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const coopnav::daemon_status_t* m) {
-    ready[m->name] = true;
-  }
-  void onSim(const lcm::ReceiveBuffer*, const std::string&, const coopnav::sim_status_t* m) {
-    if (m->state != coopnav::sim_status_t::STATE_RUNNING) {
-      done = true;
-      final_state = m->state;
-      sim_end_s = static_cast<double>(m->utime) * 1e-6;
-    }
   }
 };
 
@@ -117,8 +103,7 @@ int main() {
     Observer obs;
     lcm.subscribe(coopnav::channels::kBands, &Observer::onBands, &obs);
     lcm.subscribe(coopnav::channels::kStepAck, &Observer::onAck, &obs);
-    lcm.subscribe(coopnav::channels::kStatus, &Observer::onStatus, &obs);
-    lcm.subscribe(coopnav::channels::kSimStatus, &Observer::onSim, &obs);
+    coopnav::bench::watchRun(lcm, obs);
     const auto ready_deadline = Clock::now() + std::chrono::seconds(60);
     while (obs.ready.size() < 5 && Clock::now() < ready_deadline) lcm.handleTimeout(100);
 

@@ -8,9 +8,14 @@
 #include <cstdio>
 #include <cstring>
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "coopnav/channels.hpp"
+#include "coopnav/daemon_status_t.hpp"
+#include "coopnav/sim_status_t.hpp"
 
 namespace coopnav::bench {
 
@@ -77,6 +82,30 @@ inline std::vector<std::pair<std::string, pid_t>> startDaemons(const std::string
     out.emplace_back(d, spawnProcess(args, log_prefix + "_" + d + ".log"));
   }
   return out;
+}
+
+/// What every whole-system benchmark watches on the bus: which daemons reported status (ready),
+/// and the simulator's end (its final state and simulated time). Derived observers add their own
+/// channels; subscribe these two with watchRun.
+struct RunObserver {
+  std::map<std::string, bool> ready;
+  bool done{false};
+  double sim_end_s{0.0};
+  int final_state{-1};
+  void onStatus(const lcm::ReceiveBuffer*, const std::string&, const coopnav::daemon_status_t* m) {
+    ready[m->name] = true;
+  }
+  void onSim(const lcm::ReceiveBuffer*, const std::string&, const coopnav::sim_status_t* m) {
+    if (m->state != coopnav::sim_status_t::STATE_RUNNING) {
+      done = true;
+      final_state = m->state;
+      sim_end_s = static_cast<double>(m->utime) * 1e-6;
+    }
+  }
+};
+inline void watchRun(lcm::LCM& lcm, RunObserver& obs) {
+  lcm.subscribe(coopnav::channels::kStatus, &RunObserver::onStatus, &obs);
+  lcm.subscribe(coopnav::channels::kSimStatus, &RunObserver::onSim, &obs);
 }
 
 /// CPU time (user + system) a live process has used so far [s]; NaN when it cannot be read.

@@ -135,7 +135,7 @@ inline void utterance(const ChannelInput& in) {
   try {
     const UtteranceMsg u = fromLcm(msg);
     if (!stringsEncodable(msg)) return;
-    const utterance_t back = reencode(toLcm(u.stamp, u.utterance, u.t_cross_s, u.slot));
+    const utterance_t back = reencode(toLcm(u.stamp, u.utterance, u.t_cross_s, u.slot, u.group));
     (void)fromLcm(back);
   } catch (const RejectedMessage&) {
   }

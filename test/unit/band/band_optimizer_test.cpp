@@ -172,7 +172,7 @@ TEST(BandOptimizerTest, CeresOptionsScopeRestoresThePreviousOptions) {
   // Given nested scopes, the inner one's options apply only while it lives: after it the outer
   // configuration solves again (same cost as a fresh solve with the outer one alone).
   CeresBackendOptions outer;
-  outer.sparse_library = ceres::EIGEN_SPARSE;
+  outer.sparse_library = ceres::CX_SPARSE;
   CeresBackendOptions inner;
   inner.linear_solver = ceres::DENSE_SCHUR;
   HeadOnPair a, b;

@@ -3,7 +3,9 @@
 // Prints, in one run: suite wall time over simulated time, and the latency from a band message
 // published to the dialogue manager's decision for that step (its step acknowledgement, which
 // it sends after publishing whatever it decided), p50 / p99, beside a bare LCM echo measured in
-// the same run. Ends with RESULT lines.
+// the same run, and where that latency goes: per step, when each hop of the chain arrived
+// (band source's ack, the distance request and reply, the situation, the path assessment, each
+// assessor's ack, the dialogue manager's ack), p50 / p99 after the bands. Ends with RESULT lines.
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -22,7 +24,11 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/daemon_status_t.hpp"
+#include "coopnav/distance_reply_t.hpp"
+#include "coopnav/distance_request_t.hpp"
+#include "coopnav/path_assessment_t.hpp"
 #include "coopnav/sim_status_t.hpp"
+#include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 
 namespace {
@@ -33,22 +39,60 @@ const std::string kSource = COOPNAV_SOURCE_DIR;
 
 std::string exe(const std::string& d) { return kBuild + "/daemons/" + d + "/coopnav_" + d; }
 
+// The hops of the band -> decision chain, in the order the pipeline takes them.
+const std::vector<std::string> kHops{
+    "ack band_source",        "distance request", "distance reply",    "situation",
+    "ack situation_assessor", "path assessment",  "ack path_assessor", "ack dialogue_manager"};
+
 struct Observer : coopnav::bench::RunObserver {
-  std::map<std::int64_t, Clock::time_point> band_at;  // step -> band received
+  struct Step {
+    Clock::time_point bands;
+    std::map<std::string, Clock::time_point> hop;  // first arrival of each hop
+  };
+  std::map<std::int64_t, Step> steps;            // step -> its band and hop times
+  std::map<std::int64_t, std::int64_t> step_of;  // utime -> step (distance traffic has no step)
   std::vector<double> latency_ms;
+  std::map<std::string, std::vector<double>> hop_ms;  // hop -> after the bands [ms]
 
   std::size_t band_bytes{0};
   void onBands(const lcm::ReceiveBuffer* rb, const std::string&, const coopnav::bands_t* m) {
-    band_at[m->step] = Clock::now();
+    steps[m->step].bands = Clock::now();
+    step_of[m->utime] = m->step;
     band_bytes = std::max<std::size_t>(band_bytes, rb->data_size);
   }
+  void note(std::int64_t step, const std::string& hop) {
+    auto it = steps.find(step);
+    if (it != steps.end()) it->second.hop.emplace(hop, Clock::now());
+  }
+  void noteUtime(std::int64_t utime, const std::string& hop) {
+    auto it = step_of.find(utime);
+    if (it != step_of.end()) note(it->second, hop);
+  }
+  void onRequest(const lcm::ReceiveBuffer*, const std::string&,
+                 const coopnav::distance_request_t* m) {
+    noteUtime(m->utime, "distance request");
+  }
+  void onReply(const lcm::ReceiveBuffer*, const std::string&, const coopnav::distance_reply_t* m) {
+    noteUtime(m->utime, "distance reply");
+  }
+  void onSituation(const lcm::ReceiveBuffer*, const std::string&, const coopnav::situation_t* m) {
+    note(m->step, "situation");
+  }
+  void onPath(const lcm::ReceiveBuffer*, const std::string&, const coopnav::path_assessment_t* m) {
+    note(m->step, "path assessment");
+  }
   void onAck(const lcm::ReceiveBuffer*, const std::string&, const coopnav::step_ack_t* m) {
+    note(m->step, "ack " + m->participant);
     if (m->participant != "dialogue_manager") return;
-    auto it = band_at.find(m->step);
-    if (it == band_at.end()) return;
-    latency_ms.push_back(
-        std::chrono::duration<double, std::milli>(Clock::now() - it->second).count());
-    band_at.erase(it);
+    auto it = steps.find(m->step);
+    if (it == steps.end()) return;
+    const auto ms = [&](Clock::time_point t) {
+      return std::chrono::duration<double, std::milli>(t - it->second.bands).count();
+    };
+    latency_ms.push_back(ms(Clock::now()));
+    for (const auto& [hop, t] : it->second.hop) hop_ms[hop].push_back(ms(t));
+    step_of.erase(m->utime);
+    steps.erase(it);
   }
 };
 
@@ -87,6 +131,7 @@ int main() {
   ::mkdir(log_dir.c_str(), 0755);
   double wall_total_s = 0.0, sim_total_s = 0.0;
   std::vector<double> all_latency_ms;
+  std::map<std::string, std::vector<double>> all_hop_ms;
   std::size_t band_bytes = 0;
   int port = 7971;
   for (const auto& name : scenarios) {
@@ -103,6 +148,11 @@ int main() {
     Observer obs;
     lcm.subscribe(coopnav::channels::kBands, &Observer::onBands, &obs);
     lcm.subscribe(coopnav::channels::kStepAck, &Observer::onAck, &obs);
+    lcm.subscribe(coopnav::channels::kDistanceRequest, &Observer::onRequest, &obs);
+    lcm.subscribe(std::string(coopnav::channels::kDistanceReplyPrefix) + ".*", &Observer::onReply,
+                  &obs);
+    lcm.subscribe(coopnav::channels::kSituation, &Observer::onSituation, &obs);
+    lcm.subscribe(coopnav::channels::kPathAssessment, &Observer::onPath, &obs);
     coopnav::bench::watchRun(lcm, obs);
     const auto ready_deadline = Clock::now() + std::chrono::seconds(60);
     while (obs.ready.size() < 5 && Clock::now() < ready_deadline) lcm.handleTimeout(100);
@@ -125,6 +175,8 @@ int main() {
     sim_total_s += obs.sim_end_s;
     all_latency_ms.insert(all_latency_ms.end(), obs.latency_ms.begin(), obs.latency_ms.end());
     band_bytes = std::max(band_bytes, obs.band_bytes);
+    for (const auto& [hop, v] : obs.hop_ms)
+      all_hop_ms[hop].insert(all_hop_ms[hop].end(), v.begin(), v.end());
   }
   if (band_bytes == 0) band_bytes = 4096;
   const auto echo = echoRoundTrips("udpm://239.255.76.67:7979?ttl=0", band_bytes, 500);
@@ -138,8 +190,16 @@ int main() {
       "band -> decision: p50 %.2f ms, p99 %.2f ms over %zu steps; bare LCM echo of %zu "
       "bytes: p50 %.3f ms, p99 %.3f ms (ratio p50 %.1f)\n",
       p50, p99, all_latency_ms.size(), band_bytes, e50, e99, p50 / e50);
+  std::printf("where it goes, after the bands arrived (ms; steps that had the hop):\n");
+  for (const auto& hop : kHops) {
+    const auto& v = all_hop_ms[hop];
+    if (v.empty()) continue;
+    std::printf("  %-24s p50 %7.3f  p99 %7.3f  (%zu steps)\n", hop.c_str(),
+                coopnav::bench::percentile(v, 0.5), coopnav::bench::percentile(v, 0.99), v.size());
+  }
   std::printf("RESULT suite_wall_over_sim %.4f\n", wall_total_s / sim_total_s);
   std::printf("RESULT decision_latency_p50_ms %.3f\n", p50);
   std::printf("RESULT decision_latency_p99_ms %.3f\n", p99);
+  std::printf("RESULT decision_latency_p99_vs_echo %.3f\n", p99 / e99);
   return 0;
 }

@@ -121,14 +121,17 @@ run_one() {
     scen="$dir/scenario/$name.yaml"
   fi
   crashed=""
+  coopnav_progress_run "$name $kind"
   coopnav_run_scenario "$scen" "$dir" "$port" || rc=$?
   port=$((port + 10))
   local verdict="" detail=""
   if [ "$rc" -ne 0 ]; then
+    coopnav_progress_end /dev/null
     verdict="FAIL"
     detail="world_sim exit $rc: $(tail -1 "$dir/world_sim.log")"
   else
     "$ctl" transcript "$dir/$name.lcm" --scenario "$name" >"$dir/transcript.txt"
+    coopnav_progress_end "$dir/transcript.txt"
     decisions "$dir/transcript.txt" >"$dir/decisions.txt"
     local sim
     sim="$(grep -o '  SIM [A-Z_]*' "$dir/transcript.txt" | tail -1 | sed 's/  SIM //')"
@@ -204,6 +207,18 @@ run_one() {
 }
 
 read -r -a kill_daemons <<<"$kill_list"
+runs=0
+for name in $scen_list; do
+  runs=$((runs + 1))
+  if [ "$do_kill" -eq 1 ]; then
+    runs=$((runs + (kills_per > 0 ? kills_per : ${#kill_daemons[@]})))
+  fi
+  if [ "$do_absent" -eq 1 ] && { [ -z "$absent_in" ] || [[ " $absent_in " == *" $name "* ]]; }; then
+    runs=$((runs + 1))
+  fi
+  runs=$((runs + do_loss))
+done
+coopnav_progress_start "$runs"
 ki=0
 for name in $scen_list; do
   echo "== $name"

@@ -5,15 +5,15 @@ set -euo pipefail
 COOPNAV_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:-$COOPNAV_ROOT/build}"
 
-# Debian 12 packages: toolchain, LCM (C/C++, tools, Java for lcm-spy), libraries, test tools,
-# clang with its libFuzzer / sanitizer runtimes (scripts/fuzz.sh), clang-format and clang-tidy
-# (scripts/lint.sh).
+# Debian 12 packages: toolchain, LCM (C/C++, tools, Java with its window toolkit for lcm-spy),
+# libraries, test tools (Xvfb: lcm-spy in a real display, e2e_spy_test), clang with its libFuzzer /
+# sanitizer runtimes (scripts/fuzz.sh), clang-format and clang-tidy (scripts/lint.sh).
 COOPNAV_DEBS=(
   build-essential cmake ninja-build pkg-config git ca-certificates
-  liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless libjchart2d-java
+  liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless default-jre libjchart2d-java
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev
-  iproute2 procps python3 espeak-ng sox
+  iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core
   clang-14 libclang-rt-14-dev clang-format clang-tidy
 )
 
@@ -102,4 +102,51 @@ coopnav_stop_all() {
   for p in "${COOPNAV_PIDS[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
   for p in "${COOPNAV_PIDS[@]}"; do wait "$p" 2>/dev/null || true; done
   COOPNAV_PIDS=()
+}
+
+# Progress of a job of several runs (run.sh, faults.sh; population.sh has its own): one line per
+# finished run with the simulated time it covered, its outcome, its wall time and the job's ETA
+# (mean wall time of the runs so far times the runs left). On a terminal a line ticks in place
+# while a run goes on; piped, only the finished lines are printed, plain.
+coopnav_progress_start() {  # TOTAL
+  _cn_prog_total=$1 _cn_prog_done=0 _cn_prog_wall_s=0 _cn_prog_ticker=""
+}
+coopnav_progress_eta() {  # the ETA of the runs not finished, from the mean of the finished ones
+  local left=$((_cn_prog_total - _cn_prog_done))
+  if [ "$_cn_prog_done" -eq 0 ]; then echo "ETA unknown"; return; fi
+  awk -v w="$_cn_prog_wall_s" -v d="$_cn_prog_done" -v l="$left" \
+    'BEGIN { e = w / d * l; if (l == 0) print "done"; else printf "ETA %.0f s", e }'
+}
+coopnav_progress_run() {  # LABEL: a run begins
+  _cn_prog_label=$1
+  _cn_prog_t0=$(date +%s.%N)
+  [ -t 1 ] || return 0
+  local n=$((_cn_prog_done + 1)) eta
+  eta="$(coopnav_progress_eta)"
+  (
+    while sleep 1; do
+      printf '\r\033[K[%d/%d] %s: running, %.0f s wall; %s' "$n" "$_cn_prog_total" \
+        "$_cn_prog_label" "$(awk -v a="$_cn_prog_t0" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')" \
+        "$eta"
+    done
+  ) &
+  _cn_prog_ticker=$!
+}
+coopnav_progress_end() {  # TRANSCRIPT: the run is over; its last SIM line gives time and outcome
+  if [ -n "$_cn_prog_ticker" ]; then
+    kill "$_cn_prog_ticker" 2>/dev/null || true
+    wait "$_cn_prog_ticker" 2>/dev/null || true
+    _cn_prog_ticker=""
+    printf '\r\033[K'
+  fi
+  local wall sim outcome
+  wall="$(awk -v a="$_cn_prog_t0" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')"
+  _cn_prog_done=$((_cn_prog_done + 1))
+  _cn_prog_wall_s="$(awk -v a="$_cn_prog_wall_s" -v b="$wall" 'BEGIN{print a+b}')"
+  sim="$(grep -o '^t=[0-9.]*s  SIM [A-Z_]*' "$1" 2>/dev/null | tail -1 || true)"
+  outcome="${sim##* }"
+  sim="${sim%%s  SIM*}"
+  sim="${sim#t=}"
+  printf '[%d/%d] %s: %s s simulated (%s) in %s s wall; %s\n' "$_cn_prog_done" "$_cn_prog_total" \
+    "$_cn_prog_label" "${sim:-?}" "${outcome:-no end}" "$wall" "$(coopnav_progress_eta)"
 }

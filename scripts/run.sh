@@ -66,28 +66,30 @@ trap 'coopnav_stop_all; exit 130' INT TERM
 summaries=()
 failed=0
 dm_args="${COOPNAV_DAEMON_ARGS_dialogue_manager:-}"  # --speech adds to these per scenario
+coopnav_progress_start "${#scenarios[@]}"
 for scenario in "${scenarios[@]}"; do
   scenario="$(cd "$(dirname "$scenario")" && pwd)/$(basename "$scenario")"
   name="$(basename "$scenario" .yaml)"
   dir="$out/$name"
   echo "== $name  ($scenario)"
-  start_s=$(date +%s.%N)
+  coopnav_progress_run "$name"
   rc=0
   if [ "$speech" -eq 1 ]; then
     export COOPNAV_DAEMON_ARGS_dialogue_manager="$dm_args --set speech.enabled=true \
 --set speech.wav_dir=$dir/speech"
   fi
   coopnav_run_scenario "$scenario" "$dir" "$port" || rc=$?
-  end_s=$(date +%s.%N)
   port=$((port + 1))
   if [ "$rc" -ne 0 ]; then
+    coopnav_progress_end /dev/null
     echo "run.sh: the run failed (exit $rc) for $name; see $dir/*.log" >&2
     tail -5 "$dir/world_sim.log" >&2 || true
     failed=1
     continue
   fi
-  echo "   wall time $(awk -v a="$start_s" -v b="$end_s" 'BEGIN{printf "%.1f", b-a}') s"
-  "$ctl" transcript "$dir/$name.lcm" --scenario "$name" | tee "$dir/transcript.txt"
+  "$ctl" transcript "$dir/$name.lcm" --scenario "$name" >"$dir/transcript.txt"
+  coopnav_progress_end "$dir/transcript.txt"
+  cat "$dir/transcript.txt"
   "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json"
   "$ctl" figures "$dir/$name.lcm" --scenario "$name" --out-dir "$dir"
   summaries+=("$dir/summary.json")

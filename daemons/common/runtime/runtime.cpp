@@ -289,14 +289,16 @@ void Runtime::runDueTimers() {
   }
 }
 
+int Runtime::pollTimeoutMs(std::chrono::steady_clock::duration until_due) {
+  const long ms = std::chrono::ceil<std::chrono::milliseconds>(until_due).count();
+  return static_cast<int>(std::clamp<long>(ms, 0, 1000));
+}
+
 int Runtime::msUntilNextTimer() const {
   const auto now = std::chrono::steady_clock::now();
-  long best = 1000;
-  for (const auto& t : timers_) {
-    best = std::min<long>(
-        best, std::chrono::duration_cast<std::chrono::milliseconds>(t.next - now).count());
-  }
-  return static_cast<int>(std::max<long>(best, 0));
+  int best = 1000;
+  for (const auto& t : timers_) best = std::min(best, pollTimeoutMs(t.next - now));
+  return best;
 }
 
 int Runtime::spinFor(int timeout_ms) {

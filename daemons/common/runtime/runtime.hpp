@@ -130,6 +130,10 @@ class Runtime {
 
   /// Runs `fn` every `period` of monotonic time from the loop (liveness work only).
   void addTimer(std::chrono::milliseconds period, std::function<void()> fn);
+  /// poll()'s timeout [ms] for the next timer due in `until_due`: rounded up to whole
+  /// milliseconds (0 only when due), so that the loop sleeps until the timer is due instead of
+  /// polling without a timeout through the last fraction of a millisecond; at most 1000.
+  static int pollTimeoutMs(std::chrono::steady_clock::duration until_due);
 
   /// Sets the state and the free-text detail reported in the status message.
   void setDegraded(const std::string& detail);

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# A population of head-on corridor encounters (docs/population.md): generates N scenario files
-# from a seed (tools/population), runs them JOBS at a time, each on a udpm port of its own and in
-# a folder of its own, plus one run without humans per corridor layout (the time-to-goal
-# baseline), and writes DIR/population.json and DIR/population.txt. The exit code is non-zero
-# when a contact had the robot at fault (1) or a run left no summary (3), muted twins included.
+# A population of head-on corridor (or crowd) encounters (docs/population.md): generates N
+# scenario files from a seed (tools/population), runs them JOBS at a time, each on a udpm port of
+# its own and in a folder of its own, plus one run without humans per corridor layout (the
+# time-to-goal baseline), and writes DIR/population.json and DIR/population.txt. The exit code
+# is non-zero when a contact had the robot at fault (1), a run failed a dialogue check (4: words
+# to someone not being crossed, a contradiction, a group told twice, a sentence not addressed
+# among several people) or a run left no summary (3), muted twins included. A line per finished
+# run says where it stands (on a terminal one line, rewritten).
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
 #                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
-#                         [--cue-effect]
+#                         [--cue-effect | --crowd]
 #   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
 #   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
@@ -16,7 +19,10 @@
 #   --cue-effect: every head-on human responsive (the other draws as the seed's), every encounter
 #   run twice, speaking in DIR/runs/<name> and with the dialogue manager muted (--set muted=true)
 #   in DIR/runs/<name>_muted, same scenario file and seed; the table adds what the spoken cue
-#   changes (docs/population.md "Speaking and muted"); default DIR runs/population-<seed>-cue)
+#   changes (docs/population.md "Speaking and muted"); default DIR runs/population-<seed>-cue;
+#   --crowd: crowd encounters, 2-10 people: flows both ways, a group abreast, people standing
+#   talking by a wall, a junction (docs/population.md "Crowds"); default DIR
+#   runs/population-<seed>-crowd)
 # Environment: COOPNAV_POP_PORT_BASE (7400; run k of JOBS uses base + its slot),
 # COOPNAV_POP_RUN_TIMEOUT_S (900: wall seconds before a run is stopped).
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
@@ -33,6 +39,7 @@ if [ "${1:-}" = "--worker" ]; then
   scenario="$2" dir="$3" port="$4"
   name="$(basename "$scenario" .yaml)"  # a muted twin runs its encounter's file: same name
   rm -rf "$dir"
+  mkdir -p "$dir"
   start_s=$(date +%s.%N)
   rc=0
   coopnav_run_scenario "$scenario" "$dir" "$port" || rc=$?
@@ -41,9 +48,13 @@ if [ "${1:-}" = "--worker" ]; then
     "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json" \
       >"$dir/summarize.log" 2>&1 || true
   fi
-  state="$(grep -o '"final_state": "[A-Z_]*"' "$dir/summary.json" 2>/dev/null | cut -d'"' -f4)"
-  printf '%-22s %-20s %6.1f s wall\n' "$(basename "$dir")" "${state:-NO_SUMMARY}" \
-    "$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{print b-a}')"
+  # For the progress line of the script that started this worker: state, simulated and wall s.
+  state="$(grep -o '"final_state": "[A-Z_]*"' "$dir/summary.json" 2>/dev/null | head -n 1 |
+    cut -d'"' -f4 || true)"
+  sim_s="$(grep -o '"sim_time_s": [0-9.eE+-]*' "$dir/summary.json" 2>/dev/null | head -n 1 |
+    awk '{print $2}' || true)"
+  printf '%s %s %s\n' "${state:-NO_SUMMARY}" "${sim_s:--}" \
+    "$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')" >"$dir/worker.txt"
   exit 0
 fi
 
@@ -53,6 +64,7 @@ jobs="$(nproc)"
 out=""
 build=1
 cue_effect=0
+crowd=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --n) n="$2"; shift 2 ;;
@@ -71,11 +83,16 @@ while [ $# -gt 0 ]; do
       shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
     --cue-effect) cue_effect=1; shift ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --crowd) crowd=1; shift ;;
+    -h|--help) sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "population.sh: -j needs a positive integer" >&2; exit 2; }
+if [ "$cue_effect" -eq 1 ] && [ "$crowd" -eq 1 ]; then
+  echo "population.sh: --cue-effect and --crowd do not go together" >&2
+  exit 2
+fi
 
 if [ "$build" -eq 1 ]; then
   coopnav_install_deps
@@ -103,6 +120,10 @@ if [ "$cue_effect" -eq 1 ]; then
   gen_args=(--behaviour responsive --cue-effect)
   out="${out:-$COOPNAV_ROOT/runs/population-$seed-cue}"
 fi
+if [ "$crowd" -eq 1 ]; then
+  gen_args=(--crowd)
+  out="${out:-$COOPNAV_ROOT/runs/population-$seed-crowd}"
+fi
 out="${out:-$COOPNAV_ROOT/runs/population-$seed}"
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
@@ -112,6 +133,7 @@ out="$(cd "$out" && pwd)"
 port_base="${COOPNAV_POP_PORT_BASE:-7400}"
 timeout_s="${COOPNAV_POP_RUN_TIMEOUT_S:-900}"
 declare -A slot_of=()  # worker pid -> slot (its port offset)
+declare -A name_of=()  # worker pid -> run name
 free_slots=()
 for ((s = 0; s < jobs; s++)); do free_slots+=("$s"); done
 stop_workers() {
@@ -121,6 +143,23 @@ stop_workers() {
 }
 trap 'stop_workers; exit 130' INT TERM
 
+# Progress: one line per finished run (name, final state, simulated and wall time of the run,
+# runs done / all, ETA from the mean wall time per finished run at this JOBS); on a terminal the
+# line is rewritten in place, piped every line stays.
+done_runs=0
+progress() {  # NAME
+  local name="$1" state="NO_SUMMARY" sim="-" wall="-" now eta line
+  if [ -f "$out/runs/$name/worker.txt" ]; then read -r state sim wall <"$out/runs/$name/worker.txt"; fi
+  done_runs=$((done_runs + 1))
+  now=$(date +%s.%N)
+  eta="$(awk -v a="$start_s" -v b="$now" -v d="$done_runs" -v n="${#lines[@]}" 'BEGIN{
+    s = (b - a) / d * (n - d); printf "%dm%02ds", int(s / 60), int(s) % 60 }')"
+  [ "$sim" = "-" ] || sim="$(printf '%.1f s' "$sim")"
+  line="$(printf '[%d/%d] %-16s %-19s sim %-8s wall %6s s  ETA %s' "$done_runs" "${#lines[@]}" \
+    "$name" "$state" "$sim" "$wall" "$eta")"
+  if [ -t 1 ]; then printf '\r%s\033[K' "$line"; else echo "$line"; fi
+}
+
 reap() {
   local p
   for p in "${!slot_of[@]}"; do
@@ -128,6 +167,8 @@ reap() {
       wait "$p" 2>/dev/null || true
       free_slots+=("${slot_of[$p]}")
       unset "slot_of[$p]"
+      progress "${name_of[$p]}"
+      unset "name_of[$p]"
     fi
   done
 }
@@ -155,11 +196,13 @@ for line in "${lines[@]}"; do
       "$((port_base + slot))" &
   fi
   slot_of[$!]="$slot"
+  name_of[$!]="$name"
 done
 while [ "${#slot_of[@]}" -gt 0 ]; do
   wait -n 2>/dev/null || true
   reap
 done
+if [ -t 1 ]; then echo; fi
 wall_s="$(awk -v a="$start_s" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b-a}')"
 echo "runs ${#lines[@]} jobs $jobs wall_s $wall_s" >"$out/timing.txt"
 echo "population: ${#lines[@]} runs in $wall_s s wall with -j $jobs"

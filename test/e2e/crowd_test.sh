@@ -6,13 +6,15 @@
 # robot is not crossing, no contradictory words (a group told to part around the robot; someone
 # told the robot passes while it waits for another), no group told the same round twice. And
 # what the crowd logic is for is seen happening: the three walking abreast hear one plan,
-# addressed to the three of them; the people walking away ahead of the robot hear nothing.
+# addressed to the three of them; the people walking away ahead of the robot hear nothing; at the
+# junction of junctions.pgm the pair crossing the robot's path together is told once, as a pair,
+# and the one turning away ahead of the robot hears nothing.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
-names=(crowd_2_open crowd_5_flows crowd_group_abreast crowd_standing_talk)
+names=(crowd_2_open crowd_5_flows crowd_group_abreast crowd_standing_talk crowd_junction)
 scenarios=()
 for n in "${names[@]}"; do scenarios+=("$src/config/scenarios/$n.yaml"); done
 # Ports of this test only (ctest runs e2e tests in parallel).
@@ -44,6 +46,16 @@ for name, s in sorted(scen.items()):
         for hid, e in said:
             if hid in (4, 5):
                 bad.append(f"{name}: human {hid} walks away ahead of the robot and was told {e['text']!r}")
+    if name == "crowd_junction":
+        for hid, e in said:
+            if hid == 5:
+                bad.append(f"{name}: human 5 walks away ahead of the robot and was told {e['text']!r}")
+            if hid in (2, 3) and not e["text"].startswith("You two"):
+                bad.append(f"{name}: {e['text']!r} to human {hid} is not addressed to the pair")
+        for r in (1, 2):
+            pair = [(hid, e) for hid, e in said if hid in (2, 3) and e["round"] == r]
+            if len(pair) > 1:
+                bad.append(f"{name}: the pair heard round {r} {len(pair)} times: {pair}")
     if name == "crowd_group_abreast":
         round1 = [(hid, e) for hid, e in said if e["round"] == 1]
         if len(round1) > 1:

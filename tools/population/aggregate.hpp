@@ -6,8 +6,10 @@
 /// Fields of summary.json this reads beyond the long-standing ones (`final_state`, `detail`,
 /// `min_clearance_m`, `robot_time_to_goal_s`, `sim_time_s`, `humans[].cm_interaction_m` ...):
 /// `contact` (null or {human_id, t_s, robot_at_fault, robot_speed_m_s}), `min_clearance_t_s`,
-/// `docks`, `retreats`, `guard_steps`. A missing field is unknown (null in the output), so the
-/// tool reads summaries written before and after those fields exist.
+/// `docks`, `retreats`, `guard_steps`, `dialogue_checks` (said, addressed and the lists of
+/// words said to someone not being crossed, contradictions, groups told twice). A missing field
+/// is unknown (null in the output), so the tool reads summaries written before and after those
+/// fields exist.
 
 #include <algorithm>
 #include <array>
@@ -37,6 +39,7 @@ inline constexpr const char* kPopulationFormat = "coopnav-population/1";
 struct PlanOptions {
   std::string head_on_behaviour;  ///< generate --behaviour: every head-on human's behaviour
   bool muted_twins{false};        ///< generate --cue-effect: every encounter also runs muted
+  bool crowd{false};              ///< generate --crowd: crowd encounters (generateCrowdPopulation)
 };
 
 /// The run of an encounter with the dialogue manager muted (same scenario file and seed).
@@ -51,6 +54,7 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
   plan["n"] = encounters.size();
   if (!options.head_on_behaviour.empty()) plan["head_on_behaviour"] = options.head_on_behaviour;
   if (options.muted_twins) plan["cue_effect"] = true;
+  if (options.crowd) plan["crowd"] = true;
   Json list = Json::array();
   std::set<std::string> baselines;
   Json base_list = Json::array();
@@ -61,6 +65,7 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
     j["baseline"] = baselineName(e.layout);
     j["layout"] = e.layout.key;
     j["width_m"] = e.layout.width_m;
+    if (!e.kind.empty()) j["kind"] = e.kind;
     if (options.muted_twins) j["muted_twin"] = mutedTwinName(e.name);
     Json humans = Json::array();
     for (const auto& h : e.humans) {
@@ -73,6 +78,7 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
       Json params = Json::object();
       for (const auto& [k, v] : h.params) params[k] = v;
       hj["params"] = std::move(params);
+      if (!e.kind.empty()) hj["group"] = h.group;
       humans.push_back(std::move(hj));
     }
     j["humans"] = std::move(humans);
@@ -115,6 +121,40 @@ inline std::string text(const Json* v) {
 inline Json boolOrNull(const Json* v) { return v != nullptr && v->is_boolean() ? *v : Json(); }
 
 }  // namespace detail
+
+/// Roles of the assessed encounters: people coming towards the robot. Not one walking its way
+/// (same_way), across its path at a junction (crossing) or standing (standing).
+inline bool isOncomingRole(const std::string& role) {
+  return role == "head_on" || role == "follower";
+}
+
+/// The dialogue checks of one run (summary.json `dialogue_checks`, read from the log alone):
+/// {said, addressed, unaddressed_with_several (said - addressed when the scenario has several
+/// people, else null: alone the paper's words are said unaddressed), said_to_not_crossing,
+/// contradictions, told_twice (the summary's lists), fails}; null when the run has no summary or
+/// its summary no checks (older summaries: unknown, not failing).
+inline Json dialogueChecksOf(const Json* run, std::size_t humans) {
+  const Json* c = detail::field(run, "dialogue_checks");
+  if (c == nullptr || !c->is_object()) return Json();
+  Json d;
+  const Json said = detail::numberOrNull(detail::field(c, "said"));
+  const Json addressed = detail::numberOrNull(detail::field(c, "addressed"));
+  d["said"] = said;
+  d["addressed"] = addressed;
+  d["unaddressed_with_several"] =
+      humans > 1 && said.is_number() && addressed.is_number()
+          ? Json(said.get<std::int64_t>() - addressed.get<std::int64_t>())
+          : Json();
+  bool fails = d["unaddressed_with_several"].is_number() &&
+               d["unaddressed_with_several"].get<std::int64_t>() > 0;
+  for (const char* key : {"said_to_not_crossing", "contradictions", "told_twice"}) {
+    const Json* list = detail::field(c, key);
+    d[key] = list != nullptr && list->is_array() ? *list : Json::array();
+    fails = fails || !d[key].empty();
+  }
+  d["fails"] = fails;
+  return d;
+}
 
 /// The verdict expected of a behaviour (docs/population.md): facilitating and late_facilitating
 /// contribute, minimal and oblivious do not; social_force and responsive: no expectation (null).
@@ -507,6 +547,18 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   int goal_humans = 0, goal_judged = 0, goal_correct = 0;  // goal inference at round 1
   std::map<std::string, std::optional<double>> sums{
       {"docks", 0.0}, {"retreats", 0.0}, {"guard_steps", 0.0}};
+  struct DialogueTally {
+    int checked = 0, without = 0, not_crossing = 0, contradictions = 0, told_twice = 0,
+        unaddressed_runs = 0, failing = 0;
+    std::int64_t said = 0, addressed = 0, unaddressed = 0;
+  } dlg;
+  // Crowds: the safety figures and the checks per kind of encounter.
+  struct KindTally {
+    int runs = 0, without_summary = 0, goal_reached = 0, contacts = 0, safety = 0,
+        dialogue_failing = 0;
+    std::vector<double> clearances;
+  };
+  std::map<std::string, KindTally> by_kind;
 
   for (const auto& e : plan.at("encounters")) {
     const std::string name = e.at("name").get<std::string>();
@@ -517,6 +569,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
     r["scenario"] = e.at("scenario");
     r["layout"] = e.at("layout");
     r["width_m"] = e.at("width_m");
+    if (e.contains("kind")) r["kind"] = e.at("kind");
     const std::string outcome = run ? text(field(run, "final_state")) : "NO_SUMMARY";
     r["outcome"] = outcome.empty() ? "UNKNOWN" : outcome;
     ++outcomes[r["outcome"].get<std::string>()];
@@ -581,7 +634,8 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       // Goals withheld: was the region planned with at round 1 the one the human walked to?
       const Json* gi = field(found, "goal_inference");
       hr["goal_correct_at_round1"] = boolOrNull(field(gi, "correct"));
-      if (run != nullptr && h.at("role") != "same_way" && gi != nullptr && gi->is_object()) {
+      if (run != nullptr && isOncomingRole(h.at("role").get<std::string>()) && gi != nullptr &&
+          gi->is_object()) {
         ++goal_humans;
         const Json& c = hr["goal_correct_at_round1"];
         if (!c.is_null()) {
@@ -592,7 +646,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       const Json expected = expectedContributing(behaviour);
       hr["expected_contributing"] = expected;
       // The oncoming humans are the assessed encounters; one walking the robot's way is not.
-      if (run != nullptr && h.at("role") != "same_way") {
+      if (run != nullptr && isOncomingRole(h.at("role").get<std::string>())) {
         if (!expected.is_null()) {
           Tally& t = accuracy[behaviour];
           const Json& v = hr["is_contributing_interaction"];
@@ -624,6 +678,36 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       humans.push_back(std::move(hr));
     }
     r["humans"] = std::move(humans);
+
+    Json checks = dialogueChecksOf(run, e.at("humans").size());
+    if (run != nullptr && checks.is_null()) ++dlg.without;
+    if (checks.is_object()) {
+      ++dlg.checked;
+      dlg.said += checks["said"].is_number() ? checks["said"].get<std::int64_t>() : 0;
+      dlg.addressed +=
+          checks["addressed"].is_number() ? checks["addressed"].get<std::int64_t>() : 0;
+      dlg.not_crossing += checks["said_to_not_crossing"].empty() ? 0 : 1;
+      dlg.contradictions += checks["contradictions"].empty() ? 0 : 1;
+      dlg.told_twice += checks["told_twice"].empty() ? 0 : 1;
+      const Json& u = checks["unaddressed_with_several"];
+      if (u.is_number() && u.get<std::int64_t>() > 0) {
+        ++dlg.unaddressed_runs;
+        dlg.unaddressed += u.get<std::int64_t>();
+      }
+      dlg.failing += checks["fails"].get<bool>() ? 1 : 0;
+    }
+    if (e.contains("kind")) {
+      KindTally& k = by_kind[e.at("kind").get<std::string>()];
+      ++k.runs;
+      k.without_summary += run == nullptr ? 1 : 0;
+      k.goal_reached += outcome == "GOAL_REACHED" ? 1 : 0;
+      k.contacts += cause != "none" && cause != "no_run" ? 1 : 0;
+      k.safety += isSafetyFailure(cause) ? 1 : 0;
+      k.dialogue_failing += checks.is_object() && checks["fails"].get<bool>() ? 1 : 0;
+      if (r["min_clearance_m"].is_number())
+        k.clearances.push_back(r["min_clearance_m"].get<double>());
+    }
+    r["dialogue_checks"] = std::move(checks);
     runs.push_back(std::move(r));
   }
 
@@ -711,6 +795,29 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   totals["time_to_goal_ratio"] = Json{{"runs", ratios.size()},
                                       {"median", std::isfinite(med) ? Json(med) : Json()},
                                       {"max", std::isfinite(max) ? Json(max) : Json()}};
+  totals["dialogue_checks"] = Json{{"runs_checked", dlg.checked},
+                                   {"runs_without_checks", dlg.without},
+                                   {"said", dlg.said},
+                                   {"addressed", dlg.addressed},
+                                   {"runs_said_to_not_crossing", dlg.not_crossing},
+                                   {"runs_contradictions", dlg.contradictions},
+                                   {"runs_told_twice", dlg.told_twice},
+                                   {"runs_unaddressed_with_several", dlg.unaddressed_runs},
+                                   {"sentences_unaddressed_with_several", dlg.unaddressed},
+                                   {"failing_runs", dlg.failing}};
+  if (plan.value("crowd", false)) {
+    Json kinds = Json::object();
+    for (const auto& [kind, k] : by_kind)
+      kinds[kind] = Json{{"runs", k.runs},
+                         {"without_summary", k.without_summary},
+                         {"goal_reached", k.goal_reached},
+                         {"contacts", k.contacts},
+                         {"robot_at_fault_or_unattributed", k.safety},
+                         {"min_clearance_min_m", minOrNull(k.clearances)},
+                         {"min_clearance_median_m", medianOrNull(k.clearances)},
+                         {"dialogue_failing_runs", k.dialogue_failing}};
+    totals["by_kind"] = std::move(kinds);
+  }
 
   Json doc;
   doc["format"] = kPopulationFormat;
@@ -728,6 +835,13 @@ inline bool populationFails(const Json& population) {
   const Json* cue = detail::field(&population, "cue_effect");
   const int muted = cue ? cue->at("muted_robot_at_fault_or_unattributed").get<int>() : 0;
   return population.at("totals").at("robot_at_fault_or_unattributed").get<int>() + muted > 0;
+}
+
+/// Runs whose dialogue checks failed (words to someone not being crossed, a contradiction, a
+/// group told twice, or a sentence not addressed while several people were there).
+inline int dialogueFailingRuns(const Json& population) {
+  const Json* c = detail::field(&population.at("totals"), "dialogue_checks");
+  return c ? c->at("failing_runs").get<int>() : 0;
 }
 
 /// Runs that left no summary: encounters and their muted twins.
@@ -893,6 +1007,39 @@ inline std::string formatCueEffect(const Json& cue) {
   return s;
 }
 
+/// The dialogue checks' lines of population.txt (and, for crowds, the figures per kind).
+inline std::string formatDialogueChecks(const Json& population) {
+  using namespace detail;
+  const Json& t = population.at("totals");
+  std::string s;
+  const Json& d = t.at("dialogue_checks");
+  s += "dialogue checks (summary.json dialogue_checks) of " + d.at("runs_checked").dump() +
+       " runs (without checks " + d.at("runs_without_checks").dump() + "): said " +
+       d.at("said").dump() + " sentences, " + d.at("addressed").dump() + " addressed\n";
+  s += "  runs with words to someone not being crossed " +
+       d.at("runs_said_to_not_crossing").dump() + ", with contradictions " +
+       d.at("runs_contradictions").dump() + ", with a group told twice " +
+       d.at("runs_told_twice").dump() + ", with sentences not addressed among several people " +
+       d.at("runs_unaddressed_with_several").dump() + " (" +
+       d.at("sentences_unaddressed_with_several").dump() + " sentences)\n";
+  s += "  runs failing a dialogue check: " + d.at("failing_runs").dump() + "\n";
+  if (t.contains("by_kind")) {
+    s += "# crowd kinds: runs, goal reached, contacts (robot at fault or unattributed), min "
+         "clearance min/median [m], runs failing a dialogue check\n";
+    for (const auto& [kind, k] : t.at("by_kind").items())
+      s += "  " + pad(kind, 15) + pad(k.at("runs").dump(), 5) +
+           pad("goal " + k.at("goal_reached").dump(), 9) +
+           pad("contacts " + k.at("contacts").dump() + " (" +
+                   k.at("robot_at_fault_or_unattributed").dump() + ")",
+               16) +
+           pad("min_clr " + num(k.at("min_clearance_min_m"), "%.3f") + "/" +
+                   num(k.at("min_clearance_median_m"), "%.3f"),
+               22) +
+           "dialogue failing " + k.at("dialogue_failing_runs").dump() + "\n";
+  }
+  return s;
+}
+
 /// The plain-text table: one line per run, then the totals (and the cue effect, with muted
 /// twins).
 inline std::string formatTable(const Json& population) {
@@ -900,27 +1047,44 @@ inline std::string formatTable(const Json& population) {
   std::string s;
   s += "# coopnav population, seed " + population.at("seed").dump() + "\n";
   s += "# humans: id:behaviour(role) CM_interaction/IsContributing (T/F/? = unknown); roles h = "
-       "head-on, f = follower, s = same way\n";
-  s += pad("run", 9) + pad("layout", 16) + pad("outcome", 20) + pad("contact", 22) +
-       pad("min_clr_m", 10) + pad("dock", 5) + pad("retr", 5) + pad("guard", 6) +
-       pad("ttg_ratio", 10) + "humans\n";
+       "head-on, f = follower, s = same way, c = crossing (junction), t = standing (talking)\n";
+  const bool crowd = population.at("totals").contains("by_kind");
+  s += "# words: sentences said/addressed, then the dialogue checks that failed: n said to someone "
+       "not being crossed, c contradiction, t group told twice, u not addressed among several\n";
+  s += pad("run", 9) + pad("layout", 16) + (crowd ? pad("kind", 15) : std::string()) +
+       pad("outcome", 20) + pad("contact", 22) + pad("min_clr_m", 10) + pad("dock", 5) +
+       pad("retr", 5) + pad("guard", 6) + pad("ttg_ratio", 10) + pad("words", 10) + "humans\n";
   for (const auto& r : population.at("runs")) {
     const Json& c = r.at("contact");
     std::string contact = c.at("cause").get<std::string>();
     if (c.at("human_id").is_number()) contact += " h" + num(c.at("human_id"), "%.0f");
     std::string humans;
     for (const auto& h : r.at("humans")) {
-      const std::string role = h.at("role").get<std::string>().substr(0, 1);
+      const std::string role_name = h.at("role").get<std::string>();
+      const std::string role = role_name == "standing" ? "t" : role_name.substr(0, 1);
       humans += num(h.at("id"), "%.0f") + ":" + shortBehaviour(h.at("behaviour")) + "(" + role +
                 ") " + num(h.at("cm_interaction_m"), "%.2f") + "/" +
                 tri(h.at("is_contributing_interaction")) + "  ";
     }
     while (!humans.empty() && humans.back() == ' ') humans.pop_back();
+    std::string words = "-";
+    if (const Json& d = r.at("dialogue_checks"); d.is_object()) {
+      words = num(d.at("said"), "%.0f") + "/" + num(d.at("addressed"), "%.0f");
+      std::string flags;
+      if (!d.at("said_to_not_crossing").empty()) flags += "n";
+      if (!d.at("contradictions").empty()) flags += "c";
+      if (!d.at("told_twice").empty()) flags += "t";
+      if (d.at("unaddressed_with_several").is_number() &&
+          d.at("unaddressed_with_several").get<std::int64_t>() > 0)
+        flags += "u";
+      if (!flags.empty()) words += "!" + flags;
+    }
     s += pad(r.at("name").get<std::string>(), 9) + pad(r.at("layout").get<std::string>(), 16) +
+         (crowd ? pad(r.value("kind", std::string("-")), 15) : std::string()) +
          pad(r.at("outcome").get<std::string>(), 20) + pad(contact, 22) +
          pad(num(r.at("min_clearance_m"), "%.3f"), 10) + pad(num(r.at("docks"), "%.0f"), 5) +
          pad(num(r.at("retreats"), "%.0f"), 5) + pad(num(r.at("guard_steps"), "%.0f"), 6) +
-         pad(num(r.at("time_to_goal_ratio"), "%.2f"), 10) + humans + "\n";
+         pad(num(r.at("time_to_goal_ratio"), "%.2f"), 10) + pad(words, 10) + humans + "\n";
   }
   const Json& t = population.at("totals");
   s += "\n# totals\n";
@@ -971,6 +1135,7 @@ inline std::string formatTable(const Json& population) {
          num(gi.at("accuracy_at_round1"), "%.3f") +
          " (oncoming humans with an estimate: " + gi.at("humans").dump() + ")\n";
   }
+  s += formatDialogueChecks(population);
   if (population.contains("cue_effect")) s += formatCueEffect(population.at("cue_effect"));
   return s;
 }

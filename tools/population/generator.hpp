@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -214,6 +215,12 @@ struct HumanSpec {
   double velocity_noise_m_s{0.0};
   /// Behaviour params as (key, value); "group.key" is written nested ({group: {key: v}}).
   std::vector<std::pair<std::string, double>> params;
+  /// Crowds only (generateCrowdPopulation): waypoints between start and goal, the start heading
+  /// as written (empty: towards the goal along x, as the head-on encounters have it), and the
+  /// group the human walks or stands with (0: alone).
+  std::vector<std::array<double, 2>> via;
+  std::string start_theta;
+  int group{0};
 };
 
 struct Encounter {
@@ -221,6 +228,7 @@ struct Encounter {
   std::uint64_t seed{0};
   Layout layout;
   std::vector<HumanSpec> humans;
+  std::string kind;  ///< crowd kind (crowdKindNames()); empty for a head-on encounter
 };
 
 /// Ranges the generator draws from (docs/population.md lists them). All lie inside the
@@ -369,6 +377,402 @@ inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t se
   return out;
 }
 
+// ---- Crowds (generate --crowd): several people at once, in four kinds of encounter.
+
+/// The crowd kinds, in the order the generator cycles through them (a seeded order per block of
+/// four, so each appears equally often): bidirectional flows in a corridor, a group walking
+/// abreast towards the robot, people standing talking by a wall, a junction of junctions.pgm.
+inline const std::array<const char*, 4>& crowdKindNames() {
+  static const std::array<const char*, 4> k{"flows", "group_abreast", "standing_talk", "junction"};
+  return k;
+}
+
+/// Widths of the synthetic corridors of the crowd kinds but the junction (from the paper's open
+/// 6 m corridor down to 4 m, where a robot still passes a person on either side of it).
+inline const std::vector<double>& crowdWidthsM() {
+  static const std::vector<double> k{4.00, 5.00, 6.00};
+  return k;
+}
+
+/// junctions.pgm around its junction (pixels of the map, config/maps/CREDIT.md): the robot's
+/// 2.00 m corridor y 25.00-27.00 is crossed by a 1.50 m corridor x 23.50-25.00, whose branches
+/// run north (y 27.25-39.70, a dead end) and south (free all the way down, across the 1.20 m
+/// corridor at y 17.5-18.7 and the 1.50 m one at y 10.0-11.5).
+struct JunctionGeometry {
+  double branch_x0_m{23.5}, branch_x1_m{25.0};
+  /// Where people crossing the robot's corridor walk to: the crossing corridor's centre line,
+  /// the k-th one going that way goal_step_m short of the (k-1)-th (one after the other).
+  double north_goal_y_m{38.6}, south_goal_y_m{10.75}, goal_step_m{1.0};
+  double north_y0_m{27.25}, north_y1_m{39.7};
+  double south_y0_m{10.0}, south_y1_m{24.75};
+  double corridor_y0_m{25.0}, corridor_y1_m{27.0};
+};
+
+/// The junction layout: the robot crosses the junction, (13, 26) -> (33, 26); people turning
+/// west walk to x 5 (the open area west of the blocks, behind the robot's start), east to x 38.6
+/// (the open strip east of them, past the robot's goal): goals away from walls, which a social
+/// force walker would not reach within its goal tolerance.
+inline Layout junctionCrossLayout() {
+  Layout l;
+  l.key = "junction_cross";
+  l.map_file = "junctions.yaml";
+  l.width_m = 2.0;
+  l.centre_y_m = 26.0;
+  l.robot_start_x_m = 13.0;
+  l.robot_goal_x_m = 33.0;
+  l.lateral_min_y_m = 25.0 + kHumanRadiusM + kStartMarginM;
+  l.lateral_max_y_m = 27.0 - kHumanRadiusM - kStartMarginM;
+  l.head_goal_x_m = 5.0;
+  l.same_way_goal_x_m = 38.6;
+  return l;
+}
+
+/// Ranges of the crowd kinds (docs/population.md "Crowds"). Speeds, noise and behaviour params
+/// are Ranges' and drawParams'.
+struct CrowdRanges {
+  /// Centres at least this far apart at the start: two bodies (0.6 m) and 0.2 m.
+  double min_start_gap_m{2 * kHumanRadiusM + 0.2};
+  /// Nobody starts within this of the robot's start (centres).
+  double robot_keep_out_m{2.5};
+  /// Walkers' goals: at least this far apart (centres), and in a corridor at least this far
+  /// from its walls (centre to the wall's face; the body 0.6 m off it): a social force walker
+  /// stops short of a goal nearer a wall or another person by more than its goal tolerance.
+  double goal_gap_m{1.0};
+  double goal_wall_clearance_m{0.9};
+  /// Corridors: people walking the robot's way walk to this x (the end wall's face at 33.9).
+  double same_way_goal_x_m{32.0};
+  // flows
+  int flow_people_min{2}, flow_people_max{10};
+  double flow_oncoming_p{0.6};
+  double flow_oncoming_x_min_m{14.0};      ///< oncoming start x from here to the corridor's end - 1
+  double flow_same_way_ahead_max_m{10.0};  ///< same-way start x robot start + [keep-out, this]
+  // group_abreast
+  int group_min{2}, group_max{3};
+  double group_spacing_min_m{0.7}, group_spacing_max_m{0.9};
+  double group_centre_offset_m{0.5};
+  int group_extra_max{2};
+  double group_follower_gap_min_m{2.0}, group_follower_gap_max_m{4.0};
+  // standing_talk
+  int talk_min{2}, talk_max{3};
+  double talk_wall_gap_min_m{0.15}, talk_wall_gap_max_m{0.4};    ///< body to wall
+  double talk_spacing_min_m{0.8}, talk_spacing_max_m{1.0};       ///< along the wall
+  double talk_third_off_min_m{0.75}, talk_third_off_max_m{0.9};  ///< third one, off their line
+  double talk_walker_p{0.5};
+  // junction
+  int junction_min{4}, junction_max{6};
+  double junction_pair_spacing_m{0.7};
+  /// People turning east (walking the robot's way) reach the junction within this many
+  /// seconds, ahead of the robot (the robot reaches it after ~16 s).
+  double junction_away_before_s{7.0};
+};
+
+namespace detail {
+
+inline bool clearOf(const std::vector<HumanSpec>& placed, double x, double y, double gap) {
+  for (const auto& p : placed)
+    if (std::hypot(p.start_x_m - x, p.start_y_m - y) < gap - 1e-9) return false;
+  return true;
+}
+
+/// A start drawn by `draw` (returns x, y; quantized) clear of every placed human by the gap;
+/// tries a bounded number of times (the ranges leave room many times over). False: none found.
+template <typename Draw>
+bool placeClear(const std::vector<HumanSpec>& placed, double gap, Draw draw, double& x, double& y) {
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    std::tie(x, y) = draw();
+    if (clearOf(placed, x, y, gap)) return true;
+  }
+  return false;
+}
+
+/// Goals of walkers who would end up (nearly) on each other's goal are moved apart: a walker
+/// cannot reach a goal another one stands on (a social force walker stops short of both), and
+/// the run would end at its time limit. In id order, a goal within `gap` of an earlier one is
+/// moved sideways by up to 1.5 m in steps of 0.5, further along the walker's last leg in steps of
+/// `gap` (up to 4), or back along it (up to 3), to the first place clear of the earlier goals
+/// inside `inside(x, y)`. No draw.
+template <typename Inside>
+void spreadGoals(std::vector<HumanSpec>& humans, double gap, Inside inside) {
+  for (std::size_t k = 0; k < humans.size(); ++k) {
+    HumanSpec& h = humans[k];
+    if (h.speed_m_s <= 0.0) continue;
+    auto clear = [&](double x, double y) {
+      for (std::size_t j = 0; j < k; ++j)
+        if (std::hypot(humans[j].goal_x_m - x, humans[j].goal_y_m - y) < gap - 1e-9) return false;
+      return true;
+    };
+    if (clear(h.goal_x_m, h.goal_y_m)) continue;
+    const double fx = h.via.empty() ? h.start_x_m : h.via.back()[0];
+    const double fy = h.via.empty() ? h.start_y_m : h.via.back()[1];
+    const double len = std::hypot(h.goal_x_m - fx, h.goal_y_m - fy);
+    if (len <= 0.0) continue;
+    const double ux = (h.goal_x_m - fx) / len, uy = (h.goal_y_m - fy) / len;
+    bool moved = false;
+    for (const int along : {0, 1, 2, 3, 4, -1, -2, -3}) {
+      if (moved) break;
+      for (const double side : {0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5}) {
+        const double x = quantize(h.goal_x_m + along * gap * ux - side * uy, 0.005);
+        const double y = quantize(h.goal_y_m + along * gap * uy + side * ux, 0.005);
+        if (inside(x, y) && clear(x, y)) {
+          h.goal_x_m = x;
+          h.goal_y_m = y;
+          moved = true;
+          break;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace detail
+
+/// The n crowd encounters of `seed`. Every walker's behaviour is uniform over the six (a group
+/// shares one, with one speed and one set of params); people standing are `minimal` at speed 0.
+/// Roles: head_on (towards the robot), follower (behind a group, same direction), same_way
+/// (ahead of the robot, its way), crossing (across its path, junction), standing.
+inline std::vector<Encounter> generateCrowdPopulation(std::size_t n, std::uint64_t seed,
+                                                      const Ranges& r = {},
+                                                      const CrowdRanges& c = {}) {
+  const auto& names = behaviourNames();
+  const auto& kinds = crowdKindNames();
+  const JunctionGeometry jg;
+  Rng rng(seed ^ 0xC20DD5ULL);
+  std::vector<Encounter> out;
+  std::array<std::size_t, 4> order{0, 1, 2, 3};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i % order.size() == 0) {
+      for (std::size_t k = order.size() - 1; k > 0; --k)  // Fisher-Yates
+        std::swap(order[k], order[rng.index(k + 1)]);
+    }
+    Encounter e;
+    e.name = encounterName(i);
+    e.seed = rng.next() >> 11;
+    e.kind = kinds[order[i % order.size()]];
+    const bool junction = e.kind == "junction";
+    e.layout = junction ? junctionCrossLayout()
+                        : syntheticCorridor(crowdWidthsM()[rng.index(crowdWidthsM().size())]);
+    const Layout& l = e.layout;
+    auto q = [](double v) { return quantize(v, 0.005); };
+    auto speed = [&] { return quantize(rng.uniform(r.speed_min_m_s, r.speed_max_m_s), 0.01); };
+    auto noise = [&] { return quantize(rng.uniform(0.0, r.noise_max_m_s), 0.01); };
+    auto laneY = [&] { return q(rng.uniform(l.lateral_min_y_m, l.lateral_max_y_m)); };
+    // A corridor walker's goal: its lane, kept goal_wall_clearance_m from the walls.
+    const double goal_y0 = c.goal_wall_clearance_m, goal_y1 = l.width_m - c.goal_wall_clearance_m;
+    auto goalY = [&](double y) { return q(std::clamp(y, goal_y0, goal_y1)); };
+    auto count = [&](int lo, int hi) {
+      return lo + static_cast<int>(rng.index(static_cast<std::size_t>(hi - lo) + 1));
+    };
+    auto walker = [&](const std::string& role) {
+      HumanSpec h;
+      h.id = static_cast<int>(e.humans.size()) + 1;
+      h.role = role;
+      h.behaviour = names[rng.index(names.size())];
+      h.speed_m_s = speed();
+      h.velocity_noise_m_s = noise();
+      h.params = drawParams(h.behaviour, rng);
+      return h;
+    };
+    // Oncoming: towards the robot, to behind its start; same way: ahead of it, beyond its goal.
+    auto addOncoming = [&](double x_min, double x_max, const std::string& role) {
+      HumanSpec h = walker(role);
+      if (!detail::placeClear(
+              e.humans, c.min_start_gap_m,
+              [&] { return std::pair(q(rng.uniform(x_min, x_max)), laneY()); }, h.start_x_m,
+              h.start_y_m))
+        return;
+      h.goal_x_m = l.head_goal_x_m;
+      h.goal_y_m = goalY(h.start_y_m);
+      e.humans.push_back(h);
+    };
+    auto addSameWay = [&] {
+      HumanSpec h = walker("same_way");
+      const double x0 = l.robot_start_x_m + c.robot_keep_out_m;
+      if (!detail::placeClear(
+              e.humans, c.min_start_gap_m,
+              [&] {
+                return std::pair(
+                    q(rng.uniform(x0, l.robot_start_x_m + c.flow_same_way_ahead_max_m)), laneY());
+              },
+              h.start_x_m, h.start_y_m))
+        return;
+      h.goal_x_m = c.same_way_goal_x_m;
+      h.goal_y_m = goalY(h.start_y_m);
+      e.humans.push_back(h);
+    };
+
+    if (e.kind == "flows") {
+      const int people = count(c.flow_people_min, c.flow_people_max);
+      for (int k = 0; k < people; ++k) {
+        // Both ways: the first comes towards the robot, the second walks its way.
+        const bool oncoming = k == 0 || (k > 1 && rng.unit() < c.flow_oncoming_p);
+        if (oncoming)
+          addOncoming(c.flow_oncoming_x_min_m, l.wall_x1_m - 1.0, "head_on");
+        else
+          addSameWay();
+      }
+    } else if (e.kind == "group_abreast") {
+      const int size = count(c.group_min, c.group_max);
+      const double spacing = q(rng.uniform(c.group_spacing_min_m, c.group_spacing_max_m));
+      const double span = spacing * (size - 1);
+      const double centre =
+          std::clamp(l.centre_y_m + rng.uniform(-c.group_centre_offset_m, c.group_centre_offset_m),
+                     l.lateral_min_y_m + span / 2, l.lateral_max_y_m - span / 2);
+      const double x = q(l.robot_goal_x_m + rng.uniform(l.head_start_min_m, l.head_start_max_m));
+      const HumanSpec first = walker("head_on");  // behaviour, speed, noise, params of them all
+      for (int k = 0; k < size; ++k) {
+        HumanSpec h = first;
+        h.id = static_cast<int>(e.humans.size()) + 1;
+        h.group = 1;
+        h.start_x_m = x;
+        h.start_y_m = q(centre - span / 2 + spacing * k);
+        h.goal_x_m = l.head_goal_x_m;
+        h.goal_y_m = goalY(h.start_y_m);
+        e.humans.push_back(h);
+      }
+      const int extra = count(0, c.group_extra_max);
+      for (int k = 0; k < extra; ++k) {
+        if (rng.unit() < 0.5)
+          addOncoming(x + c.group_follower_gap_min_m, x + c.group_follower_gap_max_m, "follower");
+        else
+          addSameWay();
+      }
+    } else if (e.kind == "standing_talk") {
+      const int size = count(c.talk_min, c.talk_max);
+      const bool upper = rng.unit() < 0.5;
+      const double off = kHumanRadiusM + rng.uniform(c.talk_wall_gap_min_m, c.talk_wall_gap_max_m);
+      const double y = q(upper ? l.width_m - off : off);
+      const double x0 = q(rng.uniform(l.robot_start_x_m + 7.0, l.robot_goal_x_m - 5.0));
+      const double spacing = q(rng.uniform(c.talk_spacing_min_m, c.talk_spacing_max_m));
+      const double third_off = q(rng.uniform(c.talk_third_off_min_m, c.talk_third_off_max_m));
+      for (int k = 0; k < size; ++k) {
+        HumanSpec h;
+        h.id = k + 1;
+        h.role = "standing";
+        h.behaviour = "minimal";
+        h.speed_m_s = 0.0;
+        h.group = 1;
+        if (k < 2) {  // the two along the wall face each other
+          h.start_x_m = q(x0 + spacing * k);
+          h.start_y_m = y;
+          h.start_theta = k == 0 ? "0.0" : "3.14159";
+        } else {  // the third faces them and the wall
+          h.start_x_m = q(x0 + spacing / 2);
+          h.start_y_m = q(upper ? y - third_off : y + third_off);
+          h.start_theta = upper ? "1.5708" : "-1.5708";
+        }
+        h.goal_x_m = h.start_x_m;
+        h.goal_y_m = h.start_y_m;
+        e.humans.push_back(h);
+      }
+      if (rng.unit() < c.talk_walker_p)
+        addOncoming(l.robot_goal_x_m + l.head_start_min_m, l.robot_goal_x_m + l.head_start_max_m,
+                    "head_on");
+    } else {  // junction
+      const int people = count(c.junction_min, c.junction_max);
+      const double bx0 = jg.branch_x0_m + kHumanRadiusM + kStartMarginM;
+      const double bx1 = jg.branch_x1_m - kHumanRadiusM - kStartMarginM;
+      const double north_min = jg.north_y0_m + 0.75, north_max = jg.north_y1_m - 1.2;
+      // From 2 m (north 2.75 m) to ~14 m off the robot's line: at 0.8-1.3 m/s they reach the
+      // junction from 1.5 to 17 s, around the robot's ~16 s.
+      const double south_min = jg.south_y0_m + 2.0, south_max = jg.south_y1_m - 0.75;
+      // dest: 0 across the robot's path (the other branch), 1 west (towards the robot), 2 east
+      // (its way: only people reaching the junction well ahead of it, else they would walk up
+      // behind the robot at its goal in the 2 m corridor).
+      int to_north = 0, to_south = 0;
+      auto route = [&](HumanSpec& h, bool north, int dest) {
+        const double lane = laneY();
+        if (dest == 0) {
+          h.role = "crossing";
+          h.goal_x_m = (jg.branch_x0_m + jg.branch_x1_m) / 2;
+          h.goal_y_m = north ? jg.south_goal_y_m - jg.goal_step_m * to_south++
+                             : jg.north_goal_y_m - jg.goal_step_m * to_north++;
+        } else {
+          h.role = dest == 1 ? "head_on" : "same_way";
+          h.via.push_back({h.start_x_m, lane});
+          h.goal_x_m = dest == 1 ? l.head_goal_x_m : l.same_way_goal_x_m;
+          h.goal_y_m = lane;
+        }
+        h.start_theta = north ? "-1.5708" : "1.5708";
+      };
+      auto startY = [&](bool north, int dest, double v) {
+        double lo = north ? north_min : south_min, hi = north ? north_max : south_max;
+        if (dest == 2) {  // within junction_away_before_s of the corridor's centre line
+          const double reach = v * c.junction_away_before_s;
+          if (north)
+            hi = std::max(lo, std::min(hi, l.centre_y_m + reach));
+          else
+            lo = std::min(hi, std::max(lo, l.centre_y_m - reach));
+        }
+        return q(rng.uniform(lo, hi));
+      };
+      {  // the pair, walking abreast (across, or towards the robot)
+        const bool north = rng.unit() < 0.5;
+        const int dest = static_cast<int>(rng.index(2));
+        HumanSpec first = walker("");
+        first.start_y_m = startY(north, dest, first.speed_m_s);
+        const double lane_in = laneY();
+        for (int k = 0; k < 2; ++k) {
+          HumanSpec h = first;
+          h.id = k + 1;
+          h.group = 1;
+          h.start_x_m =
+              q(bx0 + (bx1 - bx0 - c.junction_pair_spacing_m) / 2 + c.junction_pair_spacing_m * k);
+          route(h, north, dest);
+          if (dest == 1) {  // abreast in the corridor too: the inside of the turn nearer it
+            const double half = c.junction_pair_spacing_m / 2;
+            const double mid =
+                std::clamp(lane_in, l.lateral_min_y_m + half, l.lateral_max_y_m - half);
+            // The western one is on the inside of the turn: north of the other coming from
+            // the north (a right turn), south of it coming from the south.
+            const bool inside = k == 0;
+            const double y = north == inside ? mid + half : mid - half;
+            h.via[0][1] = q(y);
+            h.goal_y_m = q(y);
+          }
+          e.humans.push_back(h);
+        }
+      }
+      for (int k = 2; k < people; ++k) {
+        // At least one across the robot's path and one walking away; then any of the three.
+        const int dest = k == 2 ? 0 : (k == 3 ? 2 : static_cast<int>(rng.index(3)));
+        HumanSpec h = walker("");
+        const bool north = rng.unit() < 0.5;
+        if (!detail::placeClear(
+                e.humans, c.min_start_gap_m,
+                [&] {
+                  const double x = q(rng.uniform(bx0, bx1));
+                  return std::pair(x, startY(north, dest, h.speed_m_s));
+                },
+                h.start_x_m, h.start_y_m))
+          continue;
+        route(h, north, dest);
+        e.humans.push_back(h);
+      }
+    }
+    for (std::size_t k = 0; k < e.humans.size(); ++k) e.humans[k].id = static_cast<int>(k) + 1;
+    detail::spreadGoals(e.humans, c.goal_gap_m, [&](double x, double y) {
+      // Never on the robot's way: behind its start or beyond its goal.
+      const bool off_way = x <= l.robot_start_x_m - 0.5 || x >= l.robot_goal_x_m + 1.5;
+      if (!junction)
+        return off_way && y >= goal_y0 - 1e-9 && y <= goal_y1 + 1e-9 &&
+               x >= l.wall_x0_m + 0.1 + c.goal_wall_clearance_m &&
+               x <= l.wall_x1_m - 0.1 - c.goal_wall_clearance_m;
+      // At the junction: in the open areas west of the blocks (x 0.3-6.85) and east of them
+      // (x 37.5-39.7) round the robot's corridor's lanes, in those lanes, or on the crossing
+      // corridor's centre line.
+      const bool open = (x >= 1.2 && x <= 6.0) || (x >= 38.3 && x <= 38.8);
+      const bool lane =
+          off_way && x >= 1.2 && x <= 38.8 &&
+          (open ? y >= l.centre_y_m - 1.6 && y <= l.centre_y_m + 1.6
+                : y >= l.lateral_min_y_m + 0.2 - 1e-9 && y <= l.lateral_max_y_m - 0.2 + 1e-9);
+      const bool branch = std::abs(x - (jg.branch_x0_m + jg.branch_x1_m) / 2) < 1e-9;
+      return lane || branch;
+    });
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
 /// Flow mapping of params, "group.key" entries nested under their group in first-seen order.
 inline std::string paramsYaml(const std::vector<std::pair<std::string, double>>& params) {
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, double>>>> groups;
@@ -425,7 +829,8 @@ inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
   const Layout& l = e.layout;
   std::string y;
   y += "# Generated by coopnav_population (tools/population): layout " + l.key + ", " +
-       std::to_string(with_humans ? e.humans.size() : 0) + " human(s).\n";
+       std::to_string(with_humans ? e.humans.size() : 0) + " human(s)" +
+       (e.kind.empty() || !with_humans ? std::string() : ", crowd " + e.kind) + ".\n";
   y += "name: " + (name_override.empty() ? e.name : name_override) + "\n";
   y += "seed: " + std::to_string(with_humans ? e.seed : 1) + "\n";
   y += "time_limit_s: 90.0\n";
@@ -466,7 +871,15 @@ inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
   for (const auto& h : e.humans) {
     const bool towards = h.goal_x_m < h.start_x_m;
     y += "  - id: " + std::to_string(h.id) + "  # " + h.role + "\n";
-    y += "    start: " + pose(h.start_x_m, h.start_y_m, towards ? "3.14159" : "0.0") + "\n";
+    const char* theta =
+        h.start_theta.empty() ? (towards ? "3.14159" : "0.0") : h.start_theta.c_str();
+    y += "    start: " + pose(h.start_x_m, h.start_y_m, theta) + "\n";
+    if (!h.via.empty()) {
+      y += "    via: [";
+      for (std::size_t j = 0; j < h.via.size(); ++j)
+        y += (j ? ", " : "") + pose(h.via[j][0], h.via[j][1]);
+      y += "]\n";
+    }
     y += "    goal: " + pose(h.goal_x_m, h.goal_y_m) + "\n";
     y += "    behaviour: " + h.behaviour + "\n";
     y += "    speed_m_s: " + fmt("%.2f", h.speed_m_s) + "\n";

@@ -1,18 +1,21 @@
 // coopnav_population: the generator and the aggregation of scripts/population.sh
 // (docs/population.md).
 //   coopnav_population generate --n N --seed S --out DIR --maps-dir config/maps
-//                               [--behaviour B] [--cue-effect]
+//                               [--behaviour B] [--cue-effect | --crowd]
 //     DIR/scenarios/*.yaml (encounters and one run without humans per layout), DIR/maps/ (the
 //     maps they use), DIR/plan.json, DIR/jobs.txt (one "name<TAB>scenario" line per run, and
 //     with --cue-effect after each encounter its muted twin "name_muted<TAB>scenario<TAB>muted").
 //     --behaviour: every head-on human gets behaviour B, the other draws stay the seed's.
+//     --crowd: crowd encounters instead (flows, a group abreast, people standing talking, a
+//     junction: generator.hpp generateCrowdPopulation).
 //   coopnav_population aggregate --dir DIR
 //     reads DIR/plan.json and DIR/runs/<name>/summary.json (and world_sim.log beside it: what the
 //     humans heard), writes DIR/population.json and DIR/population.txt, prints the totals.
 //   coopnav_population check --dir DIR
 //     reads population.json back and checks it against plan.json and population.txt.
 // Exit codes: 0 fine; 1 a contact with the robot at fault (or one the summaries cannot clear);
-// 2 bad arguments or files; 3 runs without a summary (and no contact of exit 1).
+// 2 bad arguments or files; 3 runs without a summary (and no failure of exit 1 or 4); 4 a run
+// failed a dialogue check (summary.json dialogue_checks; and no contact of exit 1).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <fstream>
@@ -45,7 +48,9 @@ std::string readFile(const fs::path& p) {
 
 int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::path& maps_dir,
              const pop::PlanOptions& options) {
-  const auto encounters = pop::generatePopulation(n, seed, {}, options.head_on_behaviour);
+  const auto encounters = options.crowd
+                              ? pop::generateCrowdPopulation(n, seed)
+                              : pop::generatePopulation(n, seed, {}, options.head_on_behaviour);
   fs::create_directories(out / "scenarios");
   fs::create_directories(out / "maps");
   // Stale files of an earlier, larger population in the same folder would be run again.
@@ -80,7 +85,8 @@ int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::p
   }
   writeFile(out / "jobs.txt", jobs);
   writeFile(out / "plan.json", coopnav::ctl::dumpJson(pop::planJson(encounters, seed, options)));
-  std::cout << "coopnav_population: " << encounters.size() << " encounters"
+  std::cout << "coopnav_population: " << encounters.size()
+            << (options.crowd ? " crowd encounters" : " encounters")
             << (options.muted_twins ? " (each also muted)" : "") << " and " << baselines.size()
             << " runs without humans in " << out.string() << "\n";
   return 0;
@@ -123,6 +129,13 @@ int aggregate(const fs::path& dir) {
               << (dir / "population.txt").string() << "\n";
     return 1;
   }
+  if (const int failing = pop::dialogueFailingRuns(population); failing > 0) {
+    std::cerr << "coopnav_population: " << failing
+              << " run(s) failed a dialogue check (words to someone not being crossed, a "
+                 "contradiction, a group told twice, a sentence not addressed): see "
+              << (dir / "population.txt").string() << "\n";
+    return 4;
+  }
   if (pop::runsWithoutSummary(population) > 0) return 3;
   return 0;
 }
@@ -150,8 +163,32 @@ int check(const fs::path& dir) {
          name + ": humans differ from the plan");
     want(table.find("\n" + name + " ") != std::string::npos, name + ": no line in the table");
     for (const char* key : {"outcome", "contact", "min_clearance_m", "docks", "retreats",
-                            "guard_steps", "time_to_goal_ratio"})
+                            "guard_steps", "time_to_goal_ratio", "dialogue_checks"})
       want(runs[i].contains(key), name + ": no '" + key + "'");
+    if (encounters[i].contains("kind"))
+      want(runs[i].value("kind", pop::Json()) == encounters[i].at("kind"),
+           name + ": kind differs from the plan");
+    // Each run's checks: null (no summary, or a summary without them) or whole.
+    if (runs[i].contains("dialogue_checks") && !runs[i].at("dialogue_checks").is_null()) {
+      const pop::Json& d = runs[i].at("dialogue_checks");
+      bool whole = d.is_object();
+      for (const char* key : {"said", "addressed", "unaddressed_with_several", "fails"})
+        whole = whole && d.contains(key);
+      for (const char* key : {"said_to_not_crossing", "contradictions", "told_twice"})
+        whole = whole && d.contains(key) && d.at(key).is_array();
+      want(whole, name + ": dialogue_checks is not whole");
+      if (whole) {
+        const bool several = encounters[i].at("humans").size() > 1;
+        want(d.at("unaddressed_with_several").is_null() != several || !d.at("said").is_number() ||
+                 !d.at("addressed").is_number(),
+             name + ": unaddressed_with_several does not match the number of people");
+        bool fails = d.at("unaddressed_with_several").is_number() &&
+                     d.at("unaddressed_with_several").get<std::int64_t>() > 0;
+        for (const char* key : {"said_to_not_crossing", "contradictions", "told_twice"})
+          fails = fails || !d.at(key).empty();
+        want(d.at("fails") == fails, name + ": dialogue_checks.fails does not match its lists");
+      }
+    }
   }
   const pop::Json& t = doc.at("totals");
   int outcomes = 0, contacts = 0, from_runs = 0;
@@ -164,6 +201,57 @@ int check(const fs::path& dir) {
   want(outcomes == static_cast<int>(runs.size()), "outcomes do not add up to the runs");
   want(contacts == t.at("contacts").get<int>(), "contacts_by_cause do not add up to contacts");
   want(contacts == from_runs, "contacts do not match the runs' contact causes");
+  // The dialogue checks' totals against the runs.
+  const pop::Json* dt = t.contains("dialogue_checks") ? &t.at("dialogue_checks") : nullptr;
+  want(dt != nullptr, "totals: no dialogue_checks");
+  if (dt != nullptr) {
+    int checked = 0, failing = 0, not_crossing = 0, contradictions = 0, twice = 0, unaddressed = 0;
+    for (const auto& r : runs) {
+      const pop::Json d = r.value("dialogue_checks", pop::Json());
+      if (!d.is_object() || !d.contains("fails")) continue;
+      ++checked;
+      failing += d.at("fails").get<bool>() ? 1 : 0;
+      not_crossing += d.value("said_to_not_crossing", pop::Json::array()).empty() ? 0 : 1;
+      contradictions += d.value("contradictions", pop::Json::array()).empty() ? 0 : 1;
+      twice += d.value("told_twice", pop::Json::array()).empty() ? 0 : 1;
+      const pop::Json u = d.value("unaddressed_with_several", pop::Json());
+      unaddressed += u.is_number() && u.get<std::int64_t>() > 0 ? 1 : 0;
+    }
+    want(dt->at("runs_checked") == checked, "dialogue_checks.runs_checked does not match the runs");
+    want(dt->at("failing_runs") == failing, "dialogue_checks.failing_runs does not match the runs");
+    want(dt->at("runs_said_to_not_crossing") == not_crossing &&
+             dt->at("runs_contradictions") == contradictions &&
+             dt->at("runs_told_twice") == twice &&
+             dt->at("runs_unaddressed_with_several") == unaddressed,
+         "dialogue_checks counts do not match the runs");
+    want(dt->at("runs_checked").get<int>() + dt->at("runs_without_checks").get<int>() +
+                 t.at("failed_runs").get<int>() ==
+             static_cast<int>(runs.size()),
+         "dialogue_checks: runs checked, without checks and without summary do not add up");
+    want(table.find("runs failing a dialogue check: " + dt->at("failing_runs").dump()) !=
+             std::string::npos,
+         "the table does not give the runs failing a dialogue check");
+  }
+  // Crowds: the figures per kind add up to the runs.
+  if (plan.value("crowd", false)) {
+    const pop::Json* kinds = t.contains("by_kind") ? &t.at("by_kind") : nullptr;
+    want(kinds != nullptr, "crowd plan but no totals.by_kind");
+    if (kinds != nullptr) {
+      int kind_runs = 0, kind_safety = 0, kind_failing = 0;
+      for (const auto& [k, v] : kinds->items()) {
+        kind_runs += v.at("runs").get<int>();
+        kind_safety += v.at("robot_at_fault_or_unattributed").get<int>();
+        kind_failing += v.at("dialogue_failing_runs").get<int>();
+        want(table.find("  " + k + " ") != std::string::npos, k + ": no line in the table");
+      }
+      want(kind_runs == static_cast<int>(runs.size()), "by_kind runs do not add up to the runs");
+      want(kind_safety == t.at("robot_at_fault_or_unattributed").get<int>(),
+           "by_kind robot at fault do not add up");
+      if (dt != nullptr)
+        want(kind_failing == dt->at("failing_runs").get<int>(),
+             "by_kind dialogue failing runs do not add up");
+    }
+  }
   // With muted twins: one pair per encounter, in plan order, and the section in the table.
   if (plan.value("cue_effect", false)) {
     const pop::Json* cue = doc.contains("cue_effect") ? &doc.at("cue_effect") : nullptr;
@@ -204,8 +292,14 @@ int main(int argc, char** argv) {
   gen->add_option("--behaviour", plan_options.head_on_behaviour,
                   "every head-on human has this behaviour (the other draws stay the seed's)")
       ->check(CLI::IsMember(std::vector<std::string>(behaviours.begin(), behaviours.end())));
-  gen->add_flag("--cue-effect", plan_options.muted_twins,
-                "also run every encounter with the dialogue manager muted (jobs.txt, plan.json)");
+  auto* cue_flag = gen->add_flag(
+      "--cue-effect", plan_options.muted_twins,
+      "also run every encounter with the dialogue manager muted (jobs.txt, plan.json)");
+  gen->add_flag("--crowd", plan_options.crowd,
+                "crowd encounters: flows both ways, a group abreast, people standing talking by "
+                "a wall, a junction (docs/population.md \"Crowds\")")
+      ->excludes(cue_flag)
+      ->excludes("--behaviour");
   auto* agg = app.add_subcommand("aggregate", "write population.json and population.txt");
   agg->add_option("--dir", dir, "the population folder")->required();
   auto* chk = app.add_subcommand("check", "check population.json against the plan and the table");

@@ -373,3 +373,138 @@ TEST(PopulationStats, SignTestMeanAndBootstrap) {
   EXPECT_LE(ia.second, 5.0);
   EXPECT_TRUE(std::isnan(pop::bootstrapMeanInterval({1.0}, 0.95, 100, a).first));
 }
+
+// ---- Dialogue checks and crowds (summary.json dialogue_checks).
+
+namespace {
+
+Json checks(int said, int addressed, Json not_crossing = Json::array(),
+            Json contradictions = Json::array(), Json told_twice = Json::array()) {
+  return Json{{"said", said},
+              {"addressed", addressed},
+              {"said_to_not_crossing", std::move(not_crossing)},
+              {"contradictions", std::move(contradictions)},
+              {"told_twice", std::move(told_twice)}};
+}
+
+}  // namespace
+
+// Given runs whose logs' dialogue checks are clean, list a failure, or lack, when the population
+// is aggregated, then each run carries its checks (unaddressed sentences counted only where
+// several people were), the totals count the runs per check, and a failing check is reported
+// apart from the safety failures (populationFails stays false).
+TEST(PopulationAggregate, DialogueChecksAreCountedPerRunAndFailApartFromSafety) {
+  const Json p = plan(Json::array(
+      {encounter("alone", Json::array({human(1, "head_on", "minimal")})),
+       encounter("clean",
+                 Json::array({human(1, "head_on", "minimal"), human(2, "same_way", "minimal")})),
+       encounter("unaddr",
+                 Json::array({human(1, "head_on", "minimal"), human(2, "follower", "minimal")})),
+       encounter("contra",
+                 Json::array({human(1, "head_on", "minimal"), human(2, "follower", "minimal")})),
+       encounter("old", Json::array({human(1, "head_on", "minimal")})),
+       encounter("none", Json::array({human(1, "head_on", "minimal")}))}));
+  std::map<std::string, Json> s;
+  s["base_x"] = run("GOAL_REACHED", nullptr, Json::array(), 30.0);
+  s["alone"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["alone"]["dialogue_checks"] = checks(2, 0);  // alone: the paper's words, unaddressed
+  s["clean"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["clean"]["dialogue_checks"] = checks(3, 3);
+  s["unaddr"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["unaddr"]["dialogue_checks"] = checks(3, 1);
+  s["contra"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["contra"]["dialogue_checks"] =
+      checks(4, 4, Json::array({"12.30 s human 2 INFORM_DIRECTION round 1"}),
+             Json::array({"14.00 s human 1 REPEAT_DIRECTION round 2: says the robot passes"}));
+  s["old"] = run("GOAL_REACHED", nullptr, Json::array());  // a summary from before the checks
+  const Json out = pop::aggregatePopulation(p, s);
+  const Json& runs = out["runs"];
+  EXPECT_TRUE(runs[0]["dialogue_checks"]["unaddressed_with_several"].is_null());
+  EXPECT_FALSE(runs[0]["dialogue_checks"]["fails"].get<bool>());
+  EXPECT_EQ(runs[1]["dialogue_checks"]["unaddressed_with_several"], 0);
+  EXPECT_FALSE(runs[1]["dialogue_checks"]["fails"].get<bool>());
+  EXPECT_EQ(runs[2]["dialogue_checks"]["unaddressed_with_several"], 2);
+  EXPECT_TRUE(runs[2]["dialogue_checks"]["fails"].get<bool>());
+  EXPECT_TRUE(runs[3]["dialogue_checks"]["fails"].get<bool>());
+  EXPECT_EQ(runs[3]["dialogue_checks"]["contradictions"].size(), 1u);
+  EXPECT_TRUE(runs[4]["dialogue_checks"].is_null());
+  EXPECT_TRUE(runs[5]["dialogue_checks"].is_null());
+  const Json& d = out["totals"]["dialogue_checks"];
+  EXPECT_EQ(d["runs_checked"], 4);
+  EXPECT_EQ(d["runs_without_checks"], 1);
+  EXPECT_EQ(d["said"], 12);
+  EXPECT_EQ(d["addressed"], 8);
+  EXPECT_EQ(d["runs_said_to_not_crossing"], 1);
+  EXPECT_EQ(d["runs_contradictions"], 1);
+  EXPECT_EQ(d["runs_told_twice"], 0);
+  EXPECT_EQ(d["runs_unaddressed_with_several"], 1);
+  EXPECT_EQ(d["sentences_unaddressed_with_several"], 2);
+  EXPECT_EQ(d["failing_runs"], 2);
+  EXPECT_EQ(pop::dialogueFailingRuns(out), 2);
+  EXPECT_FALSE(pop::populationFails(out));
+  EXPECT_FALSE(out["totals"].contains("by_kind"));  // not a crowd plan
+  const std::string table = pop::formatTable(out);
+  EXPECT_NE(table.find("runs failing a dialogue check: 2\n"), std::string::npos) << table;
+  EXPECT_NE(table.find(" 3/1!u "), std::string::npos) << table;
+  EXPECT_NE(table.find(" 4/4!nc "), std::string::npos) << table;
+  EXPECT_EQ(table.find("# crowd kinds"), std::string::npos);
+}
+
+// Given a crowd plan, the totals give per kind the runs, goals reached, contacts (those with the
+// robot at fault), the min clearance and the runs failing a dialogue check; runs carry their
+// kind; people crossing the robot's path or standing are not judged as oncoming encounters.
+TEST(PopulationAggregate, CrowdKindsHaveTheirSafetyFiguresAndChecks) {
+  auto crowdEncounter = [](const char* name, const char* kind, Json humans) {
+    Json e = encounter(name, std::move(humans));
+    e["kind"] = kind;
+    return e;
+  };
+  Json p = plan(Json::array(
+      {crowdEncounter("j1", "junction",
+                      Json::array({human(1, "crossing", "minimal"), human(2, "head_on", "minimal"),
+                                   human(3, "same_way", "facilitating")})),
+       crowdEncounter(
+           "t1", "standing_talk",
+           Json::array({human(1, "standing", "minimal"), human(2, "standing", "minimal")})),
+       crowdEncounter(
+           "t2", "standing_talk",
+           Json::array({human(1, "standing", "minimal"), human(2, "standing", "minimal")}))}));
+  p["crowd"] = true;
+  std::map<std::string, Json> s;
+  s["j1"] =
+      run("GOAL_REACHED", nullptr, Json::array({assessed(1, 0.5, true), assessed(2, 0.1, false)}));
+  s["j1"]["dialogue_checks"] = checks(2, 2);
+  s["j1"]["min_clearance_m"] = 0.31;
+  s["t1"] =
+      run("COLLISION",
+          Json{{"human_id", 2}, {"t_s", 20.0}, {"robot_at_fault", true}, {"robot_speed_m_s", 0.3}},
+          Json::array({assessed(1, 0.0, false)}));
+  s["t1"]["dialogue_checks"] =
+      checks(1, 1, Json::array({"3.00 s human 1 INFORM_DIRECTION round 1"}));
+  s["t1"]["min_clearance_m"] = -0.01;
+  s["t2"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["t2"]["dialogue_checks"] = checks(0, 0);
+  s["t2"]["min_clearance_m"] = 0.8;
+  const Json out = pop::aggregatePopulation(p, s);
+  EXPECT_EQ(out["runs"][0]["kind"], "junction");
+  const Json& k = out["totals"]["by_kind"];
+  EXPECT_EQ(k["junction"]["runs"], 1);
+  EXPECT_EQ(k["junction"]["goal_reached"], 1);
+  EXPECT_EQ(k["junction"]["dialogue_failing_runs"], 0);
+  EXPECT_EQ(k["standing_talk"]["runs"], 2);
+  EXPECT_EQ(k["standing_talk"]["contacts"], 1);
+  EXPECT_EQ(k["standing_talk"]["robot_at_fault_or_unattributed"], 1);
+  EXPECT_DOUBLE_EQ(k["standing_talk"]["min_clearance_min_m"].get<double>(), -0.01);
+  EXPECT_DOUBLE_EQ(k["standing_talk"]["min_clearance_median_m"].get<double>(), 0.395);
+  EXPECT_EQ(k["standing_talk"]["dialogue_failing_runs"], 1);
+  EXPECT_TRUE(pop::populationFails(out));
+  // Only the head-on human of j1 is an assessed encounter (minimal, judged correctly).
+  const Json& acc = out["totals"]["is_contributing_accuracy"];
+  EXPECT_EQ(acc["all"]["judged"], 1);
+  EXPECT_EQ(acc["minimal"]["correct"], 1);
+  const std::string table = pop::formatTable(out);
+  EXPECT_NE(table.find("# crowd kinds"), std::string::npos);
+  EXPECT_NE(table.find("  standing_talk  2    goal 1"), std::string::npos) << table;
+  EXPECT_NE(table.find("j1       corridor_2.00   junction       GOAL_REACHED"), std::string::npos)
+      << table;
+}

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -192,4 +194,236 @@ TEST(PopulationGenerator, HeadOnBehaviourOptionKeepsEveryOtherDraw) {
   EXPECT_TRUE(pop::isBehaviourName("responsive"));
   EXPECT_FALSE(pop::isBehaviourName("recorded"));
   EXPECT_THROW(pop::generatePopulation(6, 5, {}, "recorded"), std::invalid_argument);
+}
+
+// ---- Crowds (generate --crowd): generateCrowdPopulation.
+
+namespace {
+
+bool isCrowdKind(const std::string& k) {
+  const auto& kinds = pop::crowdKindNames();
+  return std::find(kinds.begin(), kinds.end(), k) != kinds.end();
+}
+
+std::string allCrowdYaml(const std::vector<pop::Encounter>& es) {
+  std::string s;
+  for (const auto& e : es) s += pop::scenarioYaml(e) + pop::scenarioYaml(e, false, "b");
+  return s;
+}
+
+}  // namespace
+
+TEST(PopulationCrowd, SameSeedSameBytesOtherSeedOtherPopulation) {
+  const auto a = pop::generateCrowdPopulation(40, 3);
+  const auto b = pop::generateCrowdPopulation(40, 3);
+  const auto c = pop::generateCrowdPopulation(40, 4);
+  EXPECT_EQ(allCrowdYaml(a), allCrowdYaml(b));
+  EXPECT_NE(allCrowdYaml(a), allCrowdYaml(c));
+  const auto d = pop::generateCrowdPopulation(48, 3);
+  EXPECT_EQ(allCrowdYaml(a), allCrowdYaml({d.begin(), d.begin() + 40}));
+  // The crowd option leaves the head-on populations alone.
+  EXPECT_NE(allCrowdYaml(a), allYaml(pop::generatePopulation(40, 3)));
+  EXPECT_EQ(pop::scenarioYaml(pop::generatePopulation(1, 3).at(0)).find("crowd"),
+            std::string::npos);
+}
+
+TEST(PopulationCrowd, EveryKindOncePerBlockOfFour) {
+  const auto es = pop::generateCrowdPopulation(24, 9);
+  for (std::size_t block = 0; block < 6; ++block) {
+    std::set<std::string> seen;
+    for (std::size_t i = 0; i < 4; ++i) {
+      const std::string& k = es[block * 4 + i].kind;
+      EXPECT_TRUE(isCrowdKind(k)) << k;
+      seen.insert(k);
+    }
+    EXPECT_EQ(seen.size(), 4u) << "block " << block;
+  }
+}
+
+// Given many crowd encounters, every count lies in its kind's range, people do not start
+// overlapping each other (nor closer than 0.8 m unless they walk or stand together), nor in or
+// near a wall, nor near the robot; at the junction everyone starts in a branch of the crossing
+// corridor; a group shares behaviour, speed and params.
+TEST(PopulationCrowd, CountsPlacesAndGroupsStayInTheirRanges) {
+  const auto es = pop::generateCrowdPopulation(400, 17);
+  const pop::CrowdRanges c;
+  const pop::JunctionGeometry jg;
+  std::map<std::string, std::set<std::size_t>> sizes;
+  std::set<std::string> roles, behaviours;
+  for (const auto& e : es) {
+    SCOPED_TRACE(e.name + " " + e.kind);
+    const std::size_t n = e.humans.size();
+    sizes[e.kind].insert(n);
+    EXPECT_LE(e.seed, 1ULL << 53);
+    int group_size = 0, oncoming = 0, same_way = 0, crossing = 0, standing = 0;
+    for (const auto& h : e.humans) {
+      roles.insert(h.role);
+      behaviours.insert(h.behaviour);
+      group_size += h.group != 0 ? 1 : 0;
+      oncoming += h.role == "head_on" ? 1 : 0;
+      same_way += h.role == "same_way" ? 1 : 0;
+      crossing += h.role == "crossing" ? 1 : 0;
+      standing += h.role == "standing" ? 1 : 0;
+    }
+    for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(e.humans[k].id, static_cast<int>(k) + 1);
+    if (e.kind == "flows") {
+      EXPECT_GE(n, 2u);
+      EXPECT_LE(n, 10u);
+      EXPECT_GE(oncoming, 1);  // both ways
+      EXPECT_GE(same_way, 1);
+      EXPECT_EQ(group_size, 0);
+    } else if (e.kind == "group_abreast") {
+      EXPECT_GE(group_size, 2);
+      EXPECT_LE(group_size, 3);
+      EXPECT_LE(n, static_cast<std::size_t>(group_size) + 2);
+    } else if (e.kind == "standing_talk") {
+      EXPECT_GE(standing, 2);
+      EXPECT_LE(standing, 3);
+      EXPECT_LE(n, static_cast<std::size_t>(standing) + 1);
+      for (const auto& h : e.humans)
+        if (h.role == "standing") {
+          EXPECT_EQ(h.speed_m_s, 0.0);
+          EXPECT_EQ(h.velocity_noise_m_s, 0.0);
+          EXPECT_EQ(h.start_x_m, h.goal_x_m);
+          EXPECT_EQ(h.start_y_m, h.goal_y_m);
+          // By a wall: the body within 0.15-0.4 m of it (the third one faces them).
+          const double wall_gap =
+              std::min(h.start_y_m, e.layout.width_m - h.start_y_m) - pop::kHumanRadiusM;
+          if (h.start_theta == "0.0" || h.start_theta == "3.14159") {
+            EXPECT_GE(wall_gap, 0.15 - 0.003);
+            EXPECT_LE(wall_gap, 0.4 + 0.003);
+          }
+        }
+    } else {
+      ASSERT_EQ(e.kind, "junction");
+      EXPECT_GE(n, 4u);
+      EXPECT_LE(n, 6u);
+      EXPECT_EQ(group_size, 2);  // one pair
+      EXPECT_GE(crossing, 1);
+      EXPECT_GE(same_way, 1);
+      EXPECT_EQ(e.layout.map_file, "junctions.yaml");
+      for (const auto& h : e.humans) {
+        // In a branch of the crossing corridor, clear of its walls, north or south of the
+        // robot's corridor.
+        EXPECT_GE(h.start_x_m, jg.branch_x0_m + pop::kHumanRadiusM + 0.1 - 1e-9);
+        EXPECT_LE(h.start_x_m, jg.branch_x1_m - pop::kHumanRadiusM - 0.1 + 1e-9);
+        const bool north = h.start_y_m >= jg.north_y0_m + pop::kHumanRadiusM;
+        const bool south = h.start_y_m <= jg.south_y1_m - pop::kHumanRadiusM;
+        EXPECT_TRUE(north || south) << h.start_y_m;
+        EXPECT_LE(h.start_y_m, jg.north_y1_m - pop::kHumanRadiusM - 0.1);
+        EXPECT_GE(h.start_y_m, jg.south_y0_m + 2.0 - 1e-9);  // south of the 1.5 m corridor
+        EXPECT_EQ(h.start_theta, north ? "-1.5708" : "1.5708");
+        if (h.role == "crossing") {
+          EXPECT_EQ(h.goal_x_m, (jg.branch_x0_m + jg.branch_x1_m) / 2);  // on its centre line
+          EXPECT_TRUE(north ? h.goal_y_m <= jg.south_goal_y_m : h.goal_y_m > jg.north_y0_m + 5.0);
+          EXPECT_TRUE(h.via.empty());
+        } else {
+          // Turning at the junction into the robot's corridor: towards it (west) or its way.
+          ASSERT_EQ(h.via.size(), 1u);
+          EXPECT_EQ(h.via[0][0], h.start_x_m);
+          EXPECT_GE(h.via[0][1], e.layout.lateral_min_y_m - 1e-9);
+          EXPECT_LE(h.via[0][1], e.layout.lateral_max_y_m + 1e-9);
+          // In the open areas west and east of the blocks (x 0.3-6.85, 37.5-39.7), or moved
+          // along the corridor (goals kept apart), never onto the robot's way.
+          if (h.role == "head_on") {
+            EXPECT_GE(h.goal_x_m, 1.2 - 1e-9);
+            EXPECT_LE(h.goal_x_m, e.layout.robot_start_x_m - 0.5 + 1e-9);
+          } else {
+            EXPECT_LE(h.goal_x_m, 38.8 + 1e-9);
+            EXPECT_GE(h.goal_x_m, e.layout.robot_goal_x_m + 1.5 - 1e-9);
+          }
+          if (h.goal_x_m > 6.0 && h.goal_x_m < 38.3) {  // in the corridor: off its walls
+            EXPECT_GE(h.goal_y_m, e.layout.lateral_min_y_m + 0.2 - 1e-9);
+            EXPECT_LE(h.goal_y_m, e.layout.lateral_max_y_m - 0.2 + 1e-9);
+          }
+          // Walking the robot's way only when well ahead of it.
+          if (h.role == "same_way") {
+            EXPECT_LE(std::abs(h.start_y_m - 26.0), h.speed_m_s * c.junction_away_before_s + 1e-6);
+          }
+        }
+      }
+    }
+    if (e.kind != "junction") {
+      EXPECT_EQ(e.layout.map_file, "");
+      EXPECT_TRUE(std::find(pop::crowdWidthsM().begin(), pop::crowdWidthsM().end(),
+                            e.layout.width_m) != pop::crowdWidthsM().end());
+      for (const auto& h : e.humans) {
+        EXPECT_GE(h.start_y_m, e.layout.lateral_min_y_m - 1e-9);
+        EXPECT_LE(h.start_y_m, e.layout.lateral_max_y_m + 1e-9);
+        // Goals off the walls by c.goal_wall_clearance_m (standing people: where they stand).
+        if (h.role != "standing") {
+          EXPECT_GE(h.goal_y_m, c.goal_wall_clearance_m - 1e-9);
+          EXPECT_LE(h.goal_y_m, e.layout.width_m - c.goal_wall_clearance_m + 1e-9);
+        }
+        EXPECT_GT(h.start_x_m, e.layout.wall_x0_m + 0.5);
+        EXPECT_LT(h.start_x_m, e.layout.wall_x1_m - 0.5);
+        if (h.role == "head_on" || h.role == "follower") {
+          EXPECT_LT(h.goal_x_m, e.layout.robot_start_x_m);
+        }
+        if (h.role == "same_way") {
+          EXPECT_GT(h.goal_x_m, e.layout.robot_goal_x_m);
+        }
+      }
+    }
+    for (std::size_t a = 0; a < n; ++a) {
+      const pop::HumanSpec& x = e.humans[a];
+      if (x.role != "standing") {
+        EXPECT_GE(x.speed_m_s, 0.8);
+        EXPECT_LE(x.speed_m_s, 1.3);
+      }
+      EXPECT_GE(
+          std::hypot(x.start_x_m - e.layout.robot_start_x_m, x.start_y_m - e.layout.centre_y_m),
+          c.robot_keep_out_m - 1e-9);
+      for (std::size_t b = a + 1; b < n; ++b) {
+        const pop::HumanSpec& y = e.humans[b];
+        const double d = std::hypot(x.start_x_m - y.start_x_m, x.start_y_m - y.start_y_m);
+        const bool together = x.group != 0 && x.group == y.group;
+        // Walkers do not end on each other's goal (one could not reach it).
+        if (x.speed_m_s > 0.0 && y.speed_m_s > 0.0) {
+          EXPECT_GE(std::hypot(x.goal_x_m - y.goal_x_m, x.goal_y_m - y.goal_y_m),
+                    c.goal_gap_m - 1e-9)
+              << "goals of " << x.id << " and " << y.id;
+        }
+        EXPECT_GE(d, together ? 2 * pop::kHumanRadiusM + 0.1 - 1e-9 : c.min_start_gap_m - 1e-9)
+            << x.id << " and " << y.id;
+        if (together && x.role != "standing") {
+          EXPECT_EQ(x.behaviour, y.behaviour);
+          EXPECT_EQ(x.speed_m_s, y.speed_m_s);
+          EXPECT_EQ(x.params, y.params);
+          EXPECT_EQ(x.start_y_m == y.start_y_m, e.kind == "junction");  // abreast
+        }
+      }
+    }
+  }
+  // Every count of each range is drawn.
+  EXPECT_EQ(sizes["flows"].size(), 9u);
+  EXPECT_EQ(*sizes["junction"].begin(), 4u);
+  EXPECT_EQ(*sizes["junction"].rbegin(), 6u);
+  EXPECT_EQ(roles,
+            (std::set<std::string>{"head_on", "follower", "same_way", "crossing", "standing"}));
+  EXPECT_EQ(behaviours.size(), 6u);
+}
+
+TEST(PopulationCrowd, ScenarioYamlWritesViaHeadingAndKind) {
+  const auto es = pop::generateCrowdPopulation(8, 2);
+  bool via = false, standing = false;
+  for (const auto& e : es) {
+    const std::string y = pop::scenarioYaml(e);
+    EXPECT_NE(y.find(", crowd " + e.kind + ".\n"), std::string::npos);
+    if (e.kind == "junction") {
+      EXPECT_NE(y.find("  file: ../maps/junctions.yaml\n"), std::string::npos);
+      EXPECT_NE(y.find("start: {x_m: 13.000, y_m: 26.000, theta_rad: 0.0}"), std::string::npos);
+      via = via || y.find("    via: [{x_m: ") != std::string::npos;
+    }
+    if (e.kind == "standing_talk") {
+      standing = y.find("    speed_m_s: 0.00\n") != std::string::npos;
+      EXPECT_NE(y.find("theta_rad: 3.14159}\n    goal:"), std::string::npos);
+    }
+    const std::string base = pop::scenarioYaml(e, false, pop::baselineName(e.layout));
+    EXPECT_NE(base.find("humans: []\n"), std::string::npos);
+    EXPECT_EQ(base.find("crowd"), std::string::npos);
+  }
+  EXPECT_TRUE(via);
+  EXPECT_TRUE(standing);
+  EXPECT_EQ(pop::baselineName(pop::junctionCrossLayout()), "base_junction_cross");
 }

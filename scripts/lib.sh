@@ -6,14 +6,15 @@ COOPNAV_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:-$COOPNAV_ROOT/build}"
 
 # Debian 12 packages: toolchain, LCM (C/C++, tools, Java with its window toolkit for lcm-spy),
-# libraries, test tools (Xvfb: lcm-spy in a real display, e2e_spy_test), clang with its libFuzzer /
+# libraries (cpp-httplib: the viewer), test tools (Xvfb: lcm-spy in a real display, e2e_spy_test;
+# Chromium: the viewer's page, headless, e2e_viewer_test), clang with its libFuzzer /
 # sanitizer runtimes (scripts/fuzz.sh), clang-format and clang-tidy (scripts/lint.sh).
 COOPNAV_DEBS=(
   build-essential cmake ninja-build pkg-config git ca-certificates
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev default-jdk-headless default-jre libjchart2d-java
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev
-  iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core
+  libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev libcpp-httplib-dev
+  iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core chromium
   clang-14 libclang-rt-14-dev clang-format clang-tidy
 )
 

@@ -92,6 +92,7 @@ for scenario in "${scenarios[@]}"; do
   cat "$dir/transcript.txt"
   "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json"
   "$ctl" figures "$dir/$name.lcm" --scenario "$name" --out-dir "$dir"
+  echo "   view this run: $(coopnav_bin viewer) --log $dir/$name.lcm  then open http://127.0.0.1:8088/"
   summaries+=("$dir/summary.json")
   echo
 done

@@ -12,6 +12,7 @@ args_for() {
   case "$1" in
     obstacle_distance_server|band_source) echo "-c $src/config/$1.yaml --set map_file=$scenario" ;;
     world_sim) echo "-c $src/config/world_sim.yaml --set scenario=$scenario" ;;
+    viewer) echo "-c $src/config/viewer.yaml --set http_port=0" ;;
     *) echo "-c $src/config/$1.yaml" ;;
   esac
 }

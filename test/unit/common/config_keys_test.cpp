@@ -32,6 +32,7 @@
 #include "obstacle_distance_server/obstacle_distance_server_node.hpp"
 #include "path_assessor/path_assessor_node.hpp"
 #include "situation_assessor/situation_assessor_node.hpp"
+#include "viewer/viewer_node.hpp"
 #include "world_sim/world_sim_node.hpp"
 
 namespace coopnav {
@@ -477,6 +478,7 @@ COOPNAV_CHECK_DAEMON(DialogueManagerNode, dialogue_manager)
 COOPNAV_CHECK_DAEMON(ObstacleDistanceServerNode, obstacle_distance_server)
 COOPNAV_CHECK_DAEMON(WorldSimNode, world_sim)
 COOPNAV_CHECK_DAEMON(BandSourceNode, band_source)
+COOPNAV_CHECK_DAEMON(ViewerNode, viewer)
 
 // The check itself: a sample daemon whose README and YAML disagree with its struct in every way
 // the check knows, and the same files put right.

@@ -1,0 +1,458 @@
+// The browser viewer's node in-process over memq:// (its own bus, whatever port CTest gives):
+// the scene JSON holds what the bus said (agents, bands, reference path, crossing with its
+// segments, predicates, CA / CM, utterance bubble, robot mode, daemon statuses); a message with
+// NaN and one that does not decode are skipped and counted and change nothing; the page and the
+// scene are served over HTTP, streams beyond max_clients get 503 and a stream that goes away
+// frees its slot; a recorded log replays with a timeline (seek to any time, the same scene).
+#include "viewer_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <lcm/lcm-cpp.hpp>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "coopnav/channels.hpp"
+#include "scene_model.hpp"
+#include "test_util.hpp"
+#include "wire/assessment.hpp"
+#include "wire/conversions.hpp"
+#include "wire/dialogue.hpp"
+// After Eigen (through the headers above): httplib.h brings <resolv.h>, whose `_res` macro breaks
+// Eigen's headers read after it.
+#include <httplib.h>
+
+namespace coopnav {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const std::string kMap = std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml";
+
+std::int64_t utimeAt(double t_s) { return secondsToUtime(t_s); }
+
+/// The narrow_minimal encounter at time t: robot at x = 11 + 0.7 t, human 1 at x = 34.5 - t, both
+/// on y = 1.575 (the lower corridor of open.pgm).
+agent_states_t states(double t_s) {
+  AgentStatesSnapshot s;
+  s.utime = utimeAt(t_s);
+  s.step = -1;
+  s.robot.id = 0;
+  s.robot.kind = AgentKind::kRobot;
+  s.robot.pose = {11.0 + 0.7 * t_s, 1.575, 0.0};
+  s.robot.velocity = {0.7, 0.0, 0.0};
+  s.robot.radius_m = 0.34;
+  AgentState h;
+  h.id = 1;
+  h.kind = AgentKind::kHuman;
+  h.pose = {34.5 - t_s, 1.575, M_PI};
+  h.velocity = {-1.0, 0.0, 0.0};
+  h.radius_m = 0.3;
+  s.humans.push_back(h);
+  return toLcm(s);
+}
+
+bands_t bands(double t_s) {
+  BandsSnapshot b;
+  b.utime = utimeAt(t_s);
+  b.robot_mode = velocity_command_t::MODE_NAVIGATING;
+  for (int i = 0; i <= 20; ++i) {
+    const double dt = 0.5 * i;
+    b.robot.poses.push_back({dt, {11.0 + 0.7 * (t_s + dt), 1.575 + 0.02 * i, 0.0}});
+  }
+  Band hb;
+  for (int i = 0; i <= 20; ++i) {
+    const double dt = 0.5 * i;
+    hb.poses.push_back({dt, {34.5 - (t_s + dt), 1.575 - 0.01 * i, M_PI}});
+  }
+  b.humans.emplace_back(1, hb);
+  b.room_plans.push_back(bands_t::ROOM_DOCK_HERE);
+  return toLcm(b);
+}
+
+reference_paths_t referencePaths(double t_s) {
+  ReferencePaths r;
+  r.utime = utimeAt(t_s);
+  ReferencePaths::Entry e;
+  e.agent_id = 1;
+  e.revision = 1;
+  e.path = {{34.5, 1.575}, {10.5, 1.575}};
+  r.paths.push_back(e);
+  return toLcm(r);
+}
+
+situation_t situation(double t_s) {
+  situation_t m{};
+  m.utime = utimeAt(t_s);
+  m.step = -1;
+  m.human_id = 1;
+  m.crossing_status = situation_t::CROSSING_OK;
+  m.i_star = 140;
+  m.t_cross_s = 7.0;
+  m.cp_h_x_m = 22.0;
+  m.cp_h_y_m = 1.4;
+  m.cp_r_x_m = 21.2;
+  m.cp_r_y_m = 1.9;
+  m.dir = situation_t::DIR_RIGHT;
+  m.d_h_m = 0.175;
+  m.d_oh_m = 0.45;
+  m.d_or_m = 0.2;
+  m.d_hr_m = 0.94;
+  m.human_needs_to_contribute = situation_t::PRED_FALSE;
+  m.human_is_constrained = situation_t::PRED_TRUE;
+  m.robot_is_constrained = situation_t::PRED_TRUE;
+  m.tau_h_m = 0.3;
+  m.tau_oh_m = 1.0;
+  m.tau_or_m = 0.3;
+  m.tau_hr_m = 1.2;
+  m.room_plan = bands_t::ROOM_DOCK_HERE;
+  m.robot_mode = velocity_command_t::MODE_NAVIGATING;
+  m.reason = "";
+  return m;
+}
+
+path_assessment_t pathAssessment(double t_s) {
+  PathAssessmentRecord r;
+  r.utime = utimeAt(t_s);
+  r.human_id = 1;
+  r.snapshot.state = assessment::RecorderState::kRecording;
+  r.window_ca_m = {0.0, 0.02, 0.05};
+  r.snapshot.window_samples = 3;
+  r.snapshot.cm_window_m = 0.03;
+  r.snapshot.is_contributing_window = Tristate::kFalse;
+  r.snapshot.interaction_samples = 3;
+  r.snapshot.cm_interaction_m = 0.03;
+  r.snapshot.is_contributing_interaction = Tristate::kFalse;
+  return toLcm(r);
+}
+
+utterance_t utterance(double t_s) {
+  DialogueStamp stamp{utimeAt(t_s), -1, 1};
+  dialogue::Utterance u;
+  u.act = dialogue::SpeechAct::kInformDockIfNeeded;
+  u.round = 1;
+  u.text = "It is narrow here. I will wait at the side if needed.";
+  dialogue::SpeechSlot slot;
+  slot.duration_s = 3.0;
+  return toLcm(stamp, u, 7.0, slot);
+}
+
+velocity_command_t command(double t_s, std::int8_t mode) {
+  VelocityCommand c;
+  c.utime = utimeAt(t_s);
+  c.body = {0.7, 0.0, 0.0};
+  c.mode = mode;
+  return toLcm(c);
+}
+
+daemon_status_t status(const std::string& name, std::int64_t wall_utime) {
+  daemon_status_t s{};
+  s.utime = wall_utime;
+  s.name = name;
+  s.pid = 42;
+  s.state = daemon_status_t::STATE_RUNNING;
+  s.received = 10;
+  s.published = 5;
+  s.last_logic_utime = -1;
+  s.cycle_p50_ms = 0.5;
+  s.cycle_max_ms = kNaN;
+  s.detail = "";
+  return s;
+}
+
+ViewerConfig testConfig() {
+  ViewerConfig c;
+  c.http_port = 0;  // any free port
+  c.map_file = kMap;
+  c.max_clients = 1;
+  return c;
+}
+
+class ViewerNodeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    rt_ = std::make_unique<Runtime>("viewer", "memq://");
+    node_ = std::make_unique<ViewerNode>(testConfig(), *rt_);
+  }
+
+  template <class Msg>
+  void send(const char* channel, const Msg& m) {
+    rt_->lcm().publish(channel, &m);
+    rt_->spinFor(0);
+  }
+
+  /// Publishes the whole scene of time t (every channel the viewer draws).
+  void sendScene(double t_s) {
+    send(channels::kAgentStates, states(t_s));
+    send(channels::kBands, bands(t_s));
+    send(channels::kReferencePaths, referencePaths(t_s));
+    send(channels::kSituation, situation(t_s));
+    send(channels::kPathAssessment, pathAssessment(t_s));
+    send(channels::kRobotCmd, command(t_s, velocity_command_t::MODE_DOCKING));
+    send(channels::kStatus, status("path_assessor", 1'700'000'000'000'000));
+    send(channels::kStatus, status("band_source", 1'700'000'005'000'000));
+  }
+
+  json frame() const { return node_->frameJson(); }
+
+  std::unique_ptr<Runtime> rt_;
+  std::unique_ptr<ViewerNode> node_;
+};
+
+TEST_F(ViewerNodeTest, TheSceneHoldsWhatTheBusSaid) {
+  sendScene(5.0);
+  send(channels::kUtterance, utterance(5.0));
+  const json j = frame();
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 5.0);
+  ASSERT_TRUE(j["robot"].is_object());
+  EXPECT_NEAR(j["robot"]["x"].get<double>(), 14.5, 1e-9);
+  EXPECT_EQ(j["robot"]["mode"], "docking");
+  ASSERT_EQ(j["humans"].size(), 1u);
+  EXPECT_EQ(j["humans"][0]["id"], 1);
+  EXPECT_NEAR(j["humans"][0]["radius"].get<double>(), 0.3, 1e-9);
+  ASSERT_TRUE(j["bands"].is_object());
+  EXPECT_EQ(j["bands"]["robot"].size(), 21u);
+  ASSERT_EQ(j["bands"]["humans"].size(), 1u);
+  EXPECT_EQ(j["bands"]["humans"][0]["room_plan"], "dock_here");
+  ASSERT_EQ(j["reference_paths"].size(), 1u);
+
+  ASSERT_EQ(j["situations"].size(), 1u);
+  const json& s = j["situations"][0];
+  EXPECT_EQ(s["dir"], "right");
+  EXPECT_DOUBLE_EQ(s["t_cross_s"].get<double>(), 7.0);
+  EXPECT_DOUBLE_EQ(s["t_cross_at"].get<double>(), 12.0);
+  EXPECT_EQ(s["predicates"]["human_is_constrained"], "true");
+  EXPECT_EQ(s["predicates"]["human_needs_to_contribute"], "false");
+  // d_h: from CP_h to the nearest point of the reference path (straight down to y = 1.575).
+  ASSERT_TRUE(s["segments"]["d_h"].is_array());
+  EXPECT_NEAR(s["segments"]["d_h"][1][0].get<double>(), 22.0, 1e-9);
+  EXPECT_NEAR(s["segments"]["d_h"][1][1].get<double>(), 1.575, 1e-9);
+  // d_OH: from CP_h to a wall point of the map in the half-plane away from the robot (below
+  // CP_h: the corridor's lower wall, y ~ 0.45), about d_OH + radius away.
+  ASSERT_TRUE(s["segments"]["d_oh"].is_array());
+  const double oy = s["segments"]["d_oh"][1][1].get<double>();
+  EXPECT_LT(oy, 1.4);
+  EXPECT_GT(oy, 0.2);
+  ASSERT_TRUE(s["segments"]["d_or"].is_array());
+  EXPECT_GT(s["segments"]["d_or"][1][1].get<double>(), 1.9);
+
+  ASSERT_EQ(j["assessments"].size(), 1u);
+  const json& a = j["assessments"][0];
+  EXPECT_EQ(a["recording"], "recording");
+  ASSERT_EQ(a["ca"].size(), 3u);
+  EXPECT_NEAR(a["ca"][0][0].get<double>(), 4.8, 1e-9);  // 0.1 s apart, newest at t
+  EXPECT_NEAR(a["cm_m"].get<double>(), 0.03, 1e-9);
+  ASSERT_EQ(a["rounds"].size(), 1u);
+  EXPECT_EQ(a["rounds"][0][1], 1);
+
+  ASSERT_EQ(j["utterances"].size(), 1u);
+  EXPECT_TRUE(j["utterances"][0]["active"].get<bool>());
+  EXPECT_EQ(j["utterances"][0]["round"], 1);
+
+  ASSERT_EQ(j["statuses"].size(), 2u);
+  // Statuses are aged against the newest status heard (5 s later): path_assessor is silent.
+  EXPECT_EQ(j["statuses"][1]["name"], "path_assessor");
+  EXPECT_TRUE(j["statuses"][1]["silent"].get<bool>());
+  EXPECT_FALSE(j["statuses"][0]["silent"].get<bool>());
+  EXPECT_TRUE(j["statuses"][0]["cycle_max_ms"].is_null());  // NaN = none
+  EXPECT_EQ(j["viewer"]["skipped_total"], 0);
+
+  // The bubble goes once the speech (3 s) and the hold (3 s) are over, in message time.
+  sendScene(11.5);
+  EXPECT_FALSE(frame()["utterances"][0]["active"].get<bool>());
+}
+
+TEST_F(ViewerNodeTest, NanAndUndecodableMessagesAreSkippedAndCounted) {
+  sendScene(5.0);
+  const std::int64_t rejected_before = rt_->counters().rejected;
+
+  agent_states_t bad = states(5.1);
+  bad.humans[0].x_m = kNaN;
+  send(channels::kAgentStates, bad);
+  situation_t bad_situation = situation(5.1);
+  bad_situation.dir = 7;  // no such Dir
+  send(channels::kSituation, bad_situation);
+  const std::vector<std::uint8_t> garbage{1, 2, 3, 4, 5};
+  rt_->lcm().publish(channels::kBands, garbage.data(), static_cast<unsigned>(garbage.size()));
+  rt_->spinFor(0);
+
+  EXPECT_EQ(rt_->counters().rejected, rejected_before + 3);
+  const json j = frame();
+  EXPECT_EQ(j["viewer"]["skipped"][channels::kAgentStates], 1);
+  EXPECT_EQ(j["viewer"]["skipped"][channels::kSituation], 1);
+  EXPECT_EQ(j["viewer"]["rejected"].get<std::int64_t>(), rejected_before + 3);
+  // Nothing moved: the scene is still the one of t = 5.
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 5.0);
+  EXPECT_NEAR(j["humans"][0]["x"].get<double>(), 29.5, 1e-9);
+  EXPECT_EQ(j["situations"][0]["dir"], "right");
+  EXPECT_EQ(j["bands"]["robot"].size(), 21u);
+
+  // And the viewer goes on.
+  sendScene(5.2);
+  EXPECT_DOUBLE_EQ(frame()["t"].get<double>(), 5.2);
+}
+
+TEST_F(ViewerNodeTest, ServesThePageTheSceneAndBoundedStreams) {
+  sendScene(5.0);
+  node_->pushFrame();
+  httplib::Client client("127.0.0.1", node_->httpPort());
+  client.set_read_timeout(5, 0);
+
+  const auto page = client.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find("<pre id=\"drawn\""), std::string::npos);
+  EXPECT_NE(page->body.find("/viewer.js"), std::string::npos);
+  const auto js = client.Get("/viewer.js");
+  ASSERT_TRUE(js);
+  EXPECT_NE(js->body.find("coopnavScene"), std::string::npos);
+  // Self-contained: nothing fetched from elsewhere.
+  EXPECT_EQ(page->body.find("http"), std::string::npos);
+  EXPECT_EQ(js->body.find("https://"), std::string::npos);
+
+  const auto scene = client.Get("/scene.json");
+  ASSERT_TRUE(scene);
+  const json j = json::parse(scene->body);
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 5.0);
+  EXPECT_EQ(j["humans"].size(), 1u);
+
+  const auto map = client.Get("/map.json");
+  ASSERT_TRUE(map);
+  const json m = json::parse(map->body);
+  EXPECT_GT(m["width"].get<int>(), 100);
+  EXPECT_EQ(m["rle"].size() % 2, 0u);
+
+  // One stream (max_clients 1) held open; a second is refused with 503.
+  std::atomic<bool> got_frame{false}, release{false};
+  std::thread holder([&] {
+    httplib::Client c("127.0.0.1", node_->httpPort());
+    c.set_read_timeout(10, 0);
+    c.Get("/events", [&](const char* data, std::size_t n) {
+      if (std::string(data, n).find("data: {") != std::string::npos) got_frame = true;
+      return !release.load();  // false: the browser goes away
+    });
+  });
+  ASSERT_TRUE(test::waitFor([&] { return got_frame.load(); }, 5000ms));
+  EXPECT_EQ(node_->http().clients(), 1);
+  const auto refused = client.Get("/events");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 503);
+  EXPECT_EQ(node_->http().refused(), 1);
+
+  // The page acknowledges what it drew: latency and the drawn keys.
+  const auto ack =
+      client.Post("/ack", json{{"utime", utimeAt(5.0)}, {"keys", {"robot", "human:1"}}}.dump(),
+                  "application/json");
+  ASSERT_TRUE(ack);
+  EXPECT_EQ(ack->status, 204);
+  const json drawn = node_->http().drawn();
+  EXPECT_EQ(drawn["ever"], json({"human:1", "robot"}));
+  EXPECT_EQ(node_->http().latency().stats()["n"], 1);
+  // Live view: no replay controls.
+  const auto control = client.Post("/control", R"({"command":"pause"})", "application/json");
+  ASSERT_TRUE(control);
+  EXPECT_EQ(control->status, 409);
+
+  // A second viewer on the same port does not start (no silent sharing of the port).
+  {
+    Runtime other("viewer2", "memq://");
+    ViewerConfig c = testConfig();
+    c.http_port = node_->httpPort();
+    EXPECT_THROW(ViewerNode(c, other), std::runtime_error);
+  }
+
+  // The stream goes away: its slot is free again (at the next frame or keep-alive, <= 1 s).
+  release = true;
+  sendScene(5.1);
+  node_->pushFrame();
+  holder.join();
+  EXPECT_TRUE(test::waitFor([&] { return node_->http().clients() == 0; }, 3000ms));
+}
+
+TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("viewer_replay_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string log_path = (dir / "run.lcm").string();
+  {
+    lcm::LogFile log(log_path, "w");
+    ASSERT_TRUE(log.good());
+    std::int64_t n = 0;
+    const auto write = [&](const char* channel, const auto& msg, double t_s) {
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+      lcm::LogEvent ev{};
+      ev.eventnum = n++;
+      ev.timestamp = utimeAt(1000.0 + t_s);  // the recorder's wall clock: not the timeline
+      ev.channel = channel;
+      ev.datalen = static_cast<std::int32_t>(buf.size());
+      ev.data = buf.data();
+      log.writeEvent(&ev);
+    };
+    for (int k = 0; k <= 100; ++k) {  // 10 s at 10 Hz
+      const double t = 0.1 * k;
+      write(channels::kAgentStates, states(t), t);
+      write(channels::kBands, bands(t), t);
+      if (k == 50) write(channels::kUtterance, utterance(t), t);
+      if (k == 60) {
+        agent_states_t bad = states(t);
+        bad.robot.y_m = kNaN;
+        write(channels::kAgentStates, bad, t);
+      }
+    }
+  }
+  ViewerConfig config = testConfig();
+  config.log_file = log_path;
+  config.replay_autoplay = false;
+  Runtime rt("viewer", "memq://");
+  ViewerNode node(config, rt);
+  ASSERT_TRUE(node.replaying());
+  viewer::Replay& replay = *node.replay();
+  EXPECT_DOUBLE_EQ(replay.startS(), 0.0);
+  EXPECT_DOUBLE_EQ(replay.endS(), 10.0);
+  EXPECT_EQ(replay.rejectedInLog(), 1);
+
+  replay.seek(5.5);
+  json j = node.frameJson();
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 5.5);
+  EXPECT_NEAR(j["robot"]["x"].get<double>(), 11.0 + 0.7 * 5.5, 1e-9);
+  EXPECT_EQ(j["replay"]["t"], 5.5);
+  EXPECT_TRUE(j["utterances"][0]["active"].get<bool>());
+  EXPECT_EQ(j["viewer"]["skipped_total"], 0);
+
+  // Forwards past the NaN message: counted; backwards before it: not yet.
+  replay.seek(9.0);
+  j = node.frameJson();
+  EXPECT_EQ(j["viewer"]["skipped_total"], 1);
+  EXPECT_EQ(j["utterances"].size(), 1u);
+  replay.seek(2.0);
+  j = node.frameJson();
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 2.0);
+  EXPECT_EQ(j["viewer"]["skipped_total"], 0);
+  EXPECT_EQ(j["utterances"].size(), 0u);
+
+  // The page's controls: play at 100x reaches the end, then stops.
+  httplib::Client client("127.0.0.1", node.httpPort());
+  ASSERT_TRUE(client.Post("/control", R"({"command":"speed","value":100})", "application/json"));
+  ASSERT_TRUE(client.Post("/control", R"({"command":"play"})", "application/json"));
+  EXPECT_TRUE(test::waitFor([&] { return !replay.playing() && replay.positionS() == 10.0; }, 5000ms,
+                            [&] { rt.spinFor(20); }));
+  EXPECT_DOUBLE_EQ(node.frameJson()["t"].get<double>(), 10.0);
+  const auto bad = client.Post("/control", R"({"command":"jump"})", "application/json");
+  ASSERT_TRUE(bad);
+  EXPECT_EQ(bad->status, 400);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -184,29 +184,6 @@ std::int64_t SkipCounts::total() const {
   return n;
 }
 
-const char* robotModeName(std::int8_t mode) {
-  switch (mode) {
-    case velocity_command_t::MODE_IDLE:
-      return "idle";
-    case velocity_command_t::MODE_NAVIGATING:
-      return "navigating";
-    case velocity_command_t::MODE_DOCKING:
-      return "docking";
-    case velocity_command_t::MODE_HOLDING:
-      return "holding";
-    case velocity_command_t::MODE_RESUMING:
-      return "resuming";
-    case velocity_command_t::MODE_GOAL_REACHED:
-      return "goal_reached";
-    case velocity_command_t::MODE_STOPPED:
-      return "stopped";
-    case velocity_command_t::MODE_RETREATING:
-      return "retreating";
-    default:
-      return "unknown";
-  }
-}
-
 const char* predicateName(std::int8_t pred) {
   switch (pred) {
     case situation_t::PRED_TRUE:
@@ -497,7 +474,7 @@ json SceneModel::situationJson(const SituationRecord& s) const {
               {"or", num(s.thresholds.tau_or_m)},
               {"hr", num(s.thresholds.tau_hr_m)}}},
             {"room_plan", roomPlanName(s.room_plan)},
-            {"robot_mode", robotModeName(s.robot_mode)},
+            {"robot_mode", commandModeName(s.robot_mode)},
             {"reason", a.reason.empty() ? c.reason : a.reason}};
   // The distances as segments: where each was measured (paper §II-B, design-readings).
   json seg = {{"d_h", nullptr}, {"d_oh", nullptr}, {"d_or", nullptr}, {"d_hr", nullptr}};
@@ -538,7 +515,7 @@ json SceneModel::toJson() const {
     json robot = agentJson(states_->robot);
     std::int8_t mode = bands_ ? bands_->robot_mode : velocity_command_t::MODE_IDLE;
     if (command_) mode = command_->mode;
-    robot["mode"] = robotModeName(mode);
+    robot["mode"] = commandModeName(mode);
     robot["guard"] = command_ ? guardName(command_->guard) : "none";
     j["robot"] = std::move(robot);
     json humans = json::array();
@@ -569,7 +546,7 @@ json SceneModel::toJson() const {
     }
     j["bands"] = {{"t", seconds(bands_->utime)},
                   {"status", static_cast<int>(bands_->status)},
-                  {"robot_mode", robotModeName(bands_->robot_mode)},
+                  {"robot_mode", commandModeName(bands_->robot_mode)},
                   {"robot", bandJson(bands_->robot)},
                   {"humans", std::move(humans)}};
   } else {

@@ -95,27 +95,11 @@ std::string fixed2(double x) {
   return buf;
 }
 
-const char* commandModeName(std::int8_t mode) {
-  switch (mode) {
-    case velocity_command_t::MODE_IDLE:
-      return "idle";
-    case velocity_command_t::MODE_NAVIGATING:
-      return "navigating";
-    case velocity_command_t::MODE_DOCKING:
-      return "docking";
-    case velocity_command_t::MODE_HOLDING:
-      return "holding";
-    case velocity_command_t::MODE_RESUMING:
-      return "resuming";
-    case velocity_command_t::MODE_GOAL_REACHED:
-      return "at its goal";
-    case velocity_command_t::MODE_STOPPED:
-      return "stopped";
-    case velocity_command_t::MODE_RETREATING:
-      return "retreating";
-    default:
-      return "in an unknown mode";
-  }
+/// A command mode as the end of a run's sentence says it ("robot was navigating").
+std::string commandModeText(std::int8_t mode) {
+  if (mode == velocity_command_t::MODE_GOAL_REACHED) return "at its goal";
+  const std::string name = commandModeName(mode);
+  return name == "unknown" ? "in an unknown mode" : name;
 }
 
 }  // namespace
@@ -605,8 +589,8 @@ std::string WorldSimNode::endDetail(const sim::StepResult& r) const {
       }
       return "robot collision";
     case sim::SimStatus::kStandstill: {
-      std::string robot = last_mode_ ? std::string("was ") + commandModeName(*last_mode_)
-                                     : std::string("was never commanded");
+      std::string robot =
+          last_mode_ ? "was " + commandModeText(*last_mode_) : std::string("was never commanded");
       if (sum.robot_goal_time_s >= 0.0 &&
           (!last_mode_ || *last_mode_ != velocity_command_t::MODE_GOAL_REACHED))
         robot += " (at its goal)";

@@ -451,4 +451,27 @@ DistanceResult answerQuery(const DistanceMap& map, const DistanceQuery& q) {
   return invalid;
 }
 
+const char* commandModeName(std::int8_t mode) {
+  switch (mode) {
+    case velocity_command_t::MODE_IDLE:
+      return "idle";
+    case velocity_command_t::MODE_NAVIGATING:
+      return "navigating";
+    case velocity_command_t::MODE_DOCKING:
+      return "docking";
+    case velocity_command_t::MODE_HOLDING:
+      return "holding";
+    case velocity_command_t::MODE_RESUMING:
+      return "resuming";
+    case velocity_command_t::MODE_GOAL_REACHED:
+      return "goal_reached";
+    case velocity_command_t::MODE_STOPPED:
+      return "stopped";
+    case velocity_command_t::MODE_RETREATING:
+      return "retreating";
+    default:
+      return "unknown";
+  }
+}
+
 }  // namespace coopnav

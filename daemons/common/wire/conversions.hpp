@@ -125,6 +125,9 @@ struct VelocityCommand {
 };
 VelocityCommand fromLcm(const velocity_command_t& msg);
 velocity_command_t toLcm(const VelocityCommand& c);
+/// A command mode's name as logs and JSON give it ("navigating", "goal_reached", ...);
+/// "unknown" for a value that is none of velocity_command_t's MODE_ constants.
+const char* commandModeName(std::int8_t mode);
 
 /// Distance queries: one query of the server's three kinds.
 enum class DistanceQueryKind : std::int8_t { kNearest = 0, kSide = 1, kRay = 2 };

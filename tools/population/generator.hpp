@@ -136,6 +136,18 @@ inline const std::vector<std::array<double, 4>>& openPgmGoalRegionsM() {
 /// The straight stretches of the real maps (geometry measured from the pixels of the maps the
 /// population reads, their credit in test/data/maps/CREDIT.md; junctions: y 25.00-27.00 free from
 /// x 6.85 to 37.50, crossed by a 1.5 m corridor at x 23.50-25.00).
+/// junctions.pgm's 2.0 m corridor (y 25.00-27.00): its map, width and the lanes people start in;
+/// the head-on layout and the junction crowd layout both go along it.
+inline Layout junctionsCorridor() {
+  Layout l;
+  l.map_file = "junctions.yaml";
+  l.width_m = 2.0;
+  l.centre_y_m = 26.0;
+  l.lateral_min_y_m = 25.0 + kHumanRadiusM + kStartMarginM;
+  l.lateral_max_y_m = 27.0 - kHumanRadiusM - kStartMarginM;
+  return l;
+}
+
 inline std::vector<Layout> mapLayouts() {
   std::vector<Layout> out;
   {
@@ -178,15 +190,10 @@ inline std::vector<Layout> mapLayouts() {
     out.push_back(l);
   }
   {
-    Layout l;  // junctions.pgm, 2.0 m corridor y 25.00-27.00
+    Layout l = junctionsCorridor();
     l.key = "junctions_2.00";
-    l.map_file = "junctions.yaml";
-    l.width_m = 2.0;
-    l.centre_y_m = 26.0;
     l.robot_start_x_m = 8.0;
     l.robot_goal_x_m = 33.0;
-    l.lateral_min_y_m = 25.0 + kHumanRadiusM + kStartMarginM;
-    l.lateral_max_y_m = 27.0 - kHumanRadiusM - kStartMarginM;
     l.head_start_max_m = 2.0;
     l.head_goal_x_m = 7.0;
     l.follower_goal_x_m = 5.0;
@@ -413,15 +420,10 @@ struct JunctionGeometry {
 /// (the open strip east of them, past the robot's goal): goals away from walls, which a social
 /// force walker would not reach within its goal tolerance.
 inline Layout junctionCrossLayout() {
-  Layout l;
+  Layout l = junctionsCorridor();
   l.key = "junction_cross";
-  l.map_file = "junctions.yaml";
-  l.width_m = 2.0;
-  l.centre_y_m = 26.0;
   l.robot_start_x_m = 13.0;
   l.robot_goal_x_m = 33.0;
-  l.lateral_min_y_m = 25.0 + kHumanRadiusM + kStartMarginM;
-  l.lateral_max_y_m = 27.0 - kHumanRadiusM - kStartMarginM;
   l.head_goal_x_m = 5.0;
   l.same_way_goal_x_m = 38.6;
   return l;

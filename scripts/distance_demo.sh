@@ -13,7 +13,7 @@ ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 "$(coopnav_bin obstacle_distance_server)" -c "$COOPNAV_ROOT/config/obstacle_distance_server.yaml" \
   --log-level warn &
 server=$!
-trap 'kill "$server" 2>/dev/null; wait "$server" 2>/dev/null || true' EXIT
+coopnav_trap 'kill "$server" 2>/dev/null; wait "$server" 2>/dev/null || true' EXIT
 "$ctl" wait-ready obstacle_distance_server --timeout-s 30
 
 echo "== sample queries on open.pgm (6 m upper corridor at y 3.5..9.5, 2.25 m lower corridor)"

@@ -60,8 +60,8 @@ port="${COOPNAV_FAULT_PORT_BASE:-7700}"
 RANDOM="$seed"  # the kill steps and the relay's seeds follow from it
 echo "faults: seed $seed, output $out"
 
-trap coopnav_stop_all EXIT
-trap 'coopnav_stop_all; exit 130' INT TERM
+coopnav_trap coopnav_stop_all EXIT
+coopnav_trap 'coopnav_stop_all; exit 130' INT TERM
 
 # A restarted band source rebuilds its planner memory by planning every recorded step again: the
 # peers' step gates and the world wait for it instead of going on degraded. Liveness only.

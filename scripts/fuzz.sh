@@ -149,7 +149,7 @@ run_target() {
         "${corpora[@]}") >"$log" 2>&1 &
       pids+=($!)
     done
-    trap 'INTERRUPTED=1; kill -INT "${pids[@]}" 2>/dev/null' INT TERM
+    coopnav_trap 'INTERRUPTED=1; kill -INT "${pids[@]}" 2>/dev/null' INT TERM
     rc=0
     local pid r
     for pid in "${pids[@]}"; do

@@ -80,9 +80,9 @@ mkdir -p "$logs"
 
 # Background children of a non-interactive shell ignore SIGINT: they are stopped by SIGTERM
 # (coopnav_stop_all), on any exit.
-trap coopnav_stop_all EXIT
-trap 'echo "launch.sh: stopping"; exit 130' INT
-trap 'echo "launch.sh: stopping"; exit 143' TERM
+coopnav_trap coopnav_stop_all EXIT
+coopnav_trap 'echo "launch.sh: stopping"; exit 130' INT
+coopnav_trap 'echo "launch.sh: stopping"; exit 143' TERM
 
 declare -A pid_of=()
 for d in "${names[@]}"; do

@@ -98,6 +98,21 @@ coopnav_wait_recorded() {
   done
 }
 
+# coopnav_trap CMD SIGNAL...: `trap CMD SIGNAL...` that only the shell setting it runs; in any
+# other shell the trap just exits. Bash (5.2) runs a parent's traps in a subshell that a signal
+# reaches in the instant after fork, before the child has reset the handlers it inherited: a
+# watchdog or ticker stopped with SIGTERM then ran its parent's EXIT trap, which stopped every
+# daemon with SIGKILL and removed the run's files under the parent. The guard reads the pid from
+# /proc/self: in that instant $BASHPID can still hold the parent's. Every script sets its traps
+# with this (test/arch_rules.sh checks).
+coopnav_trap() {
+  local cmd="$1"
+  shift
+  # shellcheck disable=SC2064 # this shell's pid, fixed now
+  trap "read -r _cn_trap_pid _ </proc/self/stat; if [ \"\$_cn_trap_pid\" != $BASHPID ]; then exit 1; fi
+$cmd" "$@"
+}
+
 coopnav_stop_all() {
   local p
   for p in "${COOPNAV_PIDS[@]}"; do kill -TERM "$p" 2>/dev/null || true; done

@@ -86,9 +86,9 @@ ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 hosts=("${COOPNAV_DAEMONS[@]}" world_sim recorder)
 
 # Whatever happens (failure, ctrl-C, kill), the daemons stop and the namespaces go.
-trap 'coopnav_stop_all; coopnav_netns_down "$prefix"' EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
+coopnav_trap 'coopnav_stop_all; coopnav_netns_down "$prefix"' EXIT
+coopnav_trap 'exit 130' INT
+coopnav_trap 'exit 143' TERM
 
 results=()
 fail=0

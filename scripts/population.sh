@@ -34,8 +34,8 @@ pop="$COOPNAV_BUILD_DIR/tools/population/coopnav_population"
 # One run, in a process of its own (so that a timeout can stop it and its daemons):
 #   population.sh --worker SCENARIO RUN_DIR PORT
 if [ "${1:-}" = "--worker" ]; then
-  trap coopnav_stop_all EXIT
-  trap 'coopnav_stop_all; exit 143' INT TERM
+  coopnav_trap coopnav_stop_all EXIT
+  coopnav_trap 'coopnav_stop_all; exit 143' INT TERM
   scenario="$2" dir="$3" port="$4"
   name="$(basename "$scenario" .yaml)"  # a muted twin runs its encounter's file: same name
   rm -rf "$dir"
@@ -141,7 +141,7 @@ stop_workers() {
   for p in "${!slot_of[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
   wait 2>/dev/null || true
 }
-trap 'stop_workers; exit 130' INT TERM
+coopnav_trap 'stop_workers; exit 130' INT TERM
 
 # Progress: one line per finished run (name, final state, simulated and wall time of the run,
 # runs done / all, ETA from the mean wall time per finished run at this JOBS); on a terminal the

@@ -41,7 +41,7 @@ export LCM_DEFAULT_URL="udpm://239.255.76.67:${COOPNAV_REPLAY_PORT:-7689}?ttl=0&
 ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 cfg="$COOPNAV_ROOT/config"
 
-trap coopnav_stop_all EXIT
+coopnav_trap coopnav_stop_all EXIT
 
 # The recorder first: it is listening by the time the daemons are ready (a loaded machine can
 # take a while to start it).

@@ -60,8 +60,8 @@ ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 # Port base: CI runs several suites at once; each scenario gets its own port from here.
 port="${COOPNAV_RUN_PORT_BASE:-7670}"
 
-trap coopnav_stop_all EXIT
-trap 'coopnav_stop_all; exit 130' INT TERM
+coopnav_trap coopnav_stop_all EXIT
+coopnav_trap 'coopnav_stop_all; exit 130' INT TERM
 
 summaries=()
 failed=0

@@ -83,7 +83,7 @@ humans:
 EOF
 
 cfg="$COOPNAV_ROOT/config"
-trap coopnav_stop_all EXIT
+coopnav_trap coopnav_stop_all EXIT
 for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager; do
   coopnav_spawn "$out/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" --lcm-url "$url" \
     --log-level warn

@@ -5,7 +5,11 @@
 #    high_resolution_clock, time(nullptr), gettimeofday, clock_gettime; full comment lines are
 #    skipped): lib/ is pure, the daemons do I/O, logging and time and hand lib/ plain values;
 #  - a file under daemons/common includes a header of one daemon (daemons/<name>/, by path or by
-#    a file name only that daemon has): common code is shared by all daemons and knows none.
+#    a file name only that daemon has): common code is shared by all daemons and knows none;
+#  - a shell script (scripts/, test/, tools/) sets a trap with `trap` rather than coopnav_trap
+#    (scripts/lib.sh): bash can run a plain trap in a subshell that a signal reaches just after
+#    fork, which ran a test's cleanup under its running daemons (RETURN traps and resets with
+#    `trap -` are not affected; a line ending "# arch-rules: plain trap" is a deliberate one).
 # Usage: test/arch_rules.sh [SOURCE_DIR]   (default: the repository holding this script)
 #        test/arch_rules.sh --self-test    plants one violation of each rule in a scratch tree and
 #                                          checks that every one is reported (ctest arch_rules_self_test)
@@ -63,6 +67,22 @@ check_tree() {
       fi
     done
   fi
+  # Shell traps: a `trap` command word followed by a handler, outside comments.
+  local dirs=() dd
+  for dd in scripts test tools; do [ -d "$root/$dd" ] && dirs+=("$dd"); done
+  if [ "${#dirs[@]}" -gt 0 ]; then
+    hits=$(cd "$root" && grep -rHnE --include='*.sh' \
+             -e '(^|[;&|({][[:space:]]*|(then|else|do)[[:space:]]+)trap[[:space:]]+[^-[:space:]]' \
+             "${dirs[@]}" |
+           grep -vE '^[^:]+:[0-9]+:[[:space:]]*#' | grep -vE '[[:space:]]RETURN;?[[:space:]]*}?[[:space:]]*$' |
+           grep -vE '^scripts/lib\.sh:[0-9]+:.*_cn_trap_pid' | grep -vF '# arch-rules: plain trap')
+    if [ -n "$hits" ]; then
+      violations=1
+      while IFS= read -r h; do
+        echo "ARCH RULE VIOLATED (a shell trap without coopnav_trap): $h"
+      done <<<"$hits"
+    fi
+  fi
   return "$violations"
 }
 
@@ -70,7 +90,7 @@ self_test() {
   local tmp out rc=0
   tmp=$(mktemp -d)
   trap 'rm -rf "$tmp"' RETURN
-  mkdir -p "$tmp/lib/src/a" "$tmp/lib/include/coopnav/a" "$tmp/daemons/common" "$tmp/daemons/foo"
+  mkdir -p "$tmp/lib/src/a" "$tmp/lib/include/coopnav/a" "$tmp/daemons/common/runtime" "$tmp/daemons/foo"
   # A clean tree passes (includes of lib headers, <chrono> durations, clocks named in comments).
   cat >"$tmp/lib/src/a/clean.cpp" <<'EOF'
 #include "coopnav/a/clean.hpp"
@@ -84,6 +104,13 @@ EOF
   : >"$tmp/daemons/common/runtime/log.hpp"
   : >"$tmp/daemons/foo/foo_node.hpp"
   : >"$tmp/daemons/foo/log.hpp"  # same name as a common header: not a daemon-only header
+  mkdir -p "$tmp/scripts" "$tmp/test/e2e"
+  cat >"$tmp/scripts/clean.sh" <<'EOF'
+# trap 'x' EXIT in a comment, and the reset below, are fine
+coopnav_trap 'rm -rf "$tmp"' EXIT
+trap - INT TERM
+f() { trap 'rm -rf "$d"' RETURN; }
+EOF
   if ! out=$(check_tree "$tmp"); then
     echo "self-test: a clean tree was refused:"; echo "$out"; return 1
   fi
@@ -101,16 +128,19 @@ EOF
   printf '#include "foo/foo_node.hpp"\n' >"$tmp/daemons/common/v_path.cpp"
   printf '#include "../foo/foo_node.hpp"\n' >"$tmp/daemons/common/v_rel.hpp"
   printf '#include "foo_node.hpp"\n' >"$tmp/daemons/common/v_name.cpp"
+  printf "trap 'rm -rf \"\$tmp\"' EXIT\n" >"$tmp/scripts/v_trap.sh"
+  printf 'x=1; %s cleanup INT TERM\n' trap >"$tmp/test/e2e/v_trap_inline.sh"
   out=$(check_tree "$tmp") && { echo "self-test: violations were not reported"; return 1; }
   echo "$out"
   local f
   for f in v_lcm.cpp v_type.hpp v_channels.cpp v_spdlog.cpp v_steady.cpp v_system.cpp v_hrc.cpp \
-           v_time.cpp v_gtod.cpp v_cgt.cpp v_path.cpp v_rel.hpp v_name.cpp; do
+           v_time.cpp v_gtod.cpp v_cgt.cpp v_path.cpp v_rel.hpp v_name.cpp v_trap.sh \
+           v_trap_inline.sh; do
     if ! grep -q "/$f:1:" <<<"$out"; then
       echo "self-test: the violation in $f was not reported"; rc=1
     fi
   done
-  if grep -qE '/(clean\.cpp|c\.cpp):' <<<"$out"; then
+  if grep -qE '(clean\.cpp|/c\.cpp|clean\.sh):' <<<"$out"; then
     echo "self-test: a clean file was reported"; rc=1
   fi
   [ "$rc" = 0 ] && echo "self-test: every rule fires, clean files pass"
@@ -123,8 +153,10 @@ if [ "${1:-}" = --self-test ]; then
 fi
 root=${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}
 if check_tree "$root"; then
-  echo "arch rules: lib/ has no LCM, lcmtype, spdlog or clock; daemons/common includes no daemon's header"
+  echo "arch rules: lib/ has no LCM, lcmtype, spdlog or clock; daemons/common includes no daemon's" \
+    "header; shell traps go through coopnav_trap"
 else
-  echo "arch rules violated (test/arch_rules.sh: lib/ is pure; daemons/common knows no daemon)"
+  echo "arch rules violated (test/arch_rules.sh: lib/ is pure; daemons/common knows no daemon;" \
+    "shell traps go through coopnav_trap)"
   exit 1
 fi

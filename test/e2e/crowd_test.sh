@@ -11,9 +11,10 @@
 # and the one turning away ahead of the robot hears nothing.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 names=(crowd_2_open crowd_5_flows crowd_group_abreast crowd_standing_talk crowd_junction)
 scenarios=()
 for n in "${names[@]}"; do scenarios+=("$src/config/scenarios/$n.yaml"); done

@@ -6,9 +6,10 @@
 # "I will pass on your right.", keeps to its other side, and the robot passes without docking.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 scenario="$src/test/data/scenarios/cue_narrow_responsive.yaml"
 name=cue_narrow_responsive
 # Ports of this test only (ctest runs e2e tests in parallel).

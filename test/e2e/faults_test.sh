@@ -13,9 +13,10 @@
 # for the last step's acks (narrow_minimal, relay seed 20442, commit a277dcf).
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 fail=0
 # Ports of this test only (ctest runs e2e tests in parallel).
 COOPNAV_FAULT_PORT_BASE=8100 bash "$src/scripts/faults.sh" --no-build --out "$tmp/a" \

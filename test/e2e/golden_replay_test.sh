@@ -6,12 +6,13 @@
 # unintended change; regenerate with test/data/golden/README.md when a change is intended.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 # lcm-logplayer publishes over UDP without flow control: on a loaded CI machine a fast replay can
 # lose a datagram, and the transcript's counts would differ. The golden log's stamps are those of
 # a lockstep run replayed at 4x (~300 steps per second); 0.1 plays it at ~30 steps per second.
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 fail=0
 port=7950
 for gz in "$src"/test/data/golden/*.lcm.gz; do

@@ -12,6 +12,7 @@
 set -euo pipefail
 build="${COOPNAV_BUILD_DIR:?}"
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 url="${LCM_DEFAULT_URL:?}"
 tool="$build/tools/coopnav_hostile"
 [ -x "$tool" ] || { echo "FAIL: $tool not built"; exit 1; }
@@ -41,7 +42,7 @@ cleanup() {
   for p in "${running[@]}"; do kill -KILL "$p" 2>/dev/null || true; done
   rm -rf "$tmp"
 }
-trap cleanup EXIT
+coopnav_trap cleanup EXIT
 fail=0
 failed=()
 

@@ -12,9 +12,10 @@
 # Needs root for network namespaces: skipped (exit 77) where they cannot be made.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 # Ports of this test only (ctest runs e2e tests in parallel): 9150-9154 on this machine; the
 # namespaced hosts' ports are their own.
 rc=0

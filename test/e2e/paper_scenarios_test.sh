@@ -8,9 +8,10 @@
 # assessors and dialogue manager reproduces the recorded transcript.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 # Ports of this test only (ctest runs e2e tests in parallel).
 COOPNAV_RUN_PORT_BASE=7930 bash "$src/scripts/run.sh" --no-build --out "$tmp/a" >"$tmp/a.out" 2>&1 ||
   { cat "$tmp/a.out"; echo "FAIL: run.sh (first run)"; exit 1; }

@@ -10,10 +10,11 @@
 # sentence addressed among several people) and a progress line per run.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 pop="$COOPNAV_BUILD_DIR/tools/population/coopnav_population"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 
 start_s=$(date +%s)
 rc=0

@@ -5,9 +5,10 @@
 # contact in summary.json, and whatever the robot said about making room is what it did.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 COOPNAV_RUN_PORT_BASE=7960 bash "$src/scripts/run.sh" --no-build --out "$tmp/run" \
   "$src/test/data/scenarios/corridor_1_8_minimal.yaml" >"$tmp/run.out" 2>&1 ||
   { cat "$tmp/run.out"; echo "FAIL: run.sh"; exit 1; }

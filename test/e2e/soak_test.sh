@@ -4,8 +4,9 @@
 # backlog or lag, or a daemon that dies.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 out="$(mktemp -d)"
-trap 'rm -rf "$out"' EXIT
+coopnav_trap 'rm -rf "$out"' EXIT
 rc=0
 bash "$src/scripts/soak.sh" --minutes 1 --rate-factor 10 --no-build --out "$out" || rc=$?
 if [ "$rc" -ne 0 ]; then

@@ -6,13 +6,14 @@
 # every cue's words end before the crossing; no utterance starts before the previous one ended.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 for p in espeak-ng soxi; do
   command -v "$p" >/dev/null ||
     { echo "FAIL: $p is not installed (scripts/lib.sh installs espeak-ng and sox)"; exit 1; }
 done
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 name=narrow_minimal
 COOPNAV_RUN_PORT_BASE=8320 bash "$src/scripts/run.sh" --no-build --speech --out "$tmp/run" \
   "$src/config/scenarios/$name.yaml" >"$tmp/run.out" 2>&1 ||

@@ -6,6 +6,7 @@
 # (COOPNAV_ARTIFACT_DIR, default build/test_artifacts/spy).
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 out="${COOPNAV_ARTIFACT_DIR:-$COOPNAV_BUILD_DIR/test_artifacts/spy}"
 tmp="$(mktemp -d)"
@@ -15,7 +16,7 @@ cleanup() {
   wait 2>/dev/null || true
   rm -rf "$tmp"
 }
-trap cleanup EXIT
+coopnav_trap cleanup EXIT
 mkdir -p "$out"
 rm -f "$out"/spy.png "$out"/spy_channels.tsv
 

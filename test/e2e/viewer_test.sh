@@ -48,7 +48,7 @@ cleanup() {
   for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
   coopnav_stop_all
 }
-trap cleanup EXIT
+coopnav_trap cleanup EXIT
 fail() {
   echo "FAIL: $*"
   echo "--- viewer logs:"

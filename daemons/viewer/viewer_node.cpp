@@ -99,6 +99,8 @@ ViewerNode::ViewerNode(const Config& config, Runtime& runtime)
   http.bind_address = config_.bind_address;
   http.port = config_.http_port;
   http.max_clients = config_.max_clients;
+  http.stalled_client_timeout = std::chrono::milliseconds(
+      static_cast<std::int64_t>(std::llround(config_.stalled_client_timeout_s * 1000.0)));
   http.replay = replay_ != nullptr;
   http_ = std::make_unique<viewer::ViewerHttp>(http, map.dump());
 

@@ -18,8 +18,8 @@ coopnav_trap 'rm -rf "$tmp"' EXIT
 names=(crowd_2_open crowd_5_flows crowd_group_abreast crowd_standing_talk crowd_junction)
 scenarios=()
 for n in "${names[@]}"; do scenarios+=("$src/config/scenarios/$n.yaml"); done
-# Ports of this test only (ctest runs e2e tests in parallel).
-COOPNAV_RUN_PORT_BASE=8340 bash "$src/scripts/run.sh" --no-build --out "$tmp/run" \
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt).
+COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build --out "$tmp/run" \
   "${scenarios[@]}" >"$tmp/run.out" 2>&1 || { cat "$tmp/run.out"; echo "FAIL: run.sh"; exit 1; }
 for n in "${names[@]}"; do
   grep -E "SAY|NOT SAID|ACTION" "$tmp/run/$n/transcript.txt" | sed "s/^/$n: /" || true

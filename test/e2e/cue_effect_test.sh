@@ -12,11 +12,11 @@ tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
 scenario="$src/test/data/scenarios/cue_narrow_responsive.yaml"
 name=cue_narrow_responsive
-# Ports of this test only (ctest runs e2e tests in parallel).
-COOPNAV_RUN_PORT_BASE=8300 bash "$src/scripts/run.sh" --no-build --out "$tmp/speaking" \
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt).
+COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build --out "$tmp/speaking" \
   "$scenario" >"$tmp/speaking.out" 2>&1 ||
   { cat "$tmp/speaking.out"; echo "FAIL: run.sh (speaking)"; exit 1; }
-COOPNAV_DAEMON_ARGS_dialogue_manager="--set muted=true" COOPNAV_RUN_PORT_BASE=8310 \
+COOPNAV_DAEMON_ARGS_dialogue_manager="--set muted=true" COOPNAV_RUN_PORT_BASE=$((COOPNAV_TEST_PORT_BASE + 10)) \
   bash "$src/scripts/run.sh" --no-build --out "$tmp/muted" "$scenario" >"$tmp/muted.out" 2>&1 ||
   { cat "$tmp/muted.out"; echo "FAIL: run.sh (muted)"; exit 1; }
 grep -E "SAY|NOT SAID|ACTION" "$tmp/speaking/$name/transcript.txt" | sed 's/^/speaking: /'

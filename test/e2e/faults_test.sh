@@ -18,8 +18,8 @@ export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
 fail=0
-# Ports of this test only (ctest runs e2e tests in parallel).
-COOPNAV_FAULT_PORT_BASE=8100 bash "$src/scripts/faults.sh" --no-build --out "$tmp/a" \
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt).
+COOPNAV_FAULT_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/faults.sh" --no-build --out "$tmp/a" \
   --scenarios "open_facilitating open_minimal narrow_facilitating narrow_minimal" \
   --kill "situation_assessor dialogue_manager path_assessor band_source" \
   --kills-per-scenario 1 --absent-in narrow_minimal --seed 7 || fail=1

@@ -14,7 +14,7 @@ tmp="$(mktemp -d)"
 # a lockstep run replayed at 4x (~300 steps per second); 0.1 plays it at ~30 steps per second.
 coopnav_trap 'rm -rf "$tmp"' EXIT
 fail=0
-port=7950
+port=$COOPNAV_TEST_PORT_BASE
 for gz in "$src"/test/data/golden/*.lcm.gz; do
   name="$(basename "$gz" .lcm.gz)"
   gunzip -c "$gz" >"$tmp/$name.lcm"

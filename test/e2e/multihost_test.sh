@@ -16,10 +16,10 @@ source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
-# Ports of this test only (ctest runs e2e tests in parallel): 9150-9154 on this machine; the
-# namespaced hosts' ports are their own.
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt): base to
+# base + 4 on this machine; the namespaced hosts' ports are their own.
 rc=0
-COOPNAV_MULTIHOST_PORT_BASE=9150 bash "$src/scripts/multihost.sh" --no-build --out "$tmp/a" \
+COOPNAV_MULTIHOST_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/multihost.sh" --no-build --out "$tmp/a" \
   --loss-scenarios "narrow_minimal open_minimal" --dropoff-scenario narrow_minimal \
   >"$tmp/out.txt" 2>&1 || rc=$?
 cat "$tmp/out.txt"

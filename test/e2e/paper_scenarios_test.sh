@@ -12,10 +12,10 @@ source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
-# Ports of this test only (ctest runs e2e tests in parallel).
-COOPNAV_RUN_PORT_BASE=7930 bash "$src/scripts/run.sh" --no-build --out "$tmp/a" >"$tmp/a.out" 2>&1 ||
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt).
+COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build --out "$tmp/a" >"$tmp/a.out" 2>&1 ||
   { cat "$tmp/a.out"; echo "FAIL: run.sh (first run)"; exit 1; }
-COOPNAV_RUN_PORT_BASE=7940 bash "$src/scripts/run.sh" --no-build --out "$tmp/b" >"$tmp/b.out" 2>&1 ||
+COOPNAV_RUN_PORT_BASE=$((COOPNAV_TEST_PORT_BASE + 10)) bash "$src/scripts/run.sh" --no-build --out "$tmp/b" >"$tmp/b.out" 2>&1 ||
   { cat "$tmp/b.out"; echo "FAIL: run.sh (second run)"; exit 1; }
 cat "$tmp/a/cm_table.txt"
 
@@ -70,7 +70,7 @@ sys.exit(1 if bad else 0)
 PY
 
 # Replay: the recorded world into fresh assessors + dialogue manager gives the same transcript.
-COOPNAV_REPLAY_PORT=7949 bash "$src/scripts/replay.sh" --no-build --speed 1 --out-dir "$tmp/replay" \
+COOPNAV_REPLAY_PORT=$((COOPNAV_TEST_PORT_BASE + 20)) bash "$src/scripts/replay.sh" --no-build --speed 1 --out-dir "$tmp/replay" \
   "$tmp/a/narrow_minimal/narrow_minimal.lcm" >"$tmp/replay.txt" 2>"$tmp/replay.err" ||
   { cat "$tmp/replay.err"; echo "FAIL: replay.sh"; fail=1; }
 if ! cmp -s "$tmp/replay.txt" "$tmp/a/narrow_minimal/transcript.txt"; then

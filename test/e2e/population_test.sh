@@ -18,8 +18,8 @@ coopnav_trap 'rm -rf "$tmp"' EXIT
 
 start_s=$(date +%s)
 rc=0
-# Ports of this test only (ctest runs e2e tests in parallel).
-COOPNAV_POP_PORT_BASE=8200 bash "$src/scripts/population.sh" --no-build --n 20 --seed 29 -j 2 \
+# Ports of this test only (its block from COOPNAV_TEST_PORT_BASE, test/CMakeLists.txt).
+COOPNAV_POP_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/population.sh" --no-build --n 20 --seed 29 -j 2 \
   --out "$tmp/p" >"$tmp/out" 2>&1 || rc=$?
 echo "population of 20 (+ runs without humans) in $(($(date +%s) - start_s)) s wall"
 fail=0
@@ -56,8 +56,8 @@ fi
 # their own.
 start_s=$(date +%s)
 rc=0
-COOPNAV_POP_PORT_BASE=9400 bash "$src/scripts/population.sh" --no-build --crowd --n 6 --seed 3 \
-  -j 2 --out "$tmp/c" >"$tmp/cout" 2>&1 || rc=$?
+COOPNAV_POP_PORT_BASE=$((COOPNAV_TEST_PORT_BASE + 100)) bash "$src/scripts/population.sh" --no-build \
+  --crowd --n 6 --seed 3 -j 2 --out "$tmp/c" >"$tmp/cout" 2>&1 || rc=$?
 echo "crowd population of 6 (+ runs without humans) in $(($(date +%s) - start_s)) s wall"
 case "$rc" in
   0) ;;

@@ -9,7 +9,7 @@ source "$src/scripts/lib.sh"  # coopnav_trap
 export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
 tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
-COOPNAV_RUN_PORT_BASE=7960 bash "$src/scripts/run.sh" --no-build --out "$tmp/run" \
+COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build --out "$tmp/run" \
   "$src/test/data/scenarios/corridor_1_8_minimal.yaml" >"$tmp/run.out" 2>&1 ||
   { cat "$tmp/run.out"; echo "FAIL: run.sh"; exit 1; }
 cat "$tmp/run/corridor_1_8_minimal/transcript.txt"

@@ -15,7 +15,7 @@ done
 tmp="$(mktemp -d)"
 coopnav_trap 'rm -rf "$tmp"' EXIT
 name=narrow_minimal
-COOPNAV_RUN_PORT_BASE=8320 bash "$src/scripts/run.sh" --no-build --speech --out "$tmp/run" \
+COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build --speech --out "$tmp/run" \
   "$src/config/scenarios/$name.yaml" >"$tmp/run.out" 2>&1 ||
   { cat "$tmp/run.out"; echo "FAIL: run.sh --speech"; exit 1; }
 dir="$tmp/run/$name"

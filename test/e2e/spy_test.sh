@@ -39,7 +39,7 @@ pids+=($!)
 for _ in $(seq 50); do [ -e "/tmp/.X11-unix/X$disp" ] && break; sleep 0.1; done
 [ -e "/tmp/.X11-unix/X$disp" ] || { cat "$tmp/xvfb.log"; echo "FAIL: Xvfb :$disp did not start"; exit 1; }
 
-url="udpm://239.255.76.67:9510?ttl=0"
+url="udpm://239.255.76.67:${COOPNAV_TEST_PORT_BASE:?}?ttl=0"
 DISPLAY=":$disp" LCM_DEFAULT_URL="$url" JAVA_TOOL_OPTIONS="-javaagent:$tmp/spy_probe.jar=$out" \
   bash "$src/scripts/spy.sh" >"$out/spy.log" 2>&1 &
 pids+=($!)

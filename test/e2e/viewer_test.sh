@@ -8,7 +8,8 @@
 #  2. replay: the run's recorded log (coopnav_viewer --log, no bus), scrubbed with ?t= to a time
 #     within the round-1 bubble: the same drawing, checked in the dumped DOM and screenshotted.
 # Screenshots and logs go to $COOPNAV_VIEWER_TEST_OUT (default $COOPNAV_BUILD_DIR/e2e_viewer).
-# Ports: LCM udpm 9300, HTTP 9320 (live) and 9321 (replay).
+# Ports (COOPNAV_TEST_PORT_BASE from ctest, else 9300): LCM udpm at the base, HTTP (TCP) at
+# base + 1 (live) and base + 2 (replay).
 # Without Chromium the test fails, unless COOPNAV_ALLOW_SKIP=1 (then it exits 77, a skip).
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:-$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)}"
@@ -36,9 +37,10 @@ else
 fi
 mkdir -p "$out"
 scenario="$src/config/scenarios/narrow_minimal.yaml"
-lcm_port=9300
-live_http=9320
-replay_http=9321
+base="${COOPNAV_TEST_PORT_BASE:-9300}"  # ctest gives each e2e test its ports
+lcm_port=$base
+live_http=$((base + 1))   # TCP
+replay_http=$((base + 2))
 live_url="udpm://239.255.76.67:$lcm_port?ttl=0&recv_buf_size=4194304"
 
 pids=()

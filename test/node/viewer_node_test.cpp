@@ -3,10 +3,15 @@
 // segments, predicates, CA / CM, utterance bubble, robot mode, daemon statuses); a message with
 // NaN and one that does not decode are skipped and counted and change nothing; the page and the
 // scene are served over HTTP, streams beyond max_clients get 503 and a stream that goes away
-// frees its slot; a recorded log replays with a timeline (seek to any time, the same scene).
+// frees its slot; a page that stops reading cannot hold the viewer's end; a recorded log replays
+// with a timeline (seek to any time, the same scene).
 #include "viewer_node.hpp"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -21,6 +26,7 @@
 #include <vector>
 
 #include "coopnav/channels.hpp"
+#include "http_server.hpp"
 #include "scene_model.hpp"
 #include "test_util.hpp"
 #include "wire/assessment.hpp"
@@ -377,6 +383,46 @@ TEST_F(ViewerNodeTest, ServesThePageTheSceneAndBoundedStreams) {
   node_->pushFrame();
   holder.join();
   EXPECT_TRUE(test::waitFor([&] { return node_->http().clients() == 0; }, 3000ms));
+}
+
+// A page that asked for the stream and stopped reading (a phone gone to sleep with its socket
+// open): the stream thread blocks writing to it. The viewer's end must not wait for the page's
+// stall timeout (set to 60 s here, far from the bound checked, so that load cannot blur them).
+TEST(ViewerHttpTest, APageThatStopsReadingDoesNotHoldTheEnd) {
+  viewer::HttpOptions options;
+  options.port = 0;
+  options.max_clients = 2;
+  options.stalled_client_timeout = 60s;
+  auto http = std::make_unique<viewer::ViewerHttp>(options, "{}");
+
+  const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(sock, 0);
+  int small = 4096;  // the page's receive window fills at once
+  ::setsockopt(sock, SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(http->port()));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::connect(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  const std::string request = "GET /events HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+  ASSERT_EQ(::send(sock, request.data(), request.size(), 0), static_cast<ssize_t>(request.size()));
+  ASSERT_TRUE(test::waitFor([&] { return http->clients() == 1; }, 5000ms));
+
+  // 1 MiB frames until far more than any socket buffer holds has been offered: the stream's
+  // thread is then blocked in a write that the page will never let through.
+  const std::string big(1 << 20, 'x');
+  for (int i = 0; i < 64; ++i) {
+    http->publishFrame(big);
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_EQ(http->clients(), 1);  // still held: not dropped before its stall timeout
+
+  const auto t0 = std::chrono::steady_clock::now();
+  http.reset();
+  const double took_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(took_s, 10.0) << "the end waited for the stalled page";
+  ::close(sock);
 }
 
 TEST(ViewerReplayTest, ReplaysALogWithATimeline) {

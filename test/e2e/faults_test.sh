@@ -9,8 +9,8 @@
 # daemon dying on its own; under loss the decisions must be the clean ones exactly.
 # Selection (13 runs, ~3 min on the shared 2-core machine under load): one kill per scenario, the daemons
 # with state to recover (the distance server is stateless: its absence is the absent run); the
-# loss runs of all four scenarios, whose last-step answers were missing before the world waited
-# for the last step's acks (narrow_minimal, relay seed 20442, commit a277dcf).
+# loss runs of all four scenarios: a lost answer to the last step is only recovered because the
+# world waits for the last step's acks too (narrow_minimal with relay seed 20442 loses one).
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
 source "$src/scripts/lib.sh"  # coopnav_trap

@@ -1,8 +1,7 @@
-// Scenario files load to the same values as before (issue 28: the scenario loader now reads
-// through the daemons' ConfigReader; the hand-written reader it had is gone). Every scenario of
-// config/scenarios/ and test/data/scenarios/ is loaded and printed, every value to 17 significant
-// digits (or the loader's error message), and compared with test/data/golden/scenarios_loaded.txt,
-// printed by the reader this replaced. In the world_sim_node library, hence a node-tier test
+// Scenario files load to the values they are meant to (the scenario loader reads through the
+// daemons' ConfigReader). Every scenario of config/scenarios/ and test/data/scenarios/ is loaded
+// and printed, every value to 17 significant digits (or the loader's error message), and compared
+// with test/data/golden/scenarios_loaded.txt. In the world_sim_node library, hence a node-tier test
 // although it opens no LCM (as world_sim_scenario_test). A scenario file added to either folder
 // needs its entry there: the failure prints it. Change an entry only when a change of what a
 // scenario loads to is intended.
@@ -93,8 +92,8 @@ std::string print(Scenario sc, const std::string& source_dir = "") {
   for (const auto& s : sc.lockstep.participants) parts += (parts.empty() ? "" : ", ") + s;
   p.line("lockstep.participants", "[" + parts + "]");
   p.line("lockstep.step_timeout_s", num(sc.lockstep.step_timeout_s));
-  // Keys added since (issue 31): printed only when not at their defaults, so that the entries
-  // of the scenarios without them stay as they were.
+  // The tracker and goal keys: printed only when not at their defaults, so that the entries of
+  // the scenarios that do not set them stay short.
   if (!sc.publish_human_goals) p.line("publish_human_goals", "false");
   const sim::TrackerParams& tr = sc.tracker;
   const sim::TrackerParams tr0;

@@ -196,8 +196,8 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
         const RoomDecision d = decideRoom(map, e, opt_.dock, opt_.room);
         if (!start(d, in, out)) {
           // Nothing to make room in (no wall away from the human, room to pass): keep
-          // navigating (and avoiding). Holding where it stands was tried: in the open corridor a
-          // minimally contributing human then walked into the standing robot (scripts/faults.sh,
+          // navigating (and avoiding). Holding where it stands would not be safer: in the open
+          // corridor a minimally contributing human walks into a standing robot (scripts/faults.sh,
           // open_minimal without the distance server).
           out.dock_failure = DockStatus::kNoWall;
         } else if (mode_ == RobotMode::kRetreating) {

@@ -103,13 +103,17 @@ if not d.get("map"): bad.append("no map")
 # Live, the crossing was seen drawn in the acks; at the moment of the dump it may be unknown.
 if sys.argv[2] == "bubble" and not any(c["human_id"] == 1 for c in d.get("crossings", [])):
     bad.append("no crossing")
+# Dir as an arrow wherever it is left or right.
+if any(c.get("dir") in ("left", "right") and not c.get("dir_arrow") for c in d.get("crossings", [])):
+    bad.append("a Dir without its arrow")
 if not d.get("statuses"): bad.append("no daemon status")
 if sys.argv[2] == "bubble" and not any(b["round"] == 1 for b in d.get("bubbles", [])):
     bad.append("no round-1 bubble")
 print(f"  drawn at t={d.get('t')}: robot {d.get('robot')}, humans {d.get('humans')}, "
       f"robot band {d.get('robot_band')} poses, human bands {d.get('human_bands')}, "
       f"mode {d.get('mode')}, bubbles {[b['text'] for b in d.get('bubbles', [])]}, "
-      f"segments {d.get('segments')}, statuses {len(d.get('statuses', []))}")
+      f"segments {d.get('segments')}, crossings {d.get('crossings')}, "
+      f"statuses {len(d.get('statuses', []))}")
 if bad:
     sys.exit("drawn summary lacks: " + ", ".join(bad))
 PY

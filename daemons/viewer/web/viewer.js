@@ -193,6 +193,28 @@
       stroke, 2.5);
     label(a.x + a.radius * 0.7, a.y + a.radius * 0.7, text, stroke, 2, -2);
   }
+  // Dir as the robot will see it: an arrow in the robot's heading beside the human's crossing
+  // point, on the side the robot passes (the human's left or right at CP_h).
+  function dirArrow(cp, h, rb, dir) {
+    const hx = Math.cos(h.theta), hy = Math.sin(h.theta);
+    const n = dir === "left" ? [-hy, hx] : [hy, -hx];
+    const off = h.radius + 0.45, half = 0.6;
+    const c = [cp[0] + n[0] * off, cp[1] + n[1] * off];
+    const u = [Math.cos(rb.theta), Math.sin(rb.theta)];
+    const a = [c[0] - u[0] * half, c[1] - u[1] * half], b = [c[0] + u[0] * half, c[1] + u[1] * half];
+    line([a, b], "#1b4aa0", 3);
+    // Head: two strokes back from the tip, at +-150 degrees of the arrow's direction (screen y is down).
+    const ang = Math.atan2(-(b[1] - a[1]), b[0] - a[0]), len = 9;
+    ctx.beginPath();
+    ctx.strokeStyle = "#1b4aa0";
+    ctx.lineWidth = 3;
+    for (const da of [2.6, -2.6]) {
+      ctx.moveTo(X(b[0]), Y(b[1]));
+      ctx.lineTo(X(b[0]) + len * Math.cos(ang + da), Y(b[1]) + len * Math.sin(ang + da));
+    }
+    ctx.stroke();
+    label(c[0], c[1], `passes on H${h.id}'s ${dir}`, "#1b4aa0", 6, 16);
+  }
   function marker(p, colour, text) {
     ctx.beginPath();
     ctx.strokeStyle = colour;
@@ -293,7 +315,14 @@
         marker(s.cp_h, "#c0392b", `CP_h ${s.human_id}`);
         marker(s.cp_r, "#1b4aa0", "CP_r");
         label(s.cp_r[0], s.cp_r[1], `t_CROSS ${fmt(s.t_cross_s, 1)} s · Dir ${s.dir}`, "#333", 7, 28);
-        d.crossings.push({ human_id: s.human_id, t_cross_s: s.t_cross_s, dir: s.dir });
+        const c = { human_id: s.human_id, t_cross_s: s.t_cross_s, dir: s.dir, dir_arrow: false };
+        const hh = scene.humans.find((h) => h.id === s.human_id);
+        if ((s.dir === "left" || s.dir === "right") && hh && scene.robot) {
+          dirArrow(s.cp_h, hh, scene.robot, s.dir);
+          c.dir_arrow = true;
+          keys.push("dir_arrow:" + s.human_id);
+        }
+        d.crossings.push(c);
         keys.push("crossing:" + s.human_id);
       }
     }

@@ -1,14 +1,10 @@
 #include "http_server.hpp"
 
-#include <dirent.h>
 #include <httplib.h>
-#include <netdb.h>
 #include <sys/socket.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <stdexcept>
 #include <utility>
 
@@ -23,53 +19,14 @@ using nlohmann::json;
 constexpr int kSpareThreads = 6;
 /// A stream with nothing new sends an SSE comment this often (proxies, and to notice a gone peer).
 constexpr std::chrono::milliseconds kKeepAlive{1000};
+/// [s] Longest gap within a request: a browser sends one in a single write. A connection thread
+/// waiting for the rest of a half-sent request (not yet a stream, so not shut down at the stop)
+/// holds the exit this long at most.
+constexpr time_t kRequestReadTimeoutS = 1;
 /// Largest body a POST may have (a control or an ack with its drawn summary).
 constexpr std::size_t kMaxBodyBytes = 64 * 1024;
 /// Most distinct drawn keys remembered (what the page has drawn at least once).
 constexpr std::size_t kMaxDrawnKeys = 4096;
-
-/// Numeric host and port of a socket address (as httplib writes Request::remote_addr).
-bool numericAddress(const sockaddr_storage& a, socklen_t len, std::string& host, int& port) {
-  char h[NI_MAXHOST];
-  char p[NI_MAXSERV];
-  if (::getnameinfo(reinterpret_cast<const sockaddr*>(&a), len, h, sizeof h, p, sizeof p,
-                    NI_NUMERICHOST | NI_NUMERICSERV) != 0)
-    return false;
-  host = h;
-  port = std::atoi(p);
-  return true;
-}
-
-/// The connected socket of this process from local port `local_port` to `peer_host`:`peer_port`,
-/// or -1. httplib 0.11 gives a handler the peer's address, not its socket; the peer's address and
-/// our port name one connection.
-int findConnection(const std::string& peer_host, int peer_port, int local_port) {
-  DIR* dir = ::opendir("/proc/self/fd");
-  if (dir == nullptr) return -1;
-  int found = -1;
-  while (const dirent* e = ::readdir(dir)) {
-    char* end = nullptr;
-    const long fd = std::strtol(e->d_name, &end, 10);
-    if (end == e->d_name || *end != '\0' || fd == ::dirfd(dir)) continue;
-    struct stat st {};
-    if (::fstat(static_cast<int>(fd), &st) != 0 || !S_ISSOCK(st.st_mode)) continue;
-    sockaddr_storage a{};
-    socklen_t len = sizeof a;
-    std::string host;
-    int port = 0;
-    if (::getsockname(static_cast<int>(fd), reinterpret_cast<sockaddr*>(&a), &len) != 0 ||
-        !numericAddress(a, len, host, port) || port != local_port)
-      continue;
-    len = sizeof a;
-    if (::getpeername(static_cast<int>(fd), reinterpret_cast<sockaddr*>(&a), &len) != 0 ||
-        !numericAddress(a, len, host, port) || port != peer_port || host != peer_host)
-      continue;
-    found = static_cast<int>(fd);
-    break;
-  }
-  ::closedir(dir);
-  return found;
-}
 
 }  // namespace
 
@@ -171,8 +128,9 @@ ViewerHttp::ViewerHttp(const HttpOptions& options, std::string map_json)
   });
   server_->set_payload_max_length(kMaxBodyBytes);
   server_->set_keep_alive_timeout(2);
-  server_->set_read_timeout(5);
-  // A browser that does not read for this long is dropped (its stream thread is freed).
+  server_->set_read_timeout(kRequestReadTimeoutS);
+  // A page that takes nothing for this long is dropped (its stream thread is freed): httplib 0.11
+  // hands out no socket to shut down, so this is also how long the exit may wait for it.
   const auto stall_us =
       std::chrono::duration_cast<std::chrono::microseconds>(options_.stalled_client_timeout)
           .count();
@@ -199,27 +157,11 @@ ViewerHttp::ViewerHttp(const HttpOptions& options, std::string map_json)
 }
 
 ViewerHttp::~ViewerHttp() {
-  hub_.stop();  // streams waiting for a frame return at once
-  {
-    // A stream blocked writing to a page that does not read returns when its socket is shut
-    // down (the socket stays open until its thread ends: close is httplib's).
-    std::lock_guard<std::mutex> lock(streams_mutex_);
-    for (const int fd : stream_fds_) ::shutdown(fd, SHUT_RDWR);
-  }
+  // Streams waiting for a frame return at once; one blocked writing to a page that does not read
+  // returns within stalled_client_timeout, a half-sent request within kRequestReadTimeoutS.
+  hub_.stop();
   server_->stop();
   if (thread_.joinable()) thread_.join();
-}
-
-void ViewerHttp::addStream(int fd) {
-  if (fd < 0) return;
-  std::lock_guard<std::mutex> lock(streams_mutex_);
-  stream_fds_.insert(fd);
-}
-
-void ViewerHttp::removeStream(int fd) {
-  if (fd < 0) return;
-  std::lock_guard<std::mutex> lock(streams_mutex_);
-  stream_fds_.erase(fd);
 }
 
 void ViewerHttp::publishFrame(std::string json) {
@@ -263,7 +205,7 @@ void ViewerHttp::setUpRoutes() {
     if (path == "/index.html") server_->Get("/", serve);
   }
 
-  server_->Get("/events", [this](const Request& req, Response& res) {
+  server_->Get("/events", [this](const Request&, Response& res) {
     if (!acquireClient()) {
       res.status = 503;
       res.set_content(
@@ -274,9 +216,6 @@ void ViewerHttp::setUpRoutes() {
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
     auto version = std::make_shared<std::uint64_t>(0);
-    // Removed in the releaser, which runs before httplib closes the socket.
-    const int fd = findConnection(req.remote_addr, req.remote_port, port_);
-    addStream(fd);
     res.set_chunked_content_provider(
         "text/event-stream",
         [this, version](std::size_t, httplib::DataSink& sink) {
@@ -291,10 +230,7 @@ void ViewerHttp::setUpRoutes() {
           event.append("data: ").append(*frame).append("\n\n");
           return sink.write(event.data(), event.size());  // false: the browser went away
         },
-        [this, fd](bool) {
-          removeStream(fd);
-          --clients_;
-        });
+        [this](bool) { --clients_; });
   });
 
   server_->Get("/scene.json", [this](const Request&, Response& res) {

@@ -5,8 +5,8 @@
 /// finished JSON frames (publishFrame: a pointer swap under a mutex) and takes the controls the
 /// page posted (takeControls); it never waits for a browser. A browser that is slow gets the
 /// latest frame when it can take one (the frames in between are skipped); one that disconnects
-/// frees its slot; beyond max_clients streams the server answers 503. At the end the streams'
-/// sockets are shut down, so a page that stopped reading cannot hold the viewer's exit.
+/// frees its slot; one that stops reading is dropped after stalled_client_timeout; beyond
+/// max_clients streams the server answers 503.
 
 #include <atomic>
 #include <chrono>
@@ -34,8 +34,8 @@ struct HttpOptions {
   int max_clients{8};
   bool replay{false};  ///< the replay controls are accepted
   /// A page whose stream takes no data for this long is dropped (its thread freed; the browser's
-  /// EventSource connects again).
-  std::chrono::milliseconds stalled_client_timeout{5000};
+  /// EventSource connects again). The viewer's exit waits this long at most for such a page.
+  std::chrono::milliseconds stalled_client_timeout{1000};
 };
 
 /// A replay control posted by the page: play, pause, speed (value = factor), seek (value = t [s]).
@@ -103,10 +103,6 @@ class ViewerHttp {
  private:
   bool acquireClient();
   void setUpRoutes();
-  /// Stream sockets, so that the destructor can shut them down: a stream thread blocked on a
-  /// page that does not read would otherwise hold the exit for stalled_client_timeout.
-  void addStream(int fd);
-  void removeStream(int fd);
 
   HttpOptions options_;
   std::string map_json_;
@@ -119,8 +115,6 @@ class ViewerHttp {
   std::atomic<int> clients_{0};
   std::atomic<std::int64_t> refused_{0};
   std::atomic<std::int64_t> frames_{0};
-  std::mutex streams_mutex_;
-  std::set<int> stream_fds_;
   mutable std::mutex mutex_;  ///< controls_, drawn_*
   std::vector<Control> controls_;
   nlohmann::json drawn_last_;

@@ -31,8 +31,9 @@ struct ViewerConfig {
   int max_clients{8};
   /// [Hz] frames sent to each page at most this often (only when something changed).
   double push_rate_hz{10.0};
-  /// [s] a page whose stream takes no data for this long is dropped (its browser connects again).
-  double stalled_client_timeout_s{5.0};
+  /// [s] a page whose stream takes no data for this long is dropped (its browser connects again);
+  /// the viewer's exit waits this long at most for such a page.
+  double stalled_client_timeout_s{1.0};
   /// Map drawn under the scene: the daemons' map file (ROS YAML + PGM, .bt, walls YAML or a
   /// scenario). "" = the scenario of the replayed run (scenario.path beside the log, which
   /// scripts/run.sh writes), else no map.
@@ -66,7 +67,7 @@ struct ViewerConfig {
     v("bind_address", bind_address);
     v("max_clients", max_clients, Range{1, 64});
     v("push_rate_hz", push_rate_hz, Range{0.5, 60.0});
-    v("stalled_client_timeout_s", stalled_client_timeout_s, Range{0.1, 600.0});
+    v("stalled_client_timeout_s", stalled_client_timeout_s, Range{0.1, 60.0});
     v("map_file", map_file);
     v("unknown_is_obstacle", unknown_is_obstacle);
     v("max_map_cells", max_map_cells, Range{1.0, static_cast<double>(kMaxMapCellsCeiling)});

@@ -22,5 +22,7 @@ inline constexpr const char* kRobotAction = "COOPNAV_ROBOT_ACTION";  // robot_ac
 inline constexpr const char* kStatus = "COOPNAV_STATUS";             // daemon_status_t
 inline constexpr const char* kStepAck = "COOPNAV_STEP_ACK";          // step_ack_t
 inline constexpr const char* kSimStatus = "COOPNAV_SIM_STATUS";      // sim_status_t
+/// A laser scan with its sensor pose in the map frame (world_sim or coopnav_ros2_bridge).
+inline constexpr const char* kScan = "COOPNAV_SCAN";  // laser_scan_t
 
 }  // namespace coopnav::channels

@@ -37,7 +37,8 @@ TEST(ChannelsTest, TextListMatchesTheHeaderAndFitsLcmLimit) {
                                      channels::kRobotAction,
                                      channels::kStatus,
                                      channels::kStepAck,
-                                     channels::kSimStatus};
+                                     channels::kSimStatus,
+                                     channels::kScan};
   EXPECT_EQ(listed, header);
   for (const auto& c : header) EXPECT_LE(c.size(), 40u) << c;  // room for reply suffixes (63 max)
 }

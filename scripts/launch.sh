@@ -29,6 +29,7 @@ names=()
 all=(obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager)
 while [ $# -gt 0 ]; do
   case "$1" in
+    --url | --config-dir | --map | --log-dir | --state-dir) coopnav_need_value launch.sh "$1" $# ;;&
     --url) url="$2"; shift 2 ;;
     --config-dir) cfg="$2"; shift 2 ;;
     --map) map="$2"; shift 2 ;;
@@ -99,11 +100,34 @@ for d in "${names[@]}"; do
 done
 ready=()
 for d in "${names[@]}"; do [ "$d" = world_sim ] || ready+=("$d"); done
-if [ "${#ready[@]}" -gt 0 ] &&
-  ! "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30; then
-  echo "launch.sh: not ready; logs in $logs" >&2
-  for d in "${ready[@]}"; do tail -3 "$logs/$d.log" | sed "s/^/  $d: /" >&2; done
-  exit 1
+# Waiting for ready, a daemon that dies at start (a bad config, a bad map, a port taken) is
+# reported at once with its exit status and the end of its log, not after the 30 s timeout.
+if [ "${#ready[@]}" -gt 0 ]; then
+  "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30 &
+  waiter=$!
+  dead=""
+  while [ -z "$dead" ] && kill -0 "$waiter" 2>/dev/null; do
+    for d in "${names[@]}"; do
+      kill -0 "${pid_of[$d]}" 2>/dev/null || { dead="$d"; break; }
+    done
+    [ -n "$dead" ] || sleep 0.1
+  done
+  if [ -n "$dead" ]; then
+    kill "$waiter" 2>/dev/null || true
+    wait "$waiter" 2>/dev/null || true
+    drc=0
+    wait "${pid_of[$dead]}" 2>/dev/null || drc=$?
+    echo "launch.sh: $dead exited at start (status $drc); the end of $logs/$dead.log:" >&2
+    tail -n 10 "$logs/$dead.log" | sed "s/^/  $dead: /" >&2
+    exit 1
+  fi
+  wrc=0
+  wait "$waiter" || wrc=$?
+  if [ "$wrc" -ne 0 ]; then
+    echo "launch.sh: not ready; logs in $logs" >&2
+    for d in "${ready[@]}"; do tail -3 "$logs/$d.log" | sed "s/^/  $d: /" >&2; done
+    exit 1
+  fi
 fi
 echo "launch.sh: running ${names[*]} on $url (logs in $logs); ctrl-C stops them"
 

@@ -73,6 +73,16 @@ coopnav_bin() { echo "$COOPNAV_BUILD_DIR/daemons/$1/coopnav_$1"; }
 # Background processes of a script (daemons, logger): started with their output in a log file,
 # stopped together (SIGTERM, then waited for, so the logger flushes and daemons exit cleanly).
 COOPNAV_PIDS=()
+# coopnav_need_value SCRIPT OPTION ARGC: in a script's option loop, before reading "$2": an
+# option given last without its value is a usage error that names it (under `set -u`, bash would
+# only say "$2: unbound variable").
+coopnav_need_value() {
+  if [ "$3" -lt 2 ]; then
+    echo "$1: $2 needs a value (--help)" >&2
+    exit 2
+  fi
+}
+
 coopnav_spawn() {  # coopnav_spawn LOGFILE CMD ARGS...
   local log="$1"
   shift

@@ -100,29 +100,12 @@ for d in "${names[@]}"; do
 done
 ready=()
 for d in "${names[@]}"; do [ "$d" = world_sim ] || ready+=("$d"); done
-# Waiting for ready, a daemon that dies at start (a bad config, a bad map, a port taken) is
-# reported at once with its exit status and the end of its log, not after the 30 s timeout.
+# A daemon that dies at start (a bad config, a bad map, a port taken) is reported at once with
+# its exit status and the end of its log, not after the 30 s of wait-ready.
 if [ "${#ready[@]}" -gt 0 ]; then
-  "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30 &
-  waiter=$!
-  dead=""
-  while [ -z "$dead" ] && kill -0 "$waiter" 2>/dev/null; do
-    for d in "${names[@]}"; do
-      kill -0 "${pid_of[$d]}" 2>/dev/null || { dead="$d"; break; }
-    done
-    [ -n "$dead" ] || sleep 0.1
-  done
-  if [ -n "$dead" ]; then
-    kill "$waiter" 2>/dev/null || true
-    wait "$waiter" 2>/dev/null || true
-    drc=0
-    wait "${pid_of[$dead]}" 2>/dev/null || drc=$?
-    echo "launch.sh: $dead exited at start (status $drc); the end of $logs/$dead.log:" >&2
-    tail -n 10 "$logs/$dead.log" | sed "s/^/  $dead: /" >&2
-    exit 1
-  fi
   wrc=0
-  wait "$waiter" || wrc=$?
+  coopnav_wait_ready_watching pid_of "$logs" \
+    "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30 || wrc=$?
   if [ "$wrc" -ne 0 ]; then
     echo "launch.sh: not ready; logs in $logs" >&2
     for d in "${ready[@]}"; do tail -3 "$logs/$d.log" | sed "s/^/  $d: /" >&2; done

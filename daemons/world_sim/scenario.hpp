@@ -101,7 +101,7 @@ struct MapSpec {
   std::vector<WallSegment> walls;
   std::vector<BoxObstacle> boxes;
   std::vector<GoalRegionSpec> goal_regions;  ///< not used by the simulator
-  double resolution_m{0.05};                 ///< grid resolution for a synthetic map
+  double resolution_m{kDefaultWallsMapResolution_m};                 ///< grid resolution for a synthetic map
   template <class V>
   void visit(V& v) {
     v("file", file);

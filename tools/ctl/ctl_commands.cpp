@@ -89,8 +89,7 @@ int transcriptCommand() {
       run.sim_status[*analysis.final_status].scenario != o.scenario)
     std::cerr << "coopnav_ctl: note: the log's sim status names scenario '"
               << ctl::printable(run.sim_status[*analysis.final_status].scenario) << "', not '"
-              << ctl::printable(o.scenario)
-              << "'\n";
+              << ctl::printable(o.scenario) << "'\n";
   ctl::TranscriptOptions topt;
   topt.include_sim_status = !o.no_sim_status;
   topt.include_unknown = !o.no_unknown;

@@ -455,7 +455,7 @@ std::string formatCmTable(const Json& summary) {
   if (!list || !list->is_array())
     throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
 
-  // Table I order first (open then narrow; facilitating then minimal as issue 6 lists them).
+  // Table I order first (open then narrow; facilitating then minimal).
   static const char* const kOrder[] = {"open_facilitating", "open_minimal", "narrow_facilitating",
                                        "narrow_minimal"};
   std::vector<const Json*> rows;
@@ -489,8 +489,8 @@ std::string formatCmTable(const Json& summary) {
       std::string line = "gamma " + fixed(numberValue(gamma), 2) + ", tau " +
                          (tau && !tau->is_null() ? fixed(numberValue(tau), 2) : "-") + " m";
       if (tau_mode && tau_mode->is_string()) line += " (" + stringValue(tau_mode) + ")";
-      line += ", profile " +
-              (profile && profile->is_string() ? printable(stringValue(profile)) : "-");
+      line +=
+          ", profile " + (profile && profile->is_string() ? printable(stringValue(profile)) : "-");
       if (std::find(settings.begin(), settings.end(), line) == settings.end())
         settings.push_back(line);
     }

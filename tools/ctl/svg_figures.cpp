@@ -418,8 +418,8 @@ std::string safeFileStem(const std::string& name) {
   std::string out;
   for (const char c : name) {
     if (out.size() >= kMaxStem) break;
-    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-                       (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '_' || c == '-' || c == '.';
     out += plain ? c : '_';
   }
   std::size_t lead = 0;

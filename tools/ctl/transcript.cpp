@@ -90,8 +90,9 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
         e.t_cross_s = std::nan("");
         e.what = st.name;
         e.text = st.detail;
-        e.line = "t~" + fixed(utimeToS(e.utime), 2) + "s  DAEMON " + printable(st.name) + " DEGRADED " +
-                 jsonQuote(st.detail) + " (wall-clock status; time of the last step logged)";
+        e.line = "t~" + fixed(utimeToS(e.utime), 2) + "s  DAEMON " + printable(st.name) +
+                 " DEGRADED " + jsonQuote(st.detail) +
+                 " (wall-clock status; time of the last step logged)";
         break;
       }
       case RunLog::Kind::kRestart: {
@@ -245,7 +246,8 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
 
 std::string formatTranscript(const std::string& scenario,
                              const std::vector<TranscriptEntry>& entries) {
-  std::string out = "# scenario " + (scenario.empty() ? std::string("(unnamed)") : printable(scenario)) + "\n";
+  std::string out =
+      "# scenario " + (scenario.empty() ? std::string("(unnamed)") : printable(scenario)) + "\n";
   for (const auto& e : entries) out += e.line + "\n";
   return out;
 }

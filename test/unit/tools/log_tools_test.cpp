@@ -655,7 +655,9 @@ TEST(LogTools, SummaryIgnoresAGoalIndexOutOfRange) {
 // byte (ESC, CR, C1 CSI) reaches the terminal.
 TEST(LogTools, TranscriptEscapesEveryStringFromTheBus) {
   const std::string forged = "x\nt=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"hi\"";
-  const std::string hostile = forged + "\x1b[2J\r\x07\x7f\xc2\x9b" "31m\xff";
+  const std::string hostile = forged +
+                              "\x1b[2J\r\x07\x7f\xc2\x9b"
+                              "31m\xff";
   TempDir dir;
   {
     LogWriter w(dir.file("run.lcm"));

@@ -11,8 +11,8 @@
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
 #                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
 #                         [--cue-effect | --crowd]
-#   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
-#   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
+#   (defaults: N 200, seed 1, JOBS = cores (4 per core at most), DIR runs/population-<seed>;
+#   --tracker-noise: the humans as a tracker sees them, σ 0.05 m, 5 % missed, one id switch;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
 #   table says how often the region planned with at round 1 is the one walked to;
 #   --profile: the path assessment profile, as scripts/run.sh;

@@ -685,9 +685,12 @@ TEST(LogTools, TranscriptEscapesEveryStringFromTheBus) {
   TranscriptOptions o;
   o.include_daemon_status = true;
   const std::string t = formatTranscript(a.scenario, buildTranscript(run, a, o));
-  // Header, DAEMON, ACTION, RECORDER, SAY, SIM: six lines, each ended by the tool's own newline.
-  EXPECT_EQ(countOf(t, "\n"), 6) << t;
-  EXPECT_EQ(countOf(t, "SAY INFORM_DIRECTION"), 2) << t;  // the real one, and the forged text
+  // Header, UNKNOWN, ACTION, RECORDER, SAY, DAEMON, SIM: seven lines, each ended by the tool's
+  // own newline; the forged "t=1.00s ... SAY" starts none of them.
+  EXPECT_EQ(countOf(t, "\n"), 7) << t;
+  EXPECT_EQ(countOf(t, "\nt=1.00s"), 0) << t;
+  EXPECT_EQ(countOf(t, "\nt=0.10s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"x\\nt=1.00s"), 1)
+      << t;
   EXPECT_EQ(t.rfind("# scenario x\\nt=1.00s", 0), 0u) << t;
   for (const char c : t) {
     const auto b = static_cast<unsigned char>(c);
@@ -999,8 +1002,9 @@ TEST(LogTools, FigureFileNamesNeverLeaveTheOutputDirectory) {
   const RunLog run = readRunLog(dir.file("run.lcm"));
   const RunAnalysis a = analyseRun(run);
   const fs::path out = dir.file("fig");
-  for (const std::string name : {"../../escaped", "/tmp/absolute", "..", ".hidden", "-rf",
-                                 "a/b\\c\nd\x1b", std::string(500, 'n'), ""}) {
+  for (const std::string& name :
+       std::vector<std::string>{"../../escaped", "/tmp/absolute", "..", ".hidden", "-rf",
+                                "a/b\\c\nd\x1b", std::string(500, 'n'), ""}) {
     const FigurePaths paths = writeFigures(run, a, out.string(), name);
     for (const auto& p : {paths.trajectories, paths.ca, paths.cm_gamma}) {
       EXPECT_EQ(fs::path(p).parent_path(), out) << p;

@@ -8,8 +8,9 @@ set -euo pipefail
 build="${COOPNAV_BUILD_DIR:?}"
 src="${COOPNAV_SOURCE_DIR:?}"
 export COOPNAV_BUILD_DIR="$build"
+source "$src/scripts/lib.sh"  # coopnav_trap
 tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
+coopnav_trap 'rm -rf "$tmp"' EXIT
 fail=0
 
 # expect_usage WHAT GREP_PATTERN CMD...: CMD exits 2 within 10 s, saying GREP_PATTERN on stderr.

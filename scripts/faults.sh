@@ -31,6 +31,8 @@ kill_list="${COOPNAV_DAEMONS[*]}"
 kills_per=0 do_absent=1 do_loss=1 do_kill=1 loss_seed="" absent_in=""
 while [ $# -gt 0 ]; do
   case "$1" in
+    --out | --seed | --loss | --loss-seed | --absent-in | --scenarios | --kill | \
+      --kills-per-scenario) coopnav_need_value faults.sh "$1" $# ;;&
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --seed) seed="$2"; shift 2 ;;

@@ -29,6 +29,7 @@ names=()
 all=(obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager)
 while [ $# -gt 0 ]; do
   case "$1" in
+    --url | --config-dir | --map | --log-dir | --state-dir) coopnav_need_value launch.sh "$1" $# ;;&
     --url) url="$2"; shift 2 ;;
     --config-dir) cfg="$2"; shift 2 ;;
     --map) map="$2"; shift 2 ;;
@@ -99,11 +100,17 @@ for d in "${names[@]}"; do
 done
 ready=()
 for d in "${names[@]}"; do [ "$d" = world_sim ] || ready+=("$d"); done
-if [ "${#ready[@]}" -gt 0 ] &&
-  ! "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30; then
-  echo "launch.sh: not ready; logs in $logs" >&2
-  for d in "${ready[@]}"; do tail -3 "$logs/$d.log" | sed "s/^/  $d: /" >&2; done
-  exit 1
+# A daemon that dies at start (a bad config, a bad map, a port taken) is reported at once with
+# its exit status and the end of its log, not after the 30 s of wait-ready.
+if [ "${#ready[@]}" -gt 0 ]; then
+  wrc=0
+  coopnav_wait_ready_watching pid_of "$logs" \
+    "$COOPNAV_BUILD_DIR/tools/coopnav_ctl" wait-ready "${ready[@]}" --timeout-s 30 || wrc=$?
+  if [ "$wrc" -ne 0 ]; then
+    echo "launch.sh: not ready; logs in $logs" >&2
+    for d in "${ready[@]}"; do tail -3 "$logs/$d.log" | sed "s/^/  $d: /" >&2; done
+    exit 1
+  fi
 fi
 echo "launch.sh: running ${names[*]} on $url (logs in $logs); ctrl-C stops them"
 

@@ -11,8 +11,8 @@
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
 #                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
 #                         [--cue-effect | --crowd]
-#   (defaults: N 200, seed 1, JOBS = cores, DIR runs/population-<seed>; --tracker-noise: the humans
-#   as a people tracker sees them, σ 0.05 m, 5 % missed detections, one id switch per run;
+#   (defaults: N 200, seed 1, JOBS = cores (4 per core at most), DIR runs/population-<seed>;
+#   --tracker-noise: the humans as a tracker sees them, σ 0.05 m, 5 % missed, one id switch;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
 #   table says how often the region planned with at round 1 is the one walked to;
 #   --profile: the path assessment profile, as scripts/run.sh;
@@ -67,6 +67,7 @@ cue_effect=0
 crowd=0
 while [ $# -gt 0 ]; do
   case "$1" in
+    --n | --seed | -j | --out | --profile) coopnav_need_value population.sh "$1" $# ;;&
     --n) n="$2"; shift 2 ;;
     --seed) seed="$2"; shift 2 ;;
     -j) jobs="$2"; shift 2 ;;
@@ -89,6 +90,20 @@ while [ $# -gt 0 ]; do
   esac
 done
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "population.sh: -j needs a positive integer" >&2; exit 2; }
+[[ "$n" =~ ^[0-9]+$ ]] || { echo "population.sh: --n needs a count, not '$n'" >&2; exit 2; }
+[[ "$seed" =~ ^[0-9]+$ ]] || { echo "population.sh: --seed needs an integer, not '$seed'" >&2; exit 2; }
+# Each run is seven processes stepping in lockstep: past a few runs per core they only wait on
+# each other, every run slows towards COOPNAV_POP_RUN_TIMEOUT_S and fails; and each slot takes a
+# udpm port of its own above COOPNAV_POP_PORT_BASE.
+max_jobs=$((4 * $(nproc)))
+if [ "${#jobs}" -gt 6 ] || [ "$jobs" -gt "$max_jobs" ]; then
+  echo "population.sh: -j $jobs capped to $max_jobs (4 runs per core)" >&2
+  jobs=$max_jobs
+fi
+case "${COOPNAV_PROFILE:-paper}" in
+  paper | calibrated) ;;
+  *) echo "population.sh: --profile must be paper or calibrated, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
+esac
 if [ "$cue_effect" -eq 1 ] && [ "$crowd" -eq 1 ]; then
   echo "population.sh: --cue-effect and --crowd do not go together" >&2
   exit 2

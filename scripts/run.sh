@@ -19,6 +19,7 @@ speech=0
 scenarios=()
 while [ $# -gt 0 ]; do
   case "$1" in
+    --out | --profile) coopnav_need_value run.sh "$1" $# ;;&
     --out) out="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;

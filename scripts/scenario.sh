@@ -150,7 +150,9 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
     ready+=("$d")
   done
   _cn_host recorder  # the scripts listen where the recorder does
-  if ! "${_cn_on[@]}" "$ctl" wait-ready "${ready[@]}" --timeout-s 60; then
+  # A daemon that stops at start (a bad scenario as its map, a bad config) is said at once.
+  if ! coopnav_wait_ready_watching COOPNAV_DAEMON_PID "$_cn_dir" \
+    "${_cn_on[@]}" "$ctl" wait-ready "${ready[@]}" --timeout-s 60; then
     echo "coopnav: daemons did not come up for $name; see $_cn_dir/*.log" >&2
     coopnav_stop_all
     if [ "$netem_on" = 1 ]; then coopnav_netns_netem "$COOPNAV_NETNS_PREFIX" off; fi

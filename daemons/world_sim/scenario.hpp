@@ -100,8 +100,8 @@ struct MapSpec {
   std::string file;  ///< resolved against the scenario's folder; empty for a synthetic map
   std::vector<WallSegment> walls;
   std::vector<BoxObstacle> boxes;
-  std::vector<GoalRegionSpec> goal_regions;  ///< not used by the simulator
-  double resolution_m{0.05};                 ///< grid resolution for a synthetic map
+  std::vector<GoalRegionSpec> goal_regions;           ///< not used by the simulator
+  double resolution_m{kDefaultWallsMapResolution_m};  ///< grid resolution for a synthetic map
   template <class V>
   void visit(V& v) {
     v("file", file);
@@ -115,7 +115,7 @@ struct MapSpec {
 };
 
 struct RatesSpec {
-  double physics_hz{20.0};       ///< >= 20 Hz (issue 4); an integer multiple of publish_hz
+  double physics_hz{20.0};       ///< >= 20 Hz; an integer multiple of publish_hz
   double publish_hz{10.0};       ///< agent-state publication = one lockstep tick
   double real_time_factor{1.0};  ///< real-time mode only: sim seconds per wall second
   template <class V>

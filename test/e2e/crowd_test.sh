@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Crowds (issue 33): the crowd scenarios of config/scenarios run by scripts/run.sh with every
+# Crowds: the crowd scenarios of config/scenarios run by scripts/run.sh with every
 # daemon. Whatever the people do, the robot reaches its goal without touching anyone, and what
 # was said passes the log's own dialogue checks (summary.json dialogue_checks, read from the
 # recorded messages, not from the dialogue manager's bookkeeping): nothing said to someone the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The spoken cue turns a dock into a pass (issue 34): test/data/scenarios/cue_narrow_responsive
+# The spoken cue turns a dock into a pass: test/data/scenarios/cue_narrow_responsive
 # (a 2.75 m corridor, narrow in the paper's sense of < 3 m, and a responsive person who hears and
 # complies) run by scripts/run.sh twice, speaking and with the dialogue manager muted. Muted, the
 # person keeps its line and the robot docks at round 2. Speaking, the person hears round 1's

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The hostile publisher, short CI form (docs/bad-inputs.md "Hostile publisher"; issue 30): each
+# The hostile publisher, short CI form (docs/bad-inputs.md "Hostile publisher"): each
 # attack against the daemon(s) it targets, started with the repository's configs on this test's
 # port. Bus probes (tools/hostile, `coopnav_hostile --list`) check the documented answer on the
 # bus, then (a) the daemon still runs and sends a status, (b) its VmRSS stayed under the cap of

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Safe passage (issue 29) end to end, as a user runs it: scripts/run.sh on a 1.8 m corridor with a
+# Safe passage end to end, as a user runs it: scripts/run.sh on a 1.8 m corridor with a
 # minimally contributing human (test/data/scenarios/corridor_1_8_minimal.yaml). The robot must
 # make room that is really room, and the run must end without any contact: no collision, no
 # contact in summary.json, and whatever the robot said about making room is what it did.

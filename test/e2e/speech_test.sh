@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speech a person can hear (issue 34): the paper's narrow_minimal scenario run by
+# Speech a person can hear: the paper's narrow_minimal scenario run by
 # `scripts/run.sh --speech`, with espeak-ng writing each utterance as a WAV in the run directory.
 # Checks, against sox's own reading of the files: one WAV per utterance said, each as long as the
 # duration the dialogue manager planned with (it measured its templates with espeak-ng at start);

@@ -10,10 +10,13 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <sstream>
 #include <string>
 
 #include "config/file_read.hpp"
 #include "coopnav/agent_states_t.hpp"
+#include "coopnav/distance/grid_distance_field.hpp"
+#include "maps/map_loader.hpp"
 #include "scenario.hpp"
 
 namespace coopnav::world_sim {
@@ -164,6 +167,39 @@ TEST_F(ScenarioFiles, MoreHumansThanAMessageCarriesAreRefusedNamingTheBound) {
   }
   std::ofstream(path("crowd.yaml")) << withHumans(65);
   EXPECT_TRUE(has(loadError(path("crowd.yaml")), "crowd.yaml: key 'humans' has 65 humans"));
+}
+
+// The example of docs/scenario-format.md, as a new user copies it: world_sim loads it and its
+// starts and goals fit its map, the daemons' map loader (the band source's and the distance
+// server's map_file) reads the same file, and it lock-steps with the daemons the paper scenarios
+// do (a participant left out would step ahead of the others unnoticed).
+TEST_F(ScenarioFiles, TheFormatDocumentsExampleLoads) {
+  std::ifstream doc(std::string(COOPNAV_SOURCE_DIR) + "/docs/scenario-format.md");
+  ASSERT_TRUE(doc.good());
+  std::string line, yaml;
+  bool in_example = false, in_block = false;
+  while (std::getline(doc, line)) {
+    if (line == "## Example") in_example = true;
+    if (!in_example) continue;
+    if (line == "```yaml") {
+      in_block = true;
+    } else if (in_block && line == "```") {
+      break;
+    } else if (in_block) {
+      yaml += line + "\n";
+    }
+  }
+  ASSERT_FALSE(yaml.empty()) << "no ```yaml block under '## Example'";
+  std::ofstream(path("example.yaml")) << yaml;
+  const Scenario sc = loadScenario(path("example.yaml"));
+  const LoadedMap loaded = loadScenarioMap(sc);
+  const GridDistanceField map(loaded.grid);
+  EXPECT_NO_THROW(checkScenarioAgainstMap(sc, map));
+  EXPECT_EQ(loadMap(path("example.yaml")).grid, loaded.grid);
+  const Scenario paper =
+      loadScenario(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/open_facilitating.yaml");
+  EXPECT_EQ(sc.lockstep.participants, paper.lockstep.participants);
+  EXPECT_TRUE(sc.lockstep.enabled);
 }
 
 }  // namespace

@@ -529,7 +529,7 @@ TEST(WorldSimNode, HumanPlannerKeysReachThePlannerBackedHumans) {
   EXPECT_NE(out.find("human_planner.dt_ref_s"), std::string::npos) << out;
 }
 
-// ---- issue 29: who touched whom, standstill
+// ---- who touched whom, standstill
 
 constexpr const char* kRobotAtWall =
     "{start: {x_m: 10, y_m: 0.55, theta_rad: 0}, goal: {x_m: 10, y_m: 0.55}, radius_m: 0.47}";
@@ -607,16 +607,16 @@ TEST(WorldSimNode, AnEncounterNobodyResolvesEndsInStandstillWithoutContact) {
             "goal), had said nothing");
 }
 
-// ---- issue 31: tracker model, withheld goals, recorded humans
+// ---- tracker model, withheld goals, recorded humans
 
-namespace issue31 {
+namespace tracker_model {
 
 std::vector<std::string> trackerArgs() {
   return {"--set", "tracker.position_sigma_m=0.05", "--set", "tracker.id_switches=1",
           "--set", "tracker.id_switch_window_s=2"};
 }
 
-}  // namespace issue31
+}  // namespace tracker_model
 
 TEST(WorldSimNode, TrackerNoiseFromTheConfigPublishesNoisyPositionsAndNewIds) {
   // Given the same scenario run with the truth and with the tracker model set on the command
@@ -628,9 +628,10 @@ TEST(WorldSimNode, TrackerNoiseFromTheConfigPublishesNoisyPositionsAndNewIds) {
   std::vector<goals_t> goals;
   for (auto& run : bytes) {
     Harness h;
-    ASSERT_EQ(runWithParticipant(h, "tiny_lockstep.yaml", Participant{}, issue31::trackerArgs())
-                  .exit_code,
-              0);
+    ASSERT_EQ(
+        runWithParticipant(h, "tiny_lockstep.yaml", Participant{}, tracker_model::trackerArgs())
+            .exit_code,
+        0);
     run = h.stateBytes();
     noisy = h.states();
     goals = h.goalMessages();

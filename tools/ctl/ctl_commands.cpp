@@ -88,8 +88,8 @@ int transcriptCommand() {
   if (!o.scenario.empty() && analysis.final_status &&
       run.sim_status[*analysis.final_status].scenario != o.scenario)
     std::cerr << "coopnav_ctl: note: the log's sim status names scenario '"
-              << run.sim_status[*analysis.final_status].scenario << "', not '" << o.scenario
-              << "'\n";
+              << ctl::printable(run.sim_status[*analysis.final_status].scenario) << "', not '"
+              << ctl::printable(o.scenario) << "'\n";
   ctl::TranscriptOptions topt;
   topt.include_sim_status = !o.no_sim_status;
   topt.include_unknown = !o.no_unknown;

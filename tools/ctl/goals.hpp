@@ -1,5 +1,5 @@
 #pragma once
-/// @file Goal inference (lib/planning/goal_inference.hpp, issue 31) evaluated on the real head-on
+/// @file Goal inference (lib/planning/goal_inference.hpp) evaluated on the real head-on
 /// pedestrian pairs (test/data/pedestrians): does GoalBelief::mostLikely() name where a walker
 /// leaves the scene, 3 s before the closest approach?
 ///

@@ -118,13 +118,17 @@ std::string jsonNumber(double v) {
   return buf;
 }
 
-std::string jsonQuote(const std::string& s) {
-  std::string out = "\"";
+namespace {
+
+// Escapes s onto out: control characters (C0, DEL and the C1 range U+0080..U+009F, which some
+// terminals obey as CSI), backslash, and, for JSON, the double quote. Ill-formed UTF-8 becomes
+// "\ufffd" per byte. Nothing from the bus can then end a line or steer a terminal.
+void escapeTo(const std::string& s, std::string& out, bool quote) {
   for (std::size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
     switch (c) {
       case '"':
-        out += "\\\"";
+        out += quote ? "\\\"" : "\"";
         break;
       case '\\':
         out += "\\\\";
@@ -139,12 +143,18 @@ std::string jsonQuote(const std::string& s) {
         out += "\\r";
         break;
       default:
-        if (c < 0x20) {
+        if (c < 0x20 || c == 0x7f) {
           char buf[8];
           std::snprintf(buf, sizeof buf, "\\u%04x", c);
           out += buf;
         } else if (const std::size_t n = utf8SequenceLength(s, i); n == 0) {
           out += "\\ufffd";
+        } else if (n == 2 && c == 0xC2 && static_cast<unsigned char>(s[i + 1]) < 0xA0) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned char>(s[i + 1]));
+          out += buf;
+          i += n;
+          continue;
         } else {
           out.append(s, i, n);
           i += n;
@@ -153,7 +163,20 @@ std::string jsonQuote(const std::string& s) {
     }
     ++i;
   }
+}
+
+}  // namespace
+
+std::string jsonQuote(const std::string& s) {
+  std::string out = "\"";
+  escapeTo(s, out, true);
   return out + "\"";
+}
+
+std::string printable(const std::string& s) {
+  std::string out;
+  escapeTo(s, out, false);
+  return out;
 }
 
 Json numberOrNull(double v) { return std::isfinite(v) ? Json(v) : Json(); }

@@ -21,6 +21,11 @@ std::string jsonNumber(double v);
 /// as "\ufffd" (one per byte), so the text is always JSON.
 std::string jsonQuote(const std::string& s);
 
+/// s with the escapes of jsonQuote but no quotes and '"' kept: for text from the bus printed
+/// unquoted (a scenario or daemon name, a reason), so that no newline, carriage return, escape
+/// or C1 byte of a peer's string forges a line or reaches the terminal.
+std::string printable(const std::string& s);
+
 /// A number value; null for NaN and infinities (and for an empty optional).
 Json numberOrNull(double v);
 Json numberOrNull(std::optional<double> v);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "coopnav/assessment/path_assessment.hpp"
+#include "json.hpp"
 #include "transcript.hpp"
 
 namespace coopnav::ctl {
@@ -104,12 +105,21 @@ Json goalInferenceJson(const RunLog& run, std::int32_t id,
   g["correct"] = nullptr;
   if (list == nullptr) return g;
   g["candidates"] = list->num_goals;
-  if (at_round1->most_likely >= 0) {
+  // most_likely comes from the bus (any peer can publish it, the recorder keeps it): an index
+  // outside this estimate's own probabilities or the list's goals names no candidate.
+  const bool index_valid =
+      at_round1->most_likely >= 0 &&
+      static_cast<std::size_t>(at_round1->most_likely) < at_round1->probability.size() &&
+      at_round1->most_likely < list->num_goals;
+  if (index_valid) {
     g["at_round1"] = at_round1->most_likely;
     g["p_at_round1"] =
         numberOrNull(at_round1->probability[static_cast<std::size_t>(at_round1->most_likely)]);
   }
-  if (!last || list->num_goals <= 0) return g;
+  if (!last || list->num_goals <= 0 ||
+      static_cast<std::size_t>(list->num_goals) > list->goal_x_m.size() ||
+      static_cast<std::size_t>(list->num_goals) > list->goal_y_m.size())
+    return g;
   int truth = 0;
   for (int k = 1; k < list->num_goals; ++k) {
     const auto d = [&](int i) {
@@ -119,7 +129,7 @@ Json goalInferenceJson(const RunLog& run, std::int32_t id,
     if (d(k) < d(truth)) truth = k;
   }
   g["truth"] = truth;
-  g["correct"] = at_round1->most_likely == truth;
+  g["correct"] = index_valid && at_round1->most_likely == truth;
   return g;
 }
 
@@ -445,7 +455,7 @@ std::string formatCmTable(const Json& summary) {
   if (!list || !list->is_array())
     throw std::runtime_error("not a coopnav summary (no \"scenarios\" array)");
 
-  // Table I order first (open then narrow; facilitating then minimal as issue 6 lists them).
+  // Table I order first (open then narrow; facilitating then minimal).
   static const char* const kOrder[] = {"open_facilitating", "open_minimal", "narrow_facilitating",
                                        "narrow_minimal"};
   std::vector<const Json*> rows;
@@ -466,21 +476,44 @@ std::string formatCmTable(const Json& summary) {
   };
   auto num = [](const Json* j) { return fixed(numberValue(j), 2); };
 
+  // What ran, from the path assessments themselves (never assumed): one line per distinct
+  // setting, so a table of mixed runs says so.
+  std::vector<std::string> settings;
+  for (const Json* e : rows)
+    for (const auto& h : elements(member(*e, "humans"))) {
+      const Json* gamma = member(h, "gamma");
+      if (!gamma || gamma->is_null()) continue;
+      const Json* tau = member(h, "tau_m");
+      const Json* tau_mode = member(h, "tau_mode");
+      const Json* profile = member(h, "profile");
+      std::string line = "gamma " + fixed(numberValue(gamma), 2) + ", tau " +
+                         (tau && !tau->is_null() ? fixed(numberValue(tau), 2) : "-") + " m";
+      if (tau_mode && tau_mode->is_string()) line += " (" + stringValue(tau_mode) + ")";
+      line +=
+          ", profile " + (profile && profile->is_string() ? printable(stringValue(profile)) : "-");
+      if (std::find(settings.begin(), settings.end(), line) == settings.end())
+        settings.push_back(line);
+    }
+  std::string ran = settings.empty() ? std::string("no path assessment") : settings.front();
+  for (std::size_t i = 1; i < settings.size(); ++i) ran += "; " + settings[i];
   std::string out =
       "CM [m]: ours = interaction CM (round 1 to crossing, no reset), as Table I reports it;\n"
-      "window = CM since the last reset (round 2 decides on it). Paper = Table I (gamma 0.98).\n";
+      "window = CM since the last reset (round 2 decides on it). Paper = Table I (gamma 0.98, "
+      "tau 0.40 m).\nRan with: " +
+      ran + ".\n";
   char buf[512];
   std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", "scenario", "human",
                 "CM ours", "CM paper", "CM window", "IsContributing", "docked", "collision",
                 "final state");
   out += buf;
   for (const Json* e : rows) {
-    const std::string name = stringValue(member(*e, "scenario"));
+    const std::string raw_name = stringValue(member(*e, "scenario"));
+    const std::string name = printable(raw_name);
     const Json* humans = member(*e, "humans");
-    const std::string paper = fixed(paperTableCm(name), 2);
+    const std::string paper = fixed(paperTableCm(raw_name), 2);
     const Json* final_state = member(*e, "final_state");
     const std::string state =
-        final_state && !final_state->is_null() ? stringValue(final_state) : "-";
+        final_state && !final_state->is_null() ? printable(stringValue(final_state)) : "-";
     if (elements(humans).empty()) {
       std::snprintf(buf, sizeof buf, "%-24s %5s %8s %9s %9s %-15s %-6s %-9s %s\n", name.c_str(),
                     "-", "-", paper.c_str(), "-", "-", boolText(member(*e, "docked")).c_str(),

@@ -39,7 +39,8 @@ std::string esc(const std::string& s) {
         out += "&quot;";
         break;
       default:
-        out += c;
+        // XML 1.0 has no control characters but tab/newline: a name from the bus may carry any.
+        out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? '?' : c;
     }
   }
   return out;
@@ -410,13 +411,30 @@ std::string cmGammaSvg(const RunLog& run, const RunAnalysis& analysis, const std
   return plot.render();
 }
 
+std::string safeFileStem(const std::string& name) {
+  // The name comes from the log, i.e. from any bus peer: only a plain file name may reach the
+  // file system, so '/', "..", a leading '.' or '-' and every other byte cannot leave out_dir.
+  constexpr std::size_t kMaxStem = 100;
+  std::string out;
+  for (const char c : name) {
+    if (out.size() >= kMaxStem) break;
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '_' || c == '-' || c == '.';
+    out += plain ? c : '_';
+  }
+  std::size_t lead = 0;
+  while (lead < out.size() && (out[lead] == '.' || out[lead] == '-')) ++lead;
+  out.erase(0, lead);
+  return out.empty() ? std::string("run") : out;
+}
+
 FigurePaths writeFigures(const RunLog& run, const RunAnalysis& analysis, const std::string& out_dir,
                          const std::string& name, const FigureOptions& options) {
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   if (ec) throw std::runtime_error("cannot create " + out_dir + ": " + ec.message());
   FigurePaths paths;
-  const std::string base = (std::filesystem::path(out_dir) / name).string();
+  const std::string base = (std::filesystem::path(out_dir) / safeFileStem(name)).string();
   paths.trajectories = base + "_trajectories.svg";
   paths.ca = base + "_ca.svg";
   paths.cm_gamma = base + "_cm_gamma.svg";

@@ -67,7 +67,12 @@ std::string caSvg(const RunLog& run, const RunAnalysis& analysis, const std::str
 std::string cmGammaSvg(const RunLog& run, const RunAnalysis& analysis, const std::string& name,
                        const FigureOptions& options = {});
 
-/// Writes <out_dir>/<name>_{trajectories,ca,cm_gamma}.svg (creating out_dir). Throws
+/// A file name stem made of name that stays inside its directory: every byte but [A-Za-z0-9._-]
+/// becomes '_', leading '.' and '-' are dropped (no "..", no hidden file, no option-like name),
+/// at most 100 bytes; "run" when nothing is left.
+std::string safeFileStem(const std::string& name);
+
+/// Writes <out_dir>/<safeFileStem(name)>_{trajectories,ca,cm_gamma}.svg (creating out_dir). Throws
 /// std::runtime_error when a file cannot be written.
 FigurePaths writeFigures(const RunLog& run, const RunAnalysis& analysis, const std::string& out_dir,
                          const std::string& name, const FigureOptions& options = {});

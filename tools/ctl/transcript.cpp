@@ -23,7 +23,7 @@ std::string prefix(std::int64_t utime, std::int32_t human_id, double t_cross_s) 
 }
 
 std::string why(const std::string& reason) {
-  return reason.empty() ? std::string() : " (why: " + reason + ")";
+  return reason.empty() ? std::string() : " (why: " + printable(reason) + ")";
 }
 
 }  // namespace
@@ -90,8 +90,9 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
         e.t_cross_s = std::nan("");
         e.what = st.name;
         e.text = st.detail;
-        e.line = "t~" + fixed(utimeToS(e.utime), 2) + "s  DAEMON " + st.name + " DEGRADED " +
-                 jsonQuote(st.detail) + " (wall-clock status; time of the last step logged)";
+        e.line = "t~" + fixed(utimeToS(e.utime), 2) + "s  DAEMON " + printable(st.name) +
+                 " DEGRADED " + jsonQuote(st.detail) +
+                 " (wall-clock status; time of the last step logged)";
         break;
       }
       case RunLog::Kind::kRestart: {
@@ -105,8 +106,8 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
         e.text = a.restart_note;
         e.line = "t=" + fixed(utimeToS(a.utime), 2) + "s  " +
                  (a.restart == step_ack_t::RESTART_RECOVERED ? "RESTART " : "degraded: ") +
-                 a.participant + " restarted at step " + std::to_string(a.restart_step) + ", " +
-                 a.restart_note;
+                 printable(a.participant) + " restarted at step " + std::to_string(a.restart_step) +
+                 ", " + printable(a.restart_note);
         break;
       }
       case RunLog::Kind::kUtterance: {
@@ -245,7 +246,8 @@ std::vector<TranscriptEntry> buildTranscript(const RunLog& run, const RunAnalysi
 
 std::string formatTranscript(const std::string& scenario,
                              const std::vector<TranscriptEntry>& entries) {
-  std::string out = "# scenario " + (scenario.empty() ? std::string("(unnamed)") : scenario) + "\n";
+  std::string out =
+      "# scenario " + (scenario.empty() ? std::string("(unnamed)") : printable(scenario)) + "\n";
   for (const auto& e : entries) out += e.line + "\n";
   return out;
 }

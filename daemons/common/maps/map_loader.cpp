@@ -547,9 +547,12 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
 OccupancyGrid2 rasteriseWallsMap(const YAML::Node& node, const std::string& where,
                                  std::int64_t max_cells) {
   rejectDuplicateKeys(node, where);
-  const double res = requireDouble(node, "resolution_m", where);
-  requireResolution(res, node["resolution_m"].Scalar(),
-                    "key 'resolution_m'" + lineOf(node["resolution_m"]), where);
+  double res = kDefaultWallsMapResolution_m;
+  if (node["resolution_m"]) {
+    res = requireDouble(node, "resolution_m", where);
+    requireResolution(res, node["resolution_m"].Scalar(),
+                      "key 'resolution_m'" + lineOf(node["resolution_m"]), where);
+  }
   double margin_m = 0.0;
   if (node["margin_m"]) {
     margin_m = asDouble(node["margin_m"], "margin_m", where);

@@ -148,8 +148,12 @@ OccupancyGrid2 loadRosMap(const YAML::Node& node, const std::string& base_dir,
 /// for world_sim and for a daemon that loads the scenario file as its map.
 inline constexpr double kDefaultWallThickness_m = 0.2;
 
-/// Rasterises `resolution_m`, `walls: [{x0_m, y0_m, x1_m, y1_m, thickness_m}]` (thickness
-/// optional, kDefaultWallThickness_m),
+/// [m] Grid resolution of a synthetic map that does not give `resolution_m`: as for the wall
+/// thickness, one default for world_sim and for a daemon loading the scenario file as its map.
+inline constexpr double kDefaultWallsMapResolution_m = 0.05;
+
+/// Rasterises optional `resolution_m` (kDefaultWallsMapResolution_m), `walls: [{x0_m, y0_m,
+/// x1_m, y1_m, thickness_m}]` (thickness optional, kDefaultWallThickness_m),
 /// `boxes: [{min_x_m, min_y_m, max_x_m, max_y_m}]`, optional `margin_m` (>= 0, default 0) into a
 /// grid covering their bounding box plus the margin; every cell not a wall or box is free. A wall
 /// occupies the cells whose centre is within thickness/2 of its segment plus the 4-connected

@@ -126,9 +126,9 @@ CrossingInfo computeCrossing(const Band& robot_band, const Band& human_band,
   }
 
   // Common time grid: t_lo + k dt, closed by the overlap end itself (CoHAN pairs poses by index,
-  // which is wrong as soon as the bands' ΔT differ: band-planner.md §7). Its size is bounded
-  // before it is allocated: first about, in double (a span of 10^300 s must not overflow an
-  // integer), then exactly while it is built.
+  // which is wrong as soon as the bands' ΔT differ: the poses paired are then at different times).
+  // Its size is bounded before it is allocated: first about, in double (a span of 10^300 s must not
+  // overflow an integer), then exactly while it is built.
   const auto max_points = static_cast<std::size_t>(std::max(config.max_grid_points, 2));
   const double about_points = std::floor((t_hi_s - kTimeEps_s - t_lo_s) / config.grid_dt_s) + 2.0;
   const auto over_cap = [&] {

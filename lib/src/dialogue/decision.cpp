@@ -165,7 +165,7 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
   return out;
 }
 
-// Not in the paper (issue 29): a dock that leaves too little room becomes a retreat in the band
+// Not in the paper: a dock that leaves too little room becomes a retreat in the band
 // source when the human keeps closing; the human hears it once.
 void HumanDecision::announceRetreat(const DecisionInput& in, DecisionOutput& out) {
   if (!docked_ || retreat_said_ || !in.situation.robot_retreating || in.crossed) return;

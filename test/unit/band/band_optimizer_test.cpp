@@ -1,6 +1,6 @@
 // optimizeBands' prefilter of the agent safety terms: pose pairs far apart when the problem is
 // built get no term, and the guard must bring a left-out pair back once the optimiser moves it
-// close (issue 3: the prefilter may only save time, never let bands pass through each other).
+// close (the prefilter may only save time, never let bands pass through each other).
 #include "coopnav/band/band_optimizer.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-/// Closed-loop acceptance of the dual-band planner (issue 3): every 0.1 s the robot integrates
+/// Closed-loop acceptance of the dual-band planner: every 0.1 s the robot integrates
 /// its command and the human moves (straight at 1 m/s, or along its anticipated band), and the
 /// planner runs again warm-started, as band_source does at 10 Hz in lockstep (iteration budget
 /// only). Head-on in the 6 m corridor of open.pgm and in the 2.25 m corridor.
@@ -170,7 +170,7 @@ std::shared_ptr<const DistanceMap> openPgm() {
   return map;
 }
 
-/// Acceptance (issue 3): speed until the crossing, passing distance, wall clearance, goal.
+/// Acceptance: speed until the crossing, passing distance, wall clearance, goal.
 void expectCohanLikePass(const RunLog& log) {
   ASSERT_EQ(log.failed_cycles, 0);
   ASSERT_FALSE(std::isnan(log.crossing_time_s)) << "the robot never passed the human";

@@ -1,5 +1,5 @@
 // Our sparse Levenberg–Marquardt against known optima and against Ceres on the same residual
-// blocks (issue 3: our solver may replace Ceres only on the same problem).
+// blocks (our solver may replace Ceres only on the same problem).
 #include "coopnav/band/sparse_lm.hpp"
 
 #include <ceres/ceres.h>

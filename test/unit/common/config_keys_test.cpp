@@ -1,4 +1,4 @@
-// One declaration per config key (issue 28): each daemon's Config struct lists its keys once, in
+// One declaration per config key: each daemon's Config struct lists its keys once, in
 // visit(), with their defaults (the in-class initialisers) and ranges. This test enumerates them
 // through the visitor (nested keys dotted: "speech.rate_wpm") and checks the two copies people
 // read against it:

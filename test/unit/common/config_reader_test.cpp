@@ -1,4 +1,4 @@
-// ConfigReader as the scenario files use it (issue 28: world_sim's scenario loader reads through
+// ConfigReader as the scenario files use it (world_sim's scenario loader reads through
 // it too): required keys, keys given no value, lists of mappings, values that are reported and
 // not stored, keys read by nobody on purpose, and where each message points.
 #include <gtest/gtest.h>

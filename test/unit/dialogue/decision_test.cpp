@@ -409,7 +409,7 @@ TEST(Decision, CrossingAfterADockResumesAndStops) {
   EXPECT_FALSE(dut.docked());
 }
 
-// Issue 29: the dock is said as the move the band source will really make for this human.
+// The dock is said as the move the band source will really make for this human.
 DecisionInput dockingSituation(double t_s, RoomPlan room) {
   DecisionInput in = neutral(t_s, 3.0);
   in.situation.human_needs_to_contribute = T;

@@ -11,8 +11,8 @@
 namespace coopnav::dialogue {
 namespace {
 
-// espeak-ng 1.51, en-us, 175 wpm, durations of its WAV files (notes/social-nav.md §7 and the
-// dialogue manager's templates).
+// espeak-ng 1.51, en-us, 175 wpm, durations of its WAV files (short corridor phrases and the
+// dialogue manager's templates), measured with `espeak-ng -s 175 -w`.
 TEST(SpeechDuration, EstimateIsWithinFourTenthsOfASecondOfEspeak) {
   const struct {
     const char* text;

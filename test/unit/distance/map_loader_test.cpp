@@ -228,6 +228,20 @@ TEST(MapLoaderTest, AWallWithoutThicknessHasTheDocumentedDefault) {
             load("{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0, thickness_m: 0.6}"));
 }
 
+// docs/scenario-format.md: resolution_m is optional; the daemons loading a scenario file as their
+// map must agree with world_sim's default.
+TEST(MapLoaderTest, AWallsMapWithoutResolutionHasTheDocumentedDefault) {
+  const auto load = [](const std::string& res) {
+    return loadMapFromNode(YAML::Load("{" + res + "walls: [{x0_m: 0, y0_m: 0, x1_m: 4, y1_m: 0}]}"),
+                           "/nonexistent", {}, "scenario.yaml: map")
+        .grid;
+  };
+  const auto grid = load("");
+  EXPECT_DOUBLE_EQ(grid.resolution_m(), kDefaultWallsMapResolution_m);
+  EXPECT_EQ(grid, load("resolution_m: " + std::to_string(kDefaultWallsMapResolution_m) + ", "));
+  EXPECT_DOUBLE_EQ(load("resolution_m: 0.1, ").resolution_m(), 0.1);
+}
+
 TEST(MapLoaderTest, WallsMapIsFourConnectedAndBoxesFill) {
   const YAML::Node node = YAML::Load(R"(
 resolution_m: 0.1

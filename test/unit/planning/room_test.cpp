@@ -1,4 +1,4 @@
-// Room that is really made (issue 29): the dock pose flush to the wall, the passage check, the
+// Room that is really made: the dock pose flush to the wall, the passage check, the
 // wider place back along the robot's path, the retreat, and the mode machine's escalation.
 #include "coopnav/planning/room.hpp"
 

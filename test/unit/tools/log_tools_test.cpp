@@ -610,6 +610,98 @@ TEST(LogTools, SummaryScoresTheGoalInferredAtRoundOneAgainstWhereTheHumanWent) {
   EXPECT_NEAR(g.at("last_seen_m").at(0).get<double>(), 16.0 - 0.1 * (kSteps - 1), 1e-9);
 }
 
+// A goal estimate whose most_likely index names no candidate (any peer can publish one and the
+// recorder keeps it): no crash, no candidate named, not scored correct.
+TEST(LogTools, SummaryIgnoresAGoalIndexOutOfRange) {
+  for (const auto& [most_likely, probabilities] :
+       std::vector<std::pair<std::int16_t, std::size_t>>{{300, 2}, {2, 2}, {1, 0}}) {
+    TempDir dir;
+    {
+      LogWriter w(dir.file("run.lcm"));
+      for (int k = 0; k < kSteps; ++k) {
+        goal_estimates_t g{};
+        g.utime = utimeOf(k);
+        g.step = k;
+        g.num_goals = 2;
+        g.goal_x_m = {0.0, 20.0};
+        g.goal_y_m = {1.5, 1.5};
+        goal_estimate_t e{};
+        e.agent_id = 1;
+        e.most_likely = most_likely;
+        e.num_goals = static_cast<std::int16_t>(probabilities);
+        e.probability.assign(probabilities, 0.5f);
+        g.num_humans = 1;
+        g.humans = {e};
+        w.put(channels::kGoalEstimates, g);
+        w.put(channels::kAgentStates, statesAt(k));
+        w.put(channels::kSituation, situationAt(k));
+      }
+    }
+    const RunLog run = readRunLog(dir.file("run.lcm"));
+    ASSERT_EQ(run.goal_estimates.size(), static_cast<std::size_t>(kSteps));
+    const Json g = parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm")))
+                       .at("humans")
+                       .at(0)
+                       .at("goal_inference");
+    EXPECT_EQ(g.at("candidates"), 2) << most_likely;
+    EXPECT_TRUE(g.at("at_round1").is_null()) << most_likely;
+    EXPECT_TRUE(g.at("p_at_round1").is_null()) << most_likely;
+    EXPECT_EQ(g.at("truth"), 0) << most_likely;
+    EXPECT_EQ(g.at("correct"), false) << most_likely;
+  }
+}
+
+// Strings from the bus printed by the transcript: a newline cannot forge a line, no control
+// byte (ESC, CR, C1 CSI) reaches the terminal.
+TEST(LogTools, TranscriptEscapesEveryStringFromTheBus) {
+  const std::string forged = "x\nt=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"hi\"";
+  const std::string hostile = forged +
+                              "\x1b[2J\r\x07\x7f\xc2\x9b"
+                              "31m\xff";
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    for (int k = 0; k < 3; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      w.put(channels::kSituation, situationAt(k));
+    }
+    daemon_status_t status{};
+    status.utime = utimeOf(1);
+    status.name = hostile;
+    status.state = daemon_status_t::STATE_DEGRADED;
+    status.detail = hostile;
+    w.put(channels::kStatus, status);
+    w.put(channels::kRobotAction, action(1, robot_action_t::ACTION_DOCK, hostile));
+    w.put(channels::kPathAssessorControl,
+          control(1, path_assessor_control_t::COMMAND_START, hostile));
+    w.put(channels::kUtterance,
+          say(1, utterance_t::ACT_INFORM_DIRECTION, situation_t::DIR_LEFT, 1, 7.0, hostile));
+    sim_status_t st = simStatus(2, sim_status_t::STATE_GOAL_REACHED, hostile);
+    st.scenario = hostile;
+    w.put(channels::kSimStatus, st);
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const RunAnalysis a = analyseRun(run);
+  TranscriptOptions o;
+  o.include_daemon_status = true;
+  const std::string t = formatTranscript(a.scenario, buildTranscript(run, a, o));
+  // Header, UNKNOWN, ACTION, RECORDER, SAY, DAEMON, SIM: seven lines, each ended by the tool's
+  // own newline; the forged "t=1.00s ... SAY" starts none of them.
+  EXPECT_EQ(countOf(t, "\n"), 7) << t;
+  EXPECT_EQ(countOf(t, "\nt=1.00s"), 0) << t;
+  EXPECT_EQ(countOf(t, "\nt=0.10s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"x\\nt=1.00s"), 1)
+      << t;
+  EXPECT_EQ(t.rfind("# scenario x\\nt=1.00s", 0), 0u) << t;
+  for (const char c : t) {
+    const auto b = static_cast<unsigned char>(c);
+    EXPECT_TRUE(c == '\n' || (b >= 0x20 && b != 0x7f)) << "control byte " << int{b} << " in\n" << t;
+  }
+  EXPECT_EQ(t.find("\xc2\x9b"), std::string::npos) << "C1 CSI reached the output";
+  EXPECT_NE(t.find("\\u001b[2J\\r\\u0007\\u007f\\u009b31m\\ufffd"), std::string::npos) << t;
+  EXPECT_EQ(printable("a\\b \"q\" \xc3\xa9"), "a\\\\b \"q\" \xc3\xa9");  // UTF-8 kept
+  EXPECT_EQ(jsonQuote("\x1b\xc2\x85"), "\"\\u001b\\u0085\"");
+}
+
 TEST(LogTools, SummaryCountsWhatTheRobotDidAndSaysWhoTouchedWhom) {
   using C = velocity_command_t;
   // Modes step by step: navigating, docking (2 steps), holding, resuming, docking again,
@@ -851,16 +943,18 @@ TEST(LogTools, CmTableSitsBesideTableI) {
   std::string line;
   std::vector<std::string> rows;
   while (std::getline(lines, line)) rows.push_back(line);
-  ASSERT_EQ(rows.size(), 5u) << table;  // 2 notes, header, 2 rows
+  ASSERT_EQ(rows.size(), 6u) << table;  // 3 notes, header, 2 rows
+  // What ran, from the logged assessment (not the paper's values assumed).
+  EXPECT_EQ(rows[2], "Ran with: gamma 0.98, tau 0.40 m (fixed), profile paper.") << table;
   // Table I order: open before narrow, whatever the file order.
-  EXPECT_EQ(rows[3].rfind("open_facilitating", 0), 0u) << rows[3];
-  EXPECT_NE(rows[3].find(" 0.81 "), std::string::npos) << rows[3];  // ours (interaction)
-  EXPECT_NE(rows[3].find(" 0.94 "), std::string::npos) << rows[3];  // paper
-  EXPECT_NE(rows[3].find(" 0.90 "), std::string::npos) << rows[3];  // window
-  EXPECT_NE(rows[3].find("TRUE"), std::string::npos);
-  EXPECT_NE(rows[3].find("GOAL_REACHED"), std::string::npos);
-  EXPECT_EQ(rows[4].rfind("narrow_minimal", 0), 0u) << rows[4];
-  EXPECT_NE(rows[4].find(" 0.05 "), std::string::npos) << rows[4];
+  EXPECT_EQ(rows[4].rfind("open_facilitating", 0), 0u) << rows[4];
+  EXPECT_NE(rows[4].find(" 0.81 "), std::string::npos) << rows[4];  // ours (interaction)
+  EXPECT_NE(rows[4].find(" 0.94 "), std::string::npos) << rows[4];  // paper
+  EXPECT_NE(rows[4].find(" 0.90 "), std::string::npos) << rows[4];  // window
+  EXPECT_NE(rows[4].find("TRUE"), std::string::npos);
+  EXPECT_NE(rows[4].find("GOAL_REACHED"), std::string::npos);
+  EXPECT_EQ(rows[5].rfind("narrow_minimal", 0), 0u) << rows[5];
+  EXPECT_NE(rows[5].find(" 0.05 "), std::string::npos) << rows[5];
   EXPECT_DOUBLE_EQ(paperTableCm("open_minimal"), 0.15);
   EXPECT_DOUBLE_EQ(paperTableCm("narrow_facilitating"), 0.49);
   EXPECT_TRUE(std::isnan(paperTableCm("walls_oblivious")));
@@ -899,6 +993,36 @@ TEST(LogTools, FiguresAreSvgWithOnePolylinePerSeries) {
   EXPECT_NE(cm.find("gamma 0.98"), std::string::npos);
   // Same log, same bytes.
   EXPECT_EQ(trajectoriesSvg(run, a, "open_facilitating"), traj);
+}
+
+// The scenario name comes from the log: whatever it is, the figures stay inside out_dir.
+TEST(LogTools, FigureFileNamesNeverLeaveTheOutputDirectory) {
+  TempDir dir;
+  writeScriptedRun(dir.file("run.lcm"));
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const RunAnalysis a = analyseRun(run);
+  const fs::path out = dir.file("fig");
+  for (const std::string& name :
+       std::vector<std::string>{"../../escaped", "/tmp/absolute", "..", ".hidden", "-rf",
+                                "a/b\\c\nd\x1b", std::string(500, 'n'), ""}) {
+    const FigurePaths paths = writeFigures(run, a, out.string(), name);
+    for (const auto& p : {paths.trajectories, paths.ca, paths.cm_gamma}) {
+      EXPECT_EQ(fs::path(p).parent_path(), out) << p;
+      EXPECT_TRUE(fs::exists(p)) << p;
+      const std::string file = fs::path(p).filename().string();
+      EXPECT_NE(file[0], '.') << p;
+      EXPECT_EQ(file.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                       "0123456789_-."),
+                std::string::npos)
+          << p;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir.file("escaped_ca.svg")));
+  EXPECT_FALSE(fs::exists("/tmp/absolute_ca.svg"));
+  EXPECT_EQ(safeFileStem("open_facilitating"), "open_facilitating");  // names as before
+  EXPECT_EQ(safeFileStem("../../escaped"), "_.._escaped");
+  EXPECT_EQ(safeFileStem(".."), "run");
+  EXPECT_EQ(safeFileStem(std::string(500, 'n')).size(), 100u);
 }
 
 TEST(LogTools, SummaryFiguresDrawOneCurvePerScenarioFromTheSummaryAlone) {

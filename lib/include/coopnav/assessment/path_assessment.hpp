@@ -60,7 +60,7 @@ double roomTau(double tau_m, std::optional<double> room_m, double room_fraction,
 ///    reference path's direction at each sample (robot offset minus human offset), with the same
 ///    deadband and memory. Real walkers meet in open space where the other is often already off
 ///    the human's initial line on the side the human steps to: the path side then calls a step
-///    away from the other "towards the robot" (issue 31, ETH/UCY head-on pairs).
+///    away from the other "towards the robot" (ETH/UCY head-on pairs).
 enum class SideRule : std::int8_t { kPathSide = 0, kHumanSide = 1 };
 const char* toString(SideRule r);
 /// The rule named by toString(); nullopt for any other name.

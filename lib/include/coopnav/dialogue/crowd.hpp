@@ -32,7 +32,7 @@ struct CrowdMember {
 /// Tuning of groups and addresses. Defaults in this one place.
 struct CrowdConfig {
   /// [m] two people at most this far apart (centres) may walk or stand together. Walking groups
-  /// keep ~0.7-1.0 m between neighbours (Moussaïd et al. 2010, notes/social-nav.md) and
+  /// keep ~0.7-1.0 m between neighbours (Moussaïd et al. 2010, PLoS ONE 5(4)) and
   /// conversing groups stand within personal distance (Hall: < 1.2 m between bodies, ~1.5 m
   /// between centres); farther apart they are two people who happen to be near.
   double group_distance_m{1.5};

@@ -43,7 +43,7 @@ enum class RecorderCommand : std::int8_t { kStart = 1, kStop = 2, kReset = 3 };
 const char* toString(RecorderCommand c);
 
 /// How the robot would make room for this human if asked now (the band source's check of the
-/// passage its dock would leave, issue 29); values mirror coopnav_bands_t.ROOM_*.
+/// passage its dock would leave); values mirror coopnav_bands_t.ROOM_*.
 enum class RoomPlan : std::int8_t {
   kUnknown = 0,     ///< not assessed: the dock is said as before ("I will wait here ...")
   kDockHere = 1,    ///< a dock nearby leaves the human a wide enough passage
@@ -106,7 +106,8 @@ struct DecisionConfig {
   /// alongside) and the planned centre distance there, d_HR, is at most this. Not in the paper,
   /// whose one human always crosses; in a crowd, the people walking away, and those the robot
   /// passes beyond social distance, are not spoken to. 3.6 m: the outer edge of Hall's social
-  /// zone (notes/social-nav.md), taken between centres, so bodies are nearer than that.
+  /// zone (Hall 1966: social distance 1.2–3.6 m), taken between centres, so bodies are nearer than
+  /// that.
   double crossing_range_m{3.6};
   TextTemplates templates;
 };

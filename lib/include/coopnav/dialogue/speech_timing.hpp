@@ -3,11 +3,11 @@
 /// timeline (an utterance starts only once the previous one has ended, and a cue whose speech would
 /// end after the crossing is not said). Pure: time is an input.
 ///
-/// A cue is useful only if the person hears it with time left to act on it (notes/social-nav.md
-/// §7: t_cue_start ≥ t_cross − (T_utterance + T_react + T_maneuver)); the decision pipeline of
-/// paper §II-D fires its rounds at t_CROSS thresholds and does not say how long the words take. So
-/// every utterance carries its start and its duration, and the person model of the simulator and
-/// the round-2 check (decision.hpp) both count from when the words have been heard.
+/// A cue is useful only if the person hears it with time left to act on it (t_cue_start ≥
+/// t_cross − (T_utterance + T_react + T_maneuver): our reading, no published rule); the decision
+/// pipeline of paper §II-D fires its rounds at t_CROSS thresholds and does not say how long the
+/// words take. So every utterance carries its start and its duration, and the person model of the
+/// simulator and the round-2 check (decision.hpp) both count from when the words have been heard.
 
 #include <cstdint>
 #include <optional>
@@ -28,8 +28,9 @@ const char* toString(Delivery d);
 /// Time to say `text` at `rate_wpm` with espeak-ng's en-us voice, for when no synthesiser measures
 /// it [s]: 0.58 s + 0.013 s per letter or digit + 0.13 s per word + 0.45 s per internal pause
 /// (comma, or a sentence end followed by more text), scaled by 175 / rate_wpm. Least-squares fit
-/// to espeak-ng 1.51 at 175 wpm over the 17 template texts and phrases of notes/social-nav.md §7
-/// (0.89–3.34 s, largest error 0.38 s, typically 0.1 s).
+/// to espeak-ng 1.51 at 175 wpm over the 17 template texts and short corridor phrases ("Thank
+/// you." 0.89 s, "I will pass on your left." 1.56 s; 0.89–3.34 s, largest error 0.38 s, typically
+/// 0.1 s).
 double estimateSpeechDuration(const std::string& text, double rate_wpm);
 
 /// Duration of a PCM WAV file given as its bytes [s]: the data chunk's size over the format

@@ -1,5 +1,5 @@
 #pragma once
-/// @file Track continuity across tracker id switches (issue 31). A people tracker that loses a
+/// @file Track continuity across tracker id switches. A people tracker that loses a
 /// person for a moment, or swaps labels in a crowd, publishes the same person under a new id.
 /// Every daemon that keeps an interaction per id (the dialogue manager's rounds, the path
 /// assessor's recording) would restart it: the robot would announce round 1 again to someone it

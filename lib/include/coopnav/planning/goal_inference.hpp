@@ -1,5 +1,5 @@
 #pragma once
-/// @file Goal inference for tracked humans whose goal is not given (issue 31; the paper §II-A
+/// @file Goal inference for tracked humans whose goal is not given (the paper §II-A
 /// assumes known goals). Candidate goals come from the map (openings where free space meets the
 /// map's border, dead ends of the free space's skeleton: corridor ends) and from a configured
 /// list; a posterior over them follows the observed track with the path-length likelihood of

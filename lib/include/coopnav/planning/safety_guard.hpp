@@ -1,5 +1,5 @@
 #pragma once
-/// @file The last safety layer under the planner (beyond the paper; issue 29): whatever the mode,
+/// @file The last safety layer under the planner (beyond the paper): whatever the mode,
 /// the velocity sent never closes the surface gap to a human below a minimum clearance, and a
 /// human closing on a robot at rest makes it move away when it has room. With nobody near it
 /// returns the planner's command unchanged, bit for bit. Pure logic; states come in as values.

@@ -228,7 +228,8 @@ struct LateFacilitatingParams {
 /// within hearing_range_m, complies with a request with probability compliance_request and with
 /// a statement with compliance_statement (Nikolaidis et al. 2018: commands 100 %, state-conveying
 /// statements 60 % adaptation), and starts acting after a log-normal reaction time (median
-/// reaction_time_median_s, log-sd reaction_time_log_sd; notes/social-nav.md §7 T_react ≈ 1 s).
+/// reaction_time_median_s, log-sd reaction_time_log_sd; T_react ≈ 1 s is our estimate: no
+/// study of reaction to a robot's words in a corridor gives one).
 /// The draws are the simulator's (Simulation, one stream per human), so the same seed gives
 /// the same person.
 struct ResponsiveParams {

@@ -4,13 +4,16 @@
 // NaN and one that does not decode are skipped and counted and change nothing; the page and the
 // scene are served over HTTP, streams beyond max_clients get 503 and a stream that goes away
 // frees its slot; a page that stops reading and a request sent in part are dropped; a recorded
-// log replays with a timeline (seek to any time, the same scene).
+// log replays with a timeline (seek to any time, the same scene), read by the tools' one reader:
+// a bad header in the middle is skipped and the rest read, checkpoints stay bounded on a long
+// log, and /dev/zero or a FIFO is refused at once.
 #include "viewer_node.hpp"
 
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -205,8 +208,13 @@ class ViewerNodeTest : public ::testing::Test {
     send(channels::kSituation, situation(t_s));
     send(channels::kPathAssessment, pathAssessment(t_s));
     send(channels::kRobotCmd, command(t_s, velocity_command_t::MODE_DOCKING));
-    send(channels::kStatus, status("path_assessor", 1'700'000'000'000'000));
-    send(channels::kStatus, status("band_source", 1'700'000'005'000'000));
+    // Stamped with the wall clock as the daemons do (the viewer checks it against its receive
+    // clock): path_assessor's 5 s before band_source's.
+    const std::int64_t wall = std::chrono::duration_cast<std::chrono::microseconds>(
+                                  std::chrono::system_clock::now().time_since_epoch())
+                                  .count();
+    send(channels::kStatus, status("path_assessor", wall - 5'000'000));
+    send(channels::kStatus, status("band_source", wall));
   }
 
   json frame() const { return node_->frameJson(); }
@@ -501,6 +509,25 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
       }
     }
   }
+  {
+    // A bad header (a channel length LCM's own reader asserts on) in the middle of the log: the
+    // reader skips it and reads on to the end (lcm::LogFile stopped there).
+    std::FILE* f = std::fopen(log_path.c_str(), "r+b");
+    ASSERT_NE(f, nullptr);
+    std::fseek(f, 0, SEEK_END);
+    const long size = std::ftell(f);
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+    std::fseek(f, 0, SEEK_SET);
+    ASSERT_EQ(std::fread(bytes.data(), 1, bytes.size(), f), bytes.size());
+    std::size_t at = bytes.size() * 3 / 4;
+    while (!(bytes[at] == 0xED && bytes[at + 1] == 0xA1 && bytes[at + 2] == 0xDA &&
+             bytes[at + 3] == 0x01))
+      ++at;
+    bytes[at + 20] = 0x7F;  // channel length 0x7F......: impossible
+    std::fseek(f, 0, SEEK_SET);
+    std::fwrite(bytes.data(), 1, bytes.size(), f);
+    std::fclose(f);
+  }
   ViewerConfig config = testConfig();
   config.log_file = log_path;
   config.replay_autoplay = false;
@@ -511,6 +538,8 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   EXPECT_DOUBLE_EQ(replay.startS(), 0.0);
   EXPECT_DOUBLE_EQ(replay.endS(), 10.0);
   EXPECT_EQ(replay.rejectedInLog(), 1);
+  EXPECT_NE(replay.readCounts().find("bad headers 1"), std::string::npos) << replay.readCounts();
+  EXPECT_LE(replay.checkpoints(), 16u);
 
   replay.seek(5.5);
   json j = node.frameJson();
@@ -541,6 +570,52 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   const auto bad = client.Post("/control", R"({"command":"jump"})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
+  fs::remove_all(dir);
+}
+
+TEST(ViewerReplayTest, CheckpointsAreBoundedAndADeviceOrFifoIsRefusedAtOnce) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("viewer_replay2_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string log_path = (dir / "run.lcm").string();
+  {
+    lcm::LogFile log(log_path, "w");
+    ASSERT_TRUE(log.good());
+    for (int k = 0; k <= 600; ++k) {  // 60 s, a checkpoint every 0.1 s asked for
+      const agent_states_t msg = states(0.1 * k);
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+      lcm::LogEvent ev{};
+      ev.eventnum = k;
+      ev.timestamp = utimeAt(1000.0 + 0.1 * k);
+      ev.channel = channels::kAgentStates;
+      ev.datalen = static_cast<std::int32_t>(buf.size());
+      ev.data = buf.data();
+      log.writeEvent(&ev);
+    }
+  }
+  viewer::Replay replay(log_path, viewer::SceneModel{}, 0.1, 8);
+  EXPECT_LE(replay.checkpoints(), 8u);
+  EXPECT_GE(replay.checkpoints(), 4u);
+  replay.seek(45.0);
+  EXPECT_NEAR(utimeToSeconds(*replay.scene().utime()), 45.0, 1e-9);
+  replay.seek(12.0);
+  EXPECT_NEAR(utimeToSeconds(*replay.scene().utime()), 12.0, 1e-9);
+
+  // Not a regular file: refused before any read (a FIFO with no writer would block the open of
+  // a reader that waited; /dev/zero would be read forever).
+  const std::string fifo = (dir / "fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/zero"), fifo}) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      viewer::Replay r(path, viewer::SceneModel{});
+      ADD_FAILURE() << path << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 2s);
+  }
   fs::remove_all(dir);
 }
 

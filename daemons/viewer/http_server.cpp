@@ -283,9 +283,11 @@ ViewerHttp::ViewerHttp(const HttpOptions& options, std::string map_json)
   front->new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
   // SO_REUSEADDR (a restarted viewer binds at once) but not httplib's default SO_REUSEPORT, with
   // which a second viewer on the same port would bind too and share the connections silently.
-  front->set_socket_options([](socket_t sock) {
+  socket_t listening = INVALID_SOCKET;
+  front->set_socket_options([&listening](socket_t sock) {
     int yes = 1;
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listening = sock;
   });
   server_->set_payload_max_length(kMaxBodyBytes);
   server_->set_keep_alive_timeout(2);
@@ -308,6 +310,10 @@ ViewerHttp::ViewerHttp(const HttpOptions& options, std::string map_json)
                                std::to_string(options_.port) + " (in use, or not an address here)");
     port_ = options_.port;
   }
+  // httplib listens with a backlog of 5: a burst of connections (300 idle ones) overflows it and
+  // every later connect waits for the kernel's SYN retries (1 s, 3 s, ...). A second listen()
+  // sets the backlog; the gate then sorts them.
+  if (listening != INVALID_SOCKET) ::listen(listening, SOMAXCONN);
   thread_ = std::thread([this] {
     front_->listen_after_bind();
     listen_done_ = true;

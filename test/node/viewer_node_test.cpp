@@ -477,6 +477,84 @@ TEST(ViewerHttpTest, AHalfSentRequestIsDropped) {
   ::close(sock);
 }
 
+// Connections that hold a server (issue: 14 slowloris connections delayed /scene.json 13 s,
+// 300 idle ones 30 s, SIGTERM waited 22 s; a million headers took 140 MB): 40 connections
+// trickling headers (reconnecting when dropped), 300 idle ones and a header flood at once.
+// /scene.json is answered within 1 s all along and the server ends within 1 s.
+TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheSceneNorTheExit) {
+  viewer::HttpOptions options;
+  options.port = 0;
+  auto http = std::make_unique<viewer::ViewerHttp>(options, "{}");
+  http->publishFrame(R"({"t": 1.5})");
+  const int port = http->port();
+  std::atomic<bool> stop{false};
+  std::vector<int> idle;
+  for (int i = 0; i < 300; ++i) idle.push_back(connectTo(port));
+  std::thread slowloris([&] {
+    std::vector<int> socks(40, -1);
+    while (!stop) {
+      for (int& s : socks) {
+        if (s < 0) {
+          s = connectTo(port);
+          if (s >= 0 &&
+              ::send(s, "GET /scene.json HTTP/1.1\r\nHost: x\r\n", 36, MSG_NOSIGNAL) < 0) {
+            ::close(s);
+            s = -1;
+          }
+        } else if (::send(s, "X-a: b\r\n", 8, MSG_NOSIGNAL) < 0) {
+          ::close(s);
+          s = -1;
+        }
+      }
+      std::this_thread::sleep_for(100ms);
+    }
+    for (int s : socks)
+      if (s >= 0) ::close(s);
+  });
+  std::atomic<std::int64_t> flood_sent{0};
+  std::thread flood([&] {
+    std::string chunk;
+    for (int i = 0; i < 1000; ++i) chunk += "X: y\r\n";
+    while (!stop) {
+      const int s = connectTo(port);
+      if (s < 0) break;
+      ::send(s, "GET / HTTP/1.1\r\n", 16, MSG_NOSIGNAL);
+      for (int k = 0; k < 1000 && !stop; ++k) {  // a million headers, until refused
+        const ssize_t n = ::send(s, chunk.data(), chunk.size(), MSG_NOSIGNAL);
+        if (n <= 0) break;
+        flood_sent += n;
+      }
+      ::close(s);
+    }
+  });
+  std::this_thread::sleep_for(300ms);
+  for (int k = 0; k < 3; ++k) {
+    httplib::Client client("127.0.0.1", port);
+    client.set_connection_timeout(5, 0);
+    client.set_read_timeout(5, 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto res = client.Get("/scene.json");
+    const double took_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_TRUE(res) << "no answer to /scene.json under the attack";
+    EXPECT_EQ(res->status, 200);
+    EXPECT_EQ(res->body, R"({"t": 1.5})");
+    EXPECT_LT(took_s, 1.0) << "/scene.json took " << took_s << " s under the attack";
+    std::this_thread::sleep_for(200ms);
+  }
+  EXPECT_GT(flood_sent.load(), 16 * 1024);  // the flood ran (each connection refused past 16 KiB)
+  const auto t0 = std::chrono::steady_clock::now();
+  http.reset();  // the exit's path (SIGTERM -> the node's end -> this)
+  const double stop_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(stop_s, 1.0) << "the server took " << stop_s << " s to end under the attack";
+  stop = true;
+  slowloris.join();
+  flood.join();
+  for (int s : idle)
+    if (s >= 0) ::close(s);
+}
+
 TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("viewer_replay_" + std::to_string(::getpid()));

@@ -264,17 +264,18 @@ SceneModel::HumanTrace& SceneModel::trace(std::int32_t id, std::int64_t utime) {
 }
 
 void SceneModel::forgetOld() {
-  const auto now = clock_.now();
-  if (!now) return;
-  const auto old = [&](std::int64_t u) {
-    return utimeDiffSeconds(*now, u) > options_.limits.forget_after_s;
-  };
-  for (auto it = traces_.begin(); it != traces_.end();)
-    it = old(it->second.last_utime) ? traces_.erase(it) : std::next(it);
-  for (auto it = situations_.begin(); it != situations_.end();)
-    it = old(it->second.utime) ? situations_.erase(it) : std::next(it);
-  for (auto it = references_.begin(); it != references_.end();)
-    it = old(it->second.utime) ? references_.erase(it) : std::next(it);
+  // Ageing needs the scene's time; the caps below hold before the first agent states too.
+  if (const auto now = clock_.now()) {
+    const auto old = [&](std::int64_t u) {
+      return utimeDiffSeconds(*now, u) > options_.limits.forget_after_s;
+    };
+    for (auto it = traces_.begin(); it != traces_.end();)
+      it = old(it->second.last_utime) ? traces_.erase(it) : std::next(it);
+    for (auto it = situations_.begin(); it != situations_.end();)
+      it = old(it->second.utime) ? situations_.erase(it) : std::next(it);
+    for (auto it = references_.begin(); it != references_.end();)
+      it = old(it->second.utime) ? references_.erase(it) : std::next(it);
+  }
   // Beyond max_ids humans, the least recently heard go first.
   const auto max_ids = static_cast<std::size_t>(options_.limits.max_ids);
   while (traces_.size() > max_ids) {

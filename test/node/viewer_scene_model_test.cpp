@@ -278,5 +278,20 @@ TEST(ViewerSceneModelTest, TheDaemonTableCannotBeFakedByAStampOrByForgedNames) {
   EXPECT_TRUE(dialogue);
 }
 
+// fuzz_viewer_scene's first finding: before any agent states (no scene time yet) reference
+// paths of new ids were kept without the max_ids cap.
+TEST(ViewerSceneModelTest, CapsHoldBeforeTheFirstAgentStates) {
+  SceneOptions options;
+  options.limits.max_ids = 8;
+  SceneModel scene(options);
+  for (int id = 1; id <= 20; ++id) {
+    ReferencePaths r;
+    r.utime = secondsToUtime(1.0);
+    r.paths.push_back({id, 1, {{0.0, 0.0}, {1.0, 0.0}}});
+    scene.apply(toLcm(r));
+  }
+  EXPECT_EQ(scene.toJson()["reference_paths"].size(), 8u);
+}
+
 }  // namespace
 }  // namespace coopnav::viewer

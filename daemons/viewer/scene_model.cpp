@@ -357,7 +357,8 @@ void SceneModel::apply(const reference_paths_t& msg) {
   for (auto& e : r.paths) {
     if (e.path.empty()) continue;  // an empty path keeps the previous one (as the assessors)
     e.path = decimated(std::move(e.path), options_.max_polyline_points);
-    references_[e.agent_id] = {r.utime, std::move(e)};
+    const std::int32_t id = e.agent_id;
+    references_[id] = {r.utime, std::move(e)};
   }
   forgetOld();
 }

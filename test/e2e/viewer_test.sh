@@ -6,7 +6,8 @@
 #     the crossing and the round-1 utterance's bubble; then --dump-dom and --screenshot of the
 #     page (the drawn summary in <pre id="drawn"> checked);
 #  2. replay: the run's recorded log (coopnav_viewer --log, no bus), scrubbed with ?t= to a time
-#     within the round-1 bubble: the same drawing, checked in the dumped DOM and screenshotted.
+#     within the round-1 bubble: the same drawing, checked in the dumped DOM and screenshotted;
+#  3. --log /dev/zero and --log FIFO: exit 3 at once with "not a regular file".
 # Screenshots and logs go to $COOPNAV_VIEWER_TEST_OUT (default $COOPNAV_BUILD_DIR/e2e_viewer).
 # Ports (COOPNAV_TEST_PORT_BASE from ctest, else 9300): LCM udpm at the base, HTTP (TCP) at
 # base + 1 (live) and base + 2 (replay).
@@ -213,4 +214,14 @@ browser --window-size=1280,800 --virtual-time-budget=5000 --screenshot="$out/vie
   "http://127.0.0.1:$replay_http/?once=1&ack=0&t=$t1" >/dev/null ||
   fail "Chromium could not screenshot the replay page"
 [ -s "$out/viewer_replay.png" ] || fail "no screenshot of the replay page"
-echo "ok: live and replayed scenes drawn; screenshots $out/viewer_live.png $out/viewer_replay.png"
+
+# 3. --log naming what is not a regular file (read for ever before): exit 3 at once, saying so.
+for bad in /dev/zero "$out/fifo"; do
+  [ "$bad" = /dev/zero ] || mkfifo "$bad"
+  rc=0
+  timeout 5 "$viewer" --log "$bad" --set http_port=0 >"$out/viewer_bad_log.log" 2>&1 || rc=$?
+  [ "$rc" = 3 ] || fail "--log $bad: exit $rc, not 3 at once"
+  grep -q "not a regular file" "$out/viewer_bad_log.log" || fail "--log $bad: no clear error"
+done
+echo "ok: live and replayed scenes drawn; screenshots $out/viewer_live.png $out/viewer_replay.png;" \
+  "--log /dev/zero and a FIFO refused at once"

@@ -125,7 +125,11 @@ struct Publisher {
       for (const char* name : {"obstacle_distance_server", "band_source", "situation_assessor",
                                "path_assessor", "dialogue_manager", "world_sim"}) {
         daemon_status_t st{};
-        st.utime = utime;
+        // Statuses carry their sender's wall clock (the viewer checks it against its receive
+        // clock and rejects a stamp far before it).
+        st.utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                       std::chrono::system_clock::now().time_since_epoch())
+                       .count();
         st.name = name;
         st.pid = 1;
         st.state = daemon_status_t::STATE_RUNNING;

@@ -106,7 +106,9 @@ class ViewerHttp {
 
   HttpOptions options_;
   std::string map_json_;
-  std::unique_ptr<httplib::Server> server_;
+  std::atomic<bool> stopping_{false};
+  std::unique_ptr<httplib::Server> server_;  ///< the routes (never listens)
+  std::unique_ptr<httplib::Server> front_;   ///< listens; the request gate before the routes
   std::thread thread_;
   std::atomic<bool> listen_done_{false};  ///< the accept loop has returned
   int port_{0};

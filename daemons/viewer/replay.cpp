@@ -1,19 +1,19 @@
 #include "replay.hpp"
 
 #include <algorithm>
-#include <lcm/lcm-cpp.hpp>
 #include <optional>
 #include <stdexcept>
 #include <utility>
 
 #include "coopnav/channels.hpp"
+#include "logfile/log_reader.hpp"
 #include "runtime/runtime.hpp"
 
 namespace coopnav::viewer {
 
 void Replay::applyTo(SceneModel& scene, const Event& e) {
   try {
-    scene.applyRaw(e.channel, e.data.data(), e.data.size());
+    scene.applyRaw(e.channel, e.data.data(), e.data.size(), e.received_utime);
   } catch (const RejectedMessage&) {
     scene.countRejected(e.channel);
   } catch (const DroppedMessage&) {
@@ -21,22 +21,26 @@ void Replay::applyTo(SceneModel& scene, const Event& e) {
   }
 }
 
-Replay::Replay(const std::string& path, const SceneModel& scene, double checkpoint_s)
+Replay::Replay(const std::string& path, const SceneModel& scene, double checkpoint_s,
+               int max_checkpoints)
     : path_(path), initial_(scene), scene_(scene) {
-  lcm::LogFile log(path, "r");
-  if (!log.good()) throw std::runtime_error("cannot open the LCM log " + path);
+  // The tools' one reader (daemons/common/logfile): a bad header is skipped and the reader
+  // resynchronises, a device or FIFO is refused, nothing past the file's size is read.
+  logfile::LogEventReader log(path);
   // One pass: every event of a channel the scene draws, placed at the scene time in force.
   SceneModel scratch = scene;
   std::optional<double> first_t;
   std::vector<std::size_t> before_first;  // events before the first agent states
   double next_checkpoint = 0.0;
-  for (const lcm::LogEvent* ev = log.readNextEvent(); ev != nullptr; ev = log.readNextEvent()) {
+  logfile::RawEvent ev;
+  while (log.next(ev)) {
     Event e;
-    e.channel = ev->channel;
-    const auto* bytes = static_cast<const std::uint8_t*>(ev->data);
-    e.data.assign(bytes, bytes + std::max<std::int32_t>(ev->datalen, 0));
+    e.channel = std::move(ev.channel);
+    e.data = std::move(ev.data);
+    e.received_utime = ev.timestamp_us;
     try {
-      if (!scratch.applyRaw(e.channel, e.data.data(), e.data.size())) continue;  // not drawn
+      if (!scratch.applyRaw(e.channel, e.data.data(), e.data.size(), e.received_utime))
+        continue;  // not drawn
     } catch (const RejectedMessage&) {
       ++rejected_in_log_;
       scratch.countRejected(e.channel);
@@ -57,10 +61,22 @@ Replay::Replay(const std::string& path, const SceneModel& scene, double checkpoi
     events_.push_back(std::move(e));
     if (first_t && events_.back().t_s >= next_checkpoint) {
       checkpoints_.push_back({events_.back().t_s, events_.size(), scratch});
+      // At most max_checkpoints copies of the scene (each bounded by SceneOptions): beyond,
+      // every other one goes and the spacing doubles, so a long log costs a bounded memory.
+      if (static_cast<int>(checkpoints_.size()) > std::max(max_checkpoints, 2)) {
+        std::vector<Checkpoint> kept;
+        for (std::size_t i = 1; i < checkpoints_.size(); i += 2)
+          kept.push_back(std::move(checkpoints_[i]));
+        checkpoints_ = std::move(kept);
+        checkpoint_s *= 2.0;
+      }
       next_checkpoint = events_.back().t_s + checkpoint_s;
     }
   }
-  if (!first_t) throw std::runtime_error("the LCM log " + path + " holds no agent states");
+  read_counts_ = log.counts().describe();
+  if (!first_t)
+    throw std::runtime_error("the LCM log " + path + " holds no agent states (" + read_counts_ +
+                             ")");
   start_s_ = *first_t;
   end_s_ = events_.back().t_s;
   position_s_ = start_s_;
@@ -114,7 +130,8 @@ nlohmann::json Replay::timelineJson() const {
           {"playing", playing_},
           {"speed", speed_},
           {"events", events_.size()},
-          {"rejected_in_log", rejected_in_log_}};
+          {"rejected_in_log", rejected_in_log_},
+          {"read", read_counts_}};
 }
 
 }  // namespace coopnav::viewer

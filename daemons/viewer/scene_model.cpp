@@ -178,6 +178,41 @@ void keepNewest(std::deque<T>& q, int n) {
 
 }  // namespace
 
+std::string validUtf8(const std::string& text) {
+  static constexpr char kReplacement[] = "\xEF\xBF\xBD";
+  std::string out;
+  out.reserve(text.size());
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  const auto cont = [&](std::size_t i) { return i < text.size() && (byte(i) & 0xC0u) == 0x80u; };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char b = byte(i);
+    std::size_t len = 0;
+    if (b < 0x80u) {
+      len = 1;
+    } else if (b >= 0xC2u && b <= 0xDFu) {
+      len = cont(i + 1) ? 2 : 0;
+    } else if (b >= 0xE0u && b <= 0xEFu) {
+      // E0: no overlong (second byte >= A0); ED: no surrogates (second byte <= 9F).
+      const bool ok = cont(i + 1) && cont(i + 2) && !(b == 0xE0u && byte(i + 1) < 0xA0u) &&
+                      !(b == 0xEDu && byte(i + 1) > 0x9Fu);
+      len = ok ? 3 : 0;
+    } else if (b >= 0xF0u && b <= 0xF4u) {
+      // F0: no overlong (>= 90); F4: nothing above U+10FFFF (<= 8F).
+      const bool ok = cont(i + 1) && cont(i + 2) && cont(i + 3) &&
+                      !(b == 0xF0u && byte(i + 1) < 0x90u) && !(b == 0xF4u && byte(i + 1) > 0x8Fu);
+      len = ok ? 4 : 0;
+    }
+    if (len == 0) {
+      out += kReplacement;
+      ++i;
+    } else {
+      out.append(text, i, len);
+      i += len;
+    }
+  }
+  return out;
+}
+
 std::int64_t SkipCounts::total() const {
   std::int64_t n = 0;
   for (const auto& [channel, count] : rejected) n += count;
@@ -211,7 +246,7 @@ SceneModel::SceneModel(SceneOptions options)
       clock_(options_.limits.max_time_jump_s, options_.limits.time_resync_messages) {}
 
 std::string SceneModel::keep(const std::string& text) const {
-  return keptText(text, options_.limits.maxTextBytes());
+  return keptText(validUtf8(text), options_.limits.maxTextBytes());
 }
 
 void SceneModel::checkTime(std::int64_t utime, const char* what) const {
@@ -229,15 +264,18 @@ SceneModel::HumanTrace& SceneModel::trace(std::int32_t id, std::int64_t utime) {
 }
 
 void SceneModel::forgetOld() {
-  const auto now = clock_.now();
-  if (!now) return;
-  const auto old = [&](std::int64_t u) {
-    return utimeDiffSeconds(*now, u) > options_.limits.forget_after_s;
-  };
-  for (auto it = traces_.begin(); it != traces_.end();)
-    it = old(it->second.last_utime) ? traces_.erase(it) : std::next(it);
-  for (auto it = situations_.begin(); it != situations_.end();)
-    it = old(it->second.utime) ? situations_.erase(it) : std::next(it);
+  // Ageing needs the scene's time; the caps below hold before the first agent states too.
+  if (const auto now = clock_.now()) {
+    const auto old = [&](std::int64_t u) {
+      return utimeDiffSeconds(*now, u) > options_.limits.forget_after_s;
+    };
+    for (auto it = traces_.begin(); it != traces_.end();)
+      it = old(it->second.last_utime) ? traces_.erase(it) : std::next(it);
+    for (auto it = situations_.begin(); it != situations_.end();)
+      it = old(it->second.utime) ? situations_.erase(it) : std::next(it);
+    for (auto it = references_.begin(); it != references_.end();)
+      it = old(it->second.utime) ? references_.erase(it) : std::next(it);
+  }
   // Beyond max_ids humans, the least recently heard go first.
   const auto max_ids = static_cast<std::size_t>(options_.limits.max_ids);
   while (traces_.size() > max_ids) {
@@ -252,7 +290,12 @@ void SceneModel::forgetOld() {
         [](const auto& a, const auto& b) { return a.second.utime < b.second.utime; });
     situations_.erase(oldest);
   }
-  while (references_.size() > max_ids) references_.erase(references_.begin());
+  while (references_.size() > max_ids) {
+    auto oldest = std::min_element(
+        references_.begin(), references_.end(),
+        [](const auto& a, const auto& b) { return a.second.utime < b.second.utime; });
+    references_.erase(oldest);
+  }
 }
 
 void SceneModel::apply(const agent_states_t& msg) {
@@ -302,6 +345,9 @@ void SceneModel::apply(const bands_t& msg) {
     if (!finite(band))
       throw RejectedMessage("bands: the band of human " + std::to_string(id) + " is not finite");
   checkTime(b.utime, "bands");
+  b.robot.poses = decimated(std::move(b.robot.poses), options_.max_polyline_points);
+  for (auto& [id, band] : b.humans)
+    band.poses = decimated(std::move(band.poses), options_.max_polyline_points);
   bands_ = std::move(b);
 }
 
@@ -310,7 +356,9 @@ void SceneModel::apply(const reference_paths_t& msg) {
   checkTime(r.utime, "reference paths");
   for (auto& e : r.paths) {
     if (e.path.empty()) continue;  // an empty path keeps the previous one (as the assessors)
-    references_[e.agent_id] = std::move(e);
+    e.path = decimated(std::move(e.path), options_.max_polyline_points);
+    const std::int32_t id = e.agent_id;
+    references_[id] = {r.utime, std::move(e)};
   }
   forgetOld();
 }
@@ -327,7 +375,22 @@ void SceneModel::apply(const situation_t& msg) {
 void SceneModel::apply(const path_assessment_t& msg) {
   PathAssessmentRecord r = fromLcm(msg);
   checkTime(r.utime, "path assessment");
+  r.profile = keep(r.profile);
   HumanTrace& t = trace(r.human_id, r.utime);
+  // The CA window on the plot's time axis (its samples are sample_period_s apart, the newest at
+  // the message's time), then decimated.
+  {
+    const double t_s = seconds(r.utime);
+    const std::size_t n = r.window_ca_m.size();
+    std::vector<std::pair<double, double>> ca;
+    ca.reserve(n);
+    for (std::size_t i = 0; i < n; ++i)
+      ca.emplace_back(t_s - static_cast<double>(n - 1 - i) * options_.ca_sample_period_s,
+                      r.window_ca_m[i]);
+    t.ca = decimated(std::move(ca), options_.max_polyline_points);
+    r.window_ca_m.clear();
+    r.window_ca_m.shrink_to_fit();
+  }
   if (r.snapshot.cm_window_m) {
     const double ts = seconds(r.utime);
     // A repeat of a step (lockstep retransmission) or a reordered one replaces, never duplicates.
@@ -380,19 +443,40 @@ void SceneModel::apply(const goals_t& msg) {
   goals_ = std::move(g);
 }
 
-void SceneModel::apply(const daemon_status_t& msg) {
+void SceneModel::apply(const daemon_status_t& msg, std::int64_t received_utime) {
   // Statuses have no lib type: checked here. NaN cycle times are "none" (allowed).
   if (msg.name.empty() || msg.name.size() > 64)
     throw RejectedMessage("daemon status: name empty or over 64 bytes");
   if (msg.state < daemon_status_t::STATE_STARTING || msg.state > daemon_status_t::STATE_STOPPING)
     throw RejectedMessage("daemon status: unknown state " + std::to_string(msg.state));
-  if (statuses_.size() >= static_cast<std::size_t>(options_.limits.max_ids) &&
-      !statuses_.count(msg.name))
-    throw DroppedMessage("daemon status: more than limits.max_ids daemons");
-  daemon_status_t kept = msg;
-  kept.detail = keep(msg.detail);
-  newest_status_utime_ = std::max(newest_status_utime_, msg.utime);
-  statuses_[msg.name] = std::move(kept);
+  // The stamp against the receive clock: far before it is a forged (or broken) clock; after it,
+  // the status counts as received now, so no stamp can make the others look old.
+  if (utimeDiffSeconds(received_utime, msg.utime) > options_.limits.max_time_jump_s)
+    throw RejectedMessage("daemon status: stamp " + std::to_string(msg.utime) +
+                          " over limits.max_time_jump_s before its receive time " +
+                          std::to_string(received_utime));
+  const std::int64_t stamp = std::min(msg.utime, received_utime);
+  const std::string name = validUtf8(msg.name);
+  // Full table, new name: the stalest entry goes (a forged name that stopped being sent goes
+  // before a daemon that reports every second; the newcomer is never the one refused).
+  if (!statuses_.count(name)) {
+    while (!statuses_.empty() &&
+           statuses_.size() >= static_cast<std::size_t>(options_.limits.max_ids)) {
+      statuses_.erase(std::min_element(
+          statuses_.begin(), statuses_.end(),
+          [](const auto& a, const auto& b) { return a.second.stamp < b.second.stamp; }));
+    }
+  }
+  StatusEntry kept{msg, stamp};
+  kept.msg.name = name;
+  kept.msg.detail = keep(msg.detail);
+  newest_status_utime_ = std::max(newest_status_utime_, stamp);
+  statuses_[name] = std::move(kept);
+  // Daemons not heard for limits.forget_after_s of the status clock are forgotten.
+  for (auto it = statuses_.begin(); it != statuses_.end();)
+    it = utimeDiffSeconds(newest_status_utime_, it->second.stamp) > options_.limits.forget_after_s
+             ? statuses_.erase(it)
+             : std::next(it);
 }
 
 void SceneModel::apply(const sim_status_t& msg) {
@@ -415,7 +499,8 @@ void decodeAndApply(SceneModel& scene, const void* data, std::size_t size) {
 }
 }  // namespace
 
-bool SceneModel::applyRaw(const std::string& channel, const void* data, std::size_t size) {
+bool SceneModel::applyRaw(const std::string& channel, const void* data, std::size_t size,
+                          std::int64_t received_utime) {
   namespace ch = channels;
   if (channel == ch::kAgentStates) {
     decodeAndApply<agent_states_t>(*this, data, size);
@@ -438,7 +523,9 @@ bool SceneModel::applyRaw(const std::string& channel, const void* data, std::siz
   } else if (channel == ch::kGoals) {
     decodeAndApply<goals_t>(*this, data, size);
   } else if (channel == ch::kStatus) {
-    decodeAndApply<daemon_status_t>(*this, data, size);
+    daemon_status_t msg;
+    decodeOrReject(data, size, msg);
+    apply(msg, received_utime);
   } else if (channel == ch::kSimStatus) {
     decodeAndApply<sim_status_t>(*this, data, size);
   } else {
@@ -482,7 +569,7 @@ json SceneModel::situationJson(const SituationRecord& s) const {
     seg["d_hr"] = segment(c.cp_h, c.cp_r);
     const auto ref = references_.find(s.human_id);
     if (a.d_h_m && ref != references_.end())
-      seg["d_h"] = segment(c.cp_h, nearestOnPath(ref->second.path, c.cp_h));
+      seg["d_h"] = segment(c.cp_h, nearestOnPath(ref->second.entry.path, c.cp_h));
     const auto q = assessment::halfPlaneQueries(c, s.thresholds);
     const auto obstacleEnd = [&](const assessment::HalfPlaneQuery& hq,
                                  const std::optional<double>& d, double radius) -> json {
@@ -554,10 +641,10 @@ json SceneModel::toJson() const {
   }
 
   json refs = json::array();
-  for (const auto& [id, e] : references_) {
+  for (const auto& [id, r] : references_) {
     json pts = json::array();
-    for (const Eigen::Vector2d& p : e.path) pts.push_back(point(p));
-    refs.push_back({{"id", id}, {"revision", e.revision}, {"points", std::move(pts)}});
+    for (const Eigen::Vector2d& p : r.entry.path) pts.push_back(point(p));
+    refs.push_back({{"id", id}, {"revision", r.entry.revision}, {"points", std::move(pts)}});
   }
   j["reference_paths"] = std::move(refs);
 
@@ -603,11 +690,7 @@ json SceneModel::toJson() const {
       const PathAssessmentRecord& r = *tr.assessment;
       const double t = seconds(r.utime);
       json ca = json::array();
-      const std::size_t n = r.window_ca_m.size();
-      for (std::size_t i = 0; i < n; ++i)
-        ca.push_back(
-            json::array({num(t - static_cast<double>(n - 1 - i) * options_.ca_sample_period_s),
-                         num(r.window_ca_m[i])}));
+      for (const auto& [ts, v] : tr.ca) ca.push_back(json::array({num(ts), num(v)}));
       a["t"] = num(t);
       a["recording"] = recordingName(r.snapshot.state);
       a["ca"] = std::move(ca);
@@ -648,8 +731,9 @@ json SceneModel::toJson() const {
   j["assessments"] = std::move(assessments);
 
   json statuses = json::array();
-  for (const auto& [name, s] : statuses_) {
-    const double age = utimeDiffSeconds(newest_status_utime_, s.utime);
+  for (const auto& [name, e] : statuses_) {
+    const daemon_status_t& s = e.msg;
+    const double age = utimeDiffSeconds(newest_status_utime_, e.stamp);
     statuses.push_back({{"name", name},
                         {"pid", s.pid},
                         {"state", statusStateName(s.state)},

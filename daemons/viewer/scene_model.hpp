@@ -8,8 +8,18 @@
 /// unknown enum, a count over its bound) throws RejectedMessage and changes nothing. Time is the
 /// messages' utime only: the scene's time is the newest data utime heard (agent states, guarded
 /// against jumps as in the daemons); daemon statuses carry wall-clock stamps and are aged against
-/// the newest status stamp heard, never against a clock.
+/// the newest status stamp heard, never against a clock, each stamp first checked against the
+/// time the viewer received it (the caller's receive clock: LCM's recv_utime live, the logger's
+/// timestamp in replay), so a forged stamp cannot age the real daemons.
+///
+/// Everything held is bounded whatever the bus sends: text is valid UTF-8 (invalid bytes become
+/// U+FFFD where they enter) and cut to limits.max_text_bytes, so a frame always serialises;
+/// polylines (reference paths, bands, CA windows) are decimated to max_polyline_points when
+/// they enter; per-human entries (traces, situations, reference paths) age out on the message
+/// clock (limits.forget_after_s) and are capped at limits.max_ids, the least recently heard
+/// going first; the daemon table is capped at limits.max_ids, the stalest going first.
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -54,6 +64,10 @@ struct SceneOptions {
   /// [s] a daemon whose latest status is this much older than the newest status heard is shown
   /// silent (statuses are stamped with the wall clock of their sender).
   double status_stale_s{3.0};
+  /// Most points kept of one polyline (a reference path, a band, a CA window): longer ones are
+  /// decimated evenly, first and last points kept. Bounds the scene, its JSON and a replay
+  /// checkpoint whatever the message sizes.
+  int max_polyline_points{256};
   /// Caps shared with the daemons (ids kept, ageing, time jumps, text).
   InputLimits limits;
 };
@@ -84,12 +98,17 @@ class SceneModel {
   void apply(const robot_action_t& msg);
   void apply(const velocity_command_t& msg);
   void apply(const goals_t& msg);
-  void apply(const daemon_status_t& msg);
+  /// `received_utime`: when the viewer received it (wall clock, µs; LCM's recv_utime, or the
+  /// logger's timestamp in replay). A stamp more than limits.max_time_jump_s before it is
+  /// rejected; one after it counts as received then (a status cannot be newer than its arrival).
+  void apply(const daemon_status_t& msg, std::int64_t received_utime);
   void apply(const sim_status_t& msg);
 
   /// Decodes `data` as the type of `channel` (the coopnav channel table) and applies it; a
   /// channel the viewer does not draw is ignored (false). Throws RejectedMessage as apply().
-  bool applyRaw(const std::string& channel, const void* data, std::size_t size);
+  /// `received_utime` as for a daemon status.
+  bool applyRaw(const std::string& channel, const void* data, std::size_t size,
+                std::int64_t received_utime);
 
   /// Counts a message not taken (the node and the replay call it on RejectedMessage).
   void countRejected(const std::string& channel) { ++skipped_.rejected[channel]; }
@@ -105,13 +124,19 @@ class SceneModel {
 
  private:
   struct HumanTrace {
-    std::optional<PathAssessmentRecord> assessment;
-    std::deque<std::pair<double, double>> cm;              ///< (t [s], CM [m]) newest last
+    std::optional<PathAssessmentRecord> assessment;  ///< window_ca_m moved to `ca`
+    std::vector<std::pair<double, double>> ca;       ///< (t [s], CA [m]) of the latest, decimated
+    std::deque<std::pair<double, double>> cm;        ///< (t [s], CM [m]) newest last
     std::vector<std::pair<double, std::string>> controls;  ///< (t [s], START / STOP / RESET)
     std::int64_t last_utime{0};
   };
   struct StatusEntry {
     daemon_status_t msg;
+    std::int64_t stamp{0};  ///< msg.utime, or its receive time when the stamp is after that
+  };
+  struct ReferenceEntry {
+    std::int64_t utime{0};
+    ReferencePaths::Entry entry;
   };
   /// Rejects a data message stamped more than limits.max_time_jump_s off the scene's time.
   void checkTime(std::int64_t utime, const char* what) const;
@@ -127,18 +152,35 @@ class SceneModel {
   MessageClock clock_;
   std::optional<AgentStatesSnapshot> states_;
   std::optional<BandsSnapshot> bands_;
-  std::map<std::int32_t, ReferencePaths::Entry> references_;
+  std::map<std::int32_t, ReferenceEntry> references_;
   std::map<std::int32_t, SituationRecord> situations_;
   std::map<std::int32_t, HumanTrace> traces_;
   std::deque<UtteranceMsg> utterances_;
   std::deque<RobotActionMsg> actions_;
   std::optional<VelocityCommand> command_;
   std::optional<GoalsSnapshot> goals_;
-  std::map<std::string, daemon_status_t> statuses_;
+  std::map<std::string, StatusEntry> statuses_;
   std::int64_t newest_status_utime_{0};
   std::optional<sim_status_t> sim_;
   SkipCounts skipped_;
 };
+
+/// `text` with every byte that is not part of a well-formed UTF-8 character (RFC 3629: no
+/// overlong forms, no surrogates, nothing above U+10FFFF) replaced by U+FFFD: JSON cannot carry
+/// anything else, and one bad byte would make every frame fail to serialise.
+std::string validUtf8(const std::string& text);
+
+/// At most `max_points` of `points`, evenly spaced by index, the first and the last kept.
+template <class T>
+std::vector<T> decimated(std::vector<T> points, int max_points) {
+  const std::size_t n = static_cast<std::size_t>(std::max(max_points, 2));
+  if (points.size() <= n) return points;
+  std::vector<T> out;
+  out.reserve(n);
+  const std::size_t last = points.size() - 1;
+  for (std::size_t i = 0; i < n; ++i) out.push_back(std::move(points[i * last / (n - 1)]));
+  return out;
+}
 
 /// Names of the wire enums as the page shows them.
 const char* robotModeName(std::int8_t mode);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <type_traits>
 #include <utility>
 
 #include "coopnav/channels.hpp"
@@ -139,9 +140,12 @@ void ViewerNode::subscribe(const char* channel) {
   // Not journaled: the scene is for looking at; a restarted viewer draws what comes next.
   runtime_.subscribe<Msg>(
       channel,
-      [this, name](const Msg& m, std::int64_t) {
+      [this, name](const Msg& m, std::int64_t recv_utime) {
         try {
-          scene_.apply(m);
+          if constexpr (std::is_same_v<Msg, daemon_status_t>)
+            scene_.apply(m, recv_utime);  // liveness on the viewer's receive clock
+          else
+            scene_.apply(m);
         } catch (const RejectedMessage&) {
           scene_.countRejected(name);
           throw;  // counted and logged by the runtime too
@@ -177,7 +181,9 @@ json ViewerNode::frameJson() const {
 }
 
 void ViewerNode::pushFrame() {
-  http_->publishFrame(frameJson().dump());
+  // The scene holds valid UTF-8 only (SceneModel::validUtf8); replacing any that is not (the
+  // replay's file name, a counter's text) keeps a frame from ever failing to serialise.
+  http_->publishFrame(frameJson().dump(-1, ' ', false, json::error_handler_t::replace));
   last_push_ = std::chrono::steady_clock::now();
   dirty_ = false;
 }

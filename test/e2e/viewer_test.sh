@@ -6,7 +6,10 @@
 #     the crossing and the round-1 utterance's bubble; then --dump-dom and --screenshot of the
 #     page (the drawn summary in <pre id="drawn"> checked);
 #  2. replay: the run's recorded log (coopnav_viewer --log, no bus), scrubbed with ?t= to a time
-#     within the round-1 bubble: the same drawing, checked in the dumped DOM and screenshotted.
+#     within the round-1 bubble: the same drawing, checked in the dumped DOM and screenshotted;
+#  3. the replaying viewer under a slowloris, 300 idle connections and a header flood at once:
+#     /scene.json within 1 s, SIGTERM within 1 s;
+#  4. --log /dev/zero and --log FIFO: exit 3 at once with "not a regular file".
 # Screenshots and logs go to $COOPNAV_VIEWER_TEST_OUT (default $COOPNAV_BUILD_DIR/e2e_viewer).
 # Ports (COOPNAV_TEST_PORT_BASE from ctest, else 9300): LCM udpm at the base, HTTP (TCP) at
 # base + 1 (live) and base + 2 (replay).
@@ -184,7 +187,8 @@ log="$out/narrow_minimal/narrow_minimal.lcm"
 echo "== replay: $log on :$replay_http"
 "$viewer" -c "$src/config/viewer.yaml" --log "$log" --set "http_port=$replay_http" \
   --set replay_autoplay=false >"$out/viewer_replay.log" 2>&1 &
-pids+=($!)
+replay_pid=$!
+pids+=($replay_pid)
 wait_http "$replay_http" || fail "the replaying viewer does not answer on :$replay_http"
 # The round-1 utterance's time, from the replayed scene at the end of the log.
 python3 - "$replay_http" >"$out/t_round1" <<'PY' || fail "no round-1 utterance in the replayed log"
@@ -213,4 +217,83 @@ browser --window-size=1280,800 --virtual-time-budget=5000 --screenshot="$out/vie
   "http://127.0.0.1:$replay_http/?once=1&ack=0&t=$t1" >/dev/null ||
   fail "Chromium could not screenshot the replay page"
 [ -s "$out/viewer_replay.png" ] || fail "no screenshot of the replay page"
-echo "ok: live and replayed scenes drawn; screenshots $out/viewer_live.png $out/viewer_replay.png"
+
+# 3. The replaying viewer under a slowloris (40 connections trickling headers), 300 idle
+#    connections and a header flood, all at once: /scene.json answered within 1 s, then SIGTERM
+#    ends it within 1 s (the attack goes on meanwhile).
+echo "== the replaying viewer under a slowloris, idle connections and a header flood"
+python3 - "$replay_http" "$out/attack_ready" >"$out/attack.log" 2>&1 <<'PY' &
+import socket, sys, threading, time
+port, ready = int(sys.argv[1]), sys.argv[2]
+def conn():
+    s = socket.socket()
+    s.settimeout(2)
+    s.connect(("127.0.0.1", port))
+    return s
+idle = [conn() for _ in range(300)]
+def slowloris():
+    socks = []
+    while True:
+        while len(socks) < 40:
+            try:
+                s = conn(); s.sendall(b"GET /scene.json HTTP/1.1\r\nHost: x\r\n"); socks.append(s)
+            except OSError:
+                time.sleep(0.05)
+        for s in list(socks):
+            try:
+                s.sendall(b"X-a: b\r\n")
+            except OSError:
+                socks.remove(s); s.close()
+        time.sleep(0.1)
+def flood():
+    chunk = b"X: y\r\n" * 1000
+    while True:
+        try:
+            s = conn(); s.sendall(b"GET / HTTP/1.1\r\n")
+            for _ in range(1000):  # a million headers, until refused
+                s.sendall(chunk)
+        except OSError:
+            pass
+        finally:
+            s.close()
+for f in (slowloris, flood):
+    threading.Thread(target=f, daemon=True).start()
+time.sleep(0.5)
+open(ready, "w").close()
+time.sleep(20)
+PY
+attack_pid=$!
+pids+=($attack_pid)
+for _ in $(seq 100); do [ -e "$out/attack_ready" ] && break; sleep 0.1; done
+[ -e "$out/attack_ready" ] || fail "the attack did not start ($(cat "$out/attack.log"))"
+python3 - "$replay_http" <<'PY' || fail "/scene.json under the attack"
+import sys, time, urllib.request
+for _ in range(3):
+    t0 = time.monotonic()
+    body = urllib.request.urlopen(f"http://127.0.0.1:{sys.argv[1]}/scene.json", timeout=5).read()
+    took = time.monotonic() - t0
+    print(f"  /scene.json under the attack: {len(body)} bytes in {took:.3f} s")
+    if took >= 1.0:
+        sys.exit(1)
+    time.sleep(0.2)
+PY
+t0=$(date +%s%N)
+kill -TERM "$replay_pid"
+rc=0
+wait "$replay_pid" || rc=$?
+stop_ms=$((($(date +%s%N) - t0) / 1000000))
+echo "  SIGTERM under the attack: exit $rc in $stop_ms ms"
+[ "$rc" = 0 ] || fail "the viewer exited $rc on SIGTERM under the attack"
+[ "$stop_ms" -lt 1000 ] || fail "the viewer took $stop_ms ms to end under the attack"
+kill "$attack_pid" 2>/dev/null || true
+
+# 4. --log naming what is not a regular file (read for ever before): exit 3 at once, saying so.
+for bad in /dev/zero "$out/fifo"; do
+  [ "$bad" = /dev/zero ] || mkfifo "$bad"
+  rc=0
+  timeout 5 "$viewer" --log "$bad" --set http_port=0 >"$out/viewer_bad_log.log" 2>&1 || rc=$?
+  [ "$rc" = 3 ] || fail "--log $bad: exit $rc, not 3 at once"
+  grep -q "not a regular file" "$out/viewer_bad_log.log" || fail "--log $bad: no clear error"
+done
+echo "ok: live and replayed scenes drawn; screenshots $out/viewer_live.png $out/viewer_replay.png;" \
+  "/scene.json and SIGTERM within 1 s under attack; --log /dev/zero and a FIFO refused at once"

@@ -1,12 +1,12 @@
 // coopnav_ctl's reading of a recorded run (an lcm-logger file): event framing, the decoding of
 // every type the log tools keep (agent states, situations, path assessments, utterances, robot
 // actions, recorder commands, sim_status_t, reference paths, daemon_status_t), then the analysis,
-// transcript and summary built from them. A log is untrusted input (tools/ctl/log_reader.hpp):
+// transcript and summary built from them. A log is untrusted input (daemons/common/logfile/log_reader.hpp):
 // nothing in it may crash the tools or make them throw anything but std::runtime_error.
 #include <stdexcept>
 
 #include "fuzz_util.hpp"
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
 #include "transcript.hpp"

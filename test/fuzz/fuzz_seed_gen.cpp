@@ -407,7 +407,11 @@ class Sequence {
     bytes_.insert(bytes_.end(), payload.begin(), payload.end());
     return *this;
   }
-  void write(const std::string& name) const { writeFile("fuzz_lcm_sequence", name, bytes_); }
+  /// fuzz_viewer_scene numbers its first 8 channels the same: the seeds are its own too.
+  void write(const std::string& name) const {
+    writeFile("fuzz_lcm_sequence", name, bytes_);
+    writeFile("fuzz_viewer_scene", name, bytes_);
+  }
 
  private:
   std::vector<std::uint8_t> bytes_;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {

@@ -4,13 +4,16 @@
 // NaN and one that does not decode are skipped and counted and change nothing; the page and the
 // scene are served over HTTP, streams beyond max_clients get 503 and a stream that goes away
 // frees its slot; a page that stops reading and a request sent in part are dropped; a recorded
-// log replays with a timeline (seek to any time, the same scene).
+// log replays with a timeline (seek to any time, the same scene), read by the tools' one reader:
+// a bad header in the middle is skipped and the rest read, checkpoints stay bounded on a long
+// log, and /dev/zero or a FIFO is refused at once.
 #include "viewer_node.hpp"
 
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -205,8 +208,13 @@ class ViewerNodeTest : public ::testing::Test {
     send(channels::kSituation, situation(t_s));
     send(channels::kPathAssessment, pathAssessment(t_s));
     send(channels::kRobotCmd, command(t_s, velocity_command_t::MODE_DOCKING));
-    send(channels::kStatus, status("path_assessor", 1'700'000'000'000'000));
-    send(channels::kStatus, status("band_source", 1'700'000'005'000'000));
+    // Stamped with the wall clock as the daemons do (the viewer checks it against its receive
+    // clock): path_assessor's 5 s before band_source's.
+    const std::int64_t wall = std::chrono::duration_cast<std::chrono::microseconds>(
+                                  std::chrono::system_clock::now().time_since_epoch())
+                                  .count();
+    send(channels::kStatus, status("path_assessor", wall - 5'000'000));
+    send(channels::kStatus, status("band_source", wall));
   }
 
   json frame() const { return node_->frameJson(); }
@@ -469,6 +477,84 @@ TEST(ViewerHttpTest, AHalfSentRequestIsDropped) {
   ::close(sock);
 }
 
+// Connections that hold a server (issue: 14 slowloris connections delayed /scene.json 13 s,
+// 300 idle ones 30 s, SIGTERM waited 22 s; a million headers took 140 MB): 40 connections
+// trickling headers (reconnecting when dropped), 300 idle ones and a header flood at once.
+// /scene.json is answered within 1 s all along and the server ends within 1 s.
+TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheSceneNorTheExit) {
+  viewer::HttpOptions options;
+  options.port = 0;
+  auto http = std::make_unique<viewer::ViewerHttp>(options, "{}");
+  http->publishFrame(R"({"t": 1.5})");
+  const int port = http->port();
+  std::atomic<bool> stop{false};
+  std::vector<int> idle;
+  for (int i = 0; i < 300; ++i) idle.push_back(connectTo(port));
+  std::thread slowloris([&] {
+    std::vector<int> socks(40, -1);
+    while (!stop) {
+      for (int& s : socks) {
+        if (s < 0) {
+          s = connectTo(port);
+          if (s >= 0 &&
+              ::send(s, "GET /scene.json HTTP/1.1\r\nHost: x\r\n", 36, MSG_NOSIGNAL) < 0) {
+            ::close(s);
+            s = -1;
+          }
+        } else if (::send(s, "X-a: b\r\n", 8, MSG_NOSIGNAL) < 0) {
+          ::close(s);
+          s = -1;
+        }
+      }
+      std::this_thread::sleep_for(100ms);
+    }
+    for (int s : socks)
+      if (s >= 0) ::close(s);
+  });
+  std::atomic<std::int64_t> flood_sent{0};
+  std::thread flood([&] {
+    std::string chunk;
+    for (int i = 0; i < 1000; ++i) chunk += "X: y\r\n";
+    while (!stop) {
+      const int s = connectTo(port);
+      if (s < 0) break;
+      ::send(s, "GET / HTTP/1.1\r\n", 16, MSG_NOSIGNAL);
+      for (int k = 0; k < 1000 && !stop; ++k) {  // a million headers, until refused
+        const ssize_t n = ::send(s, chunk.data(), chunk.size(), MSG_NOSIGNAL);
+        if (n <= 0) break;
+        flood_sent += n;
+      }
+      ::close(s);
+    }
+  });
+  std::this_thread::sleep_for(300ms);
+  for (int k = 0; k < 3; ++k) {
+    httplib::Client client("127.0.0.1", port);
+    client.set_connection_timeout(5, 0);
+    client.set_read_timeout(5, 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto res = client.Get("/scene.json");
+    const double took_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_TRUE(res) << "no answer to /scene.json under the attack";
+    EXPECT_EQ(res->status, 200);
+    EXPECT_EQ(res->body, R"({"t": 1.5})");
+    EXPECT_LT(took_s, 1.0) << "/scene.json took " << took_s << " s under the attack";
+    std::this_thread::sleep_for(200ms);
+  }
+  EXPECT_GT(flood_sent.load(), 16 * 1024);  // the flood ran (each connection refused past 16 KiB)
+  const auto t0 = std::chrono::steady_clock::now();
+  http.reset();  // the exit's path (SIGTERM -> the node's end -> this)
+  const double stop_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(stop_s, 1.0) << "the server took " << stop_s << " s to end under the attack";
+  stop = true;
+  slowloris.join();
+  flood.join();
+  for (int s : idle)
+    if (s >= 0) ::close(s);
+}
+
 TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("viewer_replay_" + std::to_string(::getpid()));
@@ -501,6 +587,25 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
       }
     }
   }
+  {
+    // A bad header (a channel length LCM's own reader asserts on) in the middle of the log: the
+    // reader skips it and reads on to the end (lcm::LogFile stopped there).
+    std::FILE* f = std::fopen(log_path.c_str(), "r+b");
+    ASSERT_NE(f, nullptr);
+    std::fseek(f, 0, SEEK_END);
+    const long size = std::ftell(f);
+    std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+    std::fseek(f, 0, SEEK_SET);
+    ASSERT_EQ(std::fread(bytes.data(), 1, bytes.size(), f), bytes.size());
+    std::size_t at = bytes.size() * 3 / 4;
+    while (!(bytes[at] == 0xED && bytes[at + 1] == 0xA1 && bytes[at + 2] == 0xDA &&
+             bytes[at + 3] == 0x01))
+      ++at;
+    bytes[at + 20] = 0x7F;  // channel length 0x7F......: impossible
+    std::fseek(f, 0, SEEK_SET);
+    std::fwrite(bytes.data(), 1, bytes.size(), f);
+    std::fclose(f);
+  }
   ViewerConfig config = testConfig();
   config.log_file = log_path;
   config.replay_autoplay = false;
@@ -511,6 +616,8 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   EXPECT_DOUBLE_EQ(replay.startS(), 0.0);
   EXPECT_DOUBLE_EQ(replay.endS(), 10.0);
   EXPECT_EQ(replay.rejectedInLog(), 1);
+  EXPECT_NE(replay.readCounts().find("bad headers 1"), std::string::npos) << replay.readCounts();
+  EXPECT_LE(replay.checkpoints(), 16u);
 
   replay.seek(5.5);
   json j = node.frameJson();
@@ -541,6 +648,52 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   const auto bad = client.Post("/control", R"({"command":"jump"})", "application/json");
   ASSERT_TRUE(bad);
   EXPECT_EQ(bad->status, 400);
+  fs::remove_all(dir);
+}
+
+TEST(ViewerReplayTest, CheckpointsAreBoundedAndADeviceOrFifoIsRefusedAtOnce) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("viewer_replay2_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string log_path = (dir / "run.lcm").string();
+  {
+    lcm::LogFile log(log_path, "w");
+    ASSERT_TRUE(log.good());
+    for (int k = 0; k <= 600; ++k) {  // 60 s, a checkpoint every 0.1 s asked for
+      const agent_states_t msg = states(0.1 * k);
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+      lcm::LogEvent ev{};
+      ev.eventnum = k;
+      ev.timestamp = utimeAt(1000.0 + 0.1 * k);
+      ev.channel = channels::kAgentStates;
+      ev.datalen = static_cast<std::int32_t>(buf.size());
+      ev.data = buf.data();
+      log.writeEvent(&ev);
+    }
+  }
+  viewer::Replay replay(log_path, viewer::SceneModel{}, 0.1, 8);
+  EXPECT_LE(replay.checkpoints(), 8u);
+  EXPECT_GE(replay.checkpoints(), 4u);
+  replay.seek(45.0);
+  EXPECT_NEAR(utimeToSeconds(*replay.scene().utime()), 45.0, 1e-9);
+  replay.seek(12.0);
+  EXPECT_NEAR(utimeToSeconds(*replay.scene().utime()), 12.0, 1e-9);
+
+  // Not a regular file: refused before any read (a FIFO with no writer would block the open of
+  // a reader that waited; /dev/zero would be read forever).
+  const std::string fifo = (dir / "fifo").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& path : {std::string("/dev/zero"), fifo}) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      viewer::Replay r(path, viewer::SceneModel{});
+      ADD_FAILURE() << path << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 2s);
+  }
   fs::remove_all(dir);
 }
 

@@ -2,7 +2,11 @@
 // scene's time is rejected and moves nothing; a new run, agreed on by a few messages, starts a
 // new scene and keeps the daemons' statuses), bands that cannot be drawn are skipped and counted,
 // humans not heard of are forgotten, CM history is bounded and a repeated step does not duplicate
-// its point, text is cut to limits.max_text_bytes.
+// its point, text is cut to limits.max_text_bytes. Hostile messages: text that is not UTF-8 is
+// made valid where it enters (every frame serialises); reference paths, bands and CA windows of
+// the maximum sizes are decimated and age out; the daemon table judges stamps against the
+// viewer's receive clock (an INT64_MAX stamp neither hides the real daemons nor stays) and a
+// full table evicts its stalest entry, never the newcomer.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,9 +57,11 @@ path_assessment_t assessment(double t_s, double cm) {
   return toLcm(r);
 }
 
-daemon_status_t status(const std::string& name) {
+constexpr std::int64_t kWall = 1'700'000'000'000'000;  // the receive clock of these tests
+
+daemon_status_t status(const std::string& name, std::int64_t utime = kWall) {
   daemon_status_t s{};
-  s.utime = 1'700'000'000'000'000;
+  s.utime = utime;
   s.name = name;
   s.state = daemon_status_t::STATE_RUNNING;
   s.cycle_p50_ms = kNaN;
@@ -67,7 +73,7 @@ TEST(ViewerSceneModelTest, AStampFarOffIsRejectedAndANewRunStartsANewScene) {
   SceneModel scene;
   scene.apply(states(100.0));
   scene.apply(bands(100.0));
-  scene.apply(status("band_source"));
+  scene.apply(status("band_source"), kWall);
   ASSERT_EQ(scene.utime(), secondsToUtime(100.0));
 
   // One message from far in the future (or a clock pinned at INT64_MAX): rejected, time kept.
@@ -105,7 +111,7 @@ TEST(ViewerSceneModelTest, BandsThatCannotBeDrawnAreSkippedAndCounted) {
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(bad.getEncodedSize()));
   bad.encode(buf.data(), 0, static_cast<int>(buf.size()));
   try {
-    scene.applyRaw(channels::kBands, buf.data(), buf.size());
+    scene.applyRaw(channels::kBands, buf.data(), buf.size(), kWall);
     FAIL() << "a NaN band was taken";
   } catch (const RejectedMessage&) {
     scene.countRejected(channels::kBands);
@@ -115,7 +121,7 @@ TEST(ViewerSceneModelTest, BandsThatCannotBeDrawnAreSkippedAndCounted) {
   EXPECT_EQ(j["bands"]["t"], 1.0);  // the last drawable bands stay
   EXPECT_EQ(j["viewer"]["skipped"][channels::kBands], 1);
   // A channel the viewer does not draw is ignored, not counted.
-  EXPECT_FALSE(scene.applyRaw("COOPNAV_SOMETHING_ELSE", buf.data(), buf.size()));
+  EXPECT_FALSE(scene.applyRaw("COOPNAV_SOMETHING_ELSE", buf.data(), buf.size(), kWall));
 }
 
 TEST(ViewerSceneModelTest, HumansAreForgottenAndHistoriesBounded) {
@@ -153,6 +159,138 @@ TEST(ViewerSceneModelTest, HumansAreForgottenAndHistoriesBounded) {
   j = scene.toJson();
   EXPECT_LE(j["utterances"][0]["text"].get<std::string>().size(), 16u);
   EXPECT_TRUE(j["utterances"][0]["active"].get<bool>());
+}
+
+TEST(ViewerSceneModelTest, TextThatIsNotUtf8IsMadeValidAndEveryFrameSerialises) {
+  EXPECT_EQ(validUtf8("ok \xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80"),
+            "ok \xC3\xA9 \xE2\x82\xAC \xF0\x9F\x98\x80");
+  // A lone continuation byte, a cut sequence, an overlong '/', a surrogate, beyond U+10FFFF.
+  EXPECT_EQ(validUtf8("a\x80"
+                      "b"),
+            "a\xEF\xBF\xBD"
+            "b");
+  EXPECT_EQ(validUtf8("\xE2\x82"), "\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_EQ(validUtf8("\xC0\xAF"), "\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_EQ(validUtf8("\xED\xA0\x80"), "\xEF\xBF\xBD\xEF\xBF\xBD\xEF\xBF\xBD");
+  EXPECT_EQ(validUtf8("\xF4\x90\x80\x80").size(), 12u);
+
+  SceneModel scene;
+  scene.apply(states(1.0));
+  DialogueStamp stamp{secondsToUtime(1.0), -1, 1};
+  dialogue::Utterance u;
+  u.act = dialogue::SpeechAct::kThank;
+  u.round = 1;
+  u.text = "Thank \xFF\xFE you";
+  scene.apply(toLcm(stamp, u, std::nullopt, dialogue::SpeechSlot{}));
+  daemon_status_t st = status("band\xC3");
+  st.detail = "\xC0\x80 detail";
+  scene.apply(st, kWall);
+  sim_status_t sim{};
+  sim.utime = secondsToUtime(1.0);
+  sim.state = sim_status_t::STATE_RUNNING;
+  sim.scenario = "\x80";
+  sim.detail = "\xF8";
+  scene.apply(sim);
+  std::string dumped;
+  ASSERT_NO_THROW(dumped = scene.toJson().dump());
+  const auto j = nlohmann::json::parse(dumped);
+  EXPECT_EQ(j["utterances"][0]["text"], "Thank \xEF\xBF\xBD\xEF\xBF\xBD you");
+  EXPECT_EQ(j["statuses"][0]["name"], "band\xEF\xBF\xBD");
+  EXPECT_EQ(j["sim"]["scenario"], "\xEF\xBF\xBD");
+}
+
+TEST(ViewerSceneModelTest, PolylinesOfTheMaximumSizesAreDecimatedAndReferencePathsAgeOut) {
+  SceneOptions options;
+  options.max_polyline_points = 50;
+  options.limits.forget_after_s = 5.0;
+  SceneModel scene(options);
+  scene.apply(states(1.0));
+  ReferencePaths r;
+  r.utime = secondsToUtime(1.0);
+  ReferencePaths::Entry e;
+  e.agent_id = 1;
+  for (int i = 0; i < 5000; ++i) e.path.emplace_back(0.001 * i, 0.0);
+  r.paths.push_back(e);
+  scene.apply(toLcm(r));
+  PathAssessmentRecord a;
+  a.utime = secondsToUtime(1.0);
+  a.human_id = 1;
+  a.window_ca_m.assign(5000, 0.25);
+  a.snapshot.window_samples = 5000;
+  a.snapshot.interaction_samples = 5000;
+  a.snapshot.state = assessment::RecorderState::kRecording;
+  a.snapshot.cm_window_m = 0.25;
+  a.snapshot.cm_interaction_m = 0.25;
+  scene.apply(toLcm(a));
+  BandsSnapshot b;
+  b.utime = secondsToUtime(1.0);
+  for (int i = 0; i < 3000; ++i) b.robot.poses.push_back({0.01 * i, {0.001 * i, 0.0, 0.0}});
+  scene.apply(toLcm(b));
+
+  auto j = scene.toJson();
+  const auto& pts = j["reference_paths"][0]["points"];
+  ASSERT_EQ(pts.size(), 50u);
+  EXPECT_EQ(pts.front()[0], 0.0);  // the ends are kept
+  EXPECT_NEAR(pts.back()[0].get<double>(), 4.999, 1e-9);
+  const auto& ca = j["assessments"][0]["ca"];
+  ASSERT_EQ(ca.size(), 50u);
+  EXPECT_NEAR(ca.back()[0].get<double>(), 1.0, 1e-9);   // the newest sample at the message time
+  EXPECT_LT(ca.front()[0].get<double>(), 1.0 - 300.0);  // the oldest kept, 0.1 s per sample
+  EXPECT_EQ(j["bands"]["robot"].size(), 50u);
+
+  // No new reference for more than forget_after_s of message time: it goes.
+  scene.apply(states(4.0));
+  EXPECT_EQ(scene.toJson()["reference_paths"].size(), 1u);
+  scene.apply(states(7.0));
+  EXPECT_EQ(scene.toJson()["reference_paths"].size(), 0u);
+}
+
+TEST(ViewerSceneModelTest, TheDaemonTableCannotBeFakedByAStampOrByForgedNames) {
+  SceneOptions options;
+  options.limits.max_ids = 8;
+  SceneModel scene(options);
+  scene.apply(status("band_source"), kWall);
+  scene.apply(status("path_assessor", kWall - 1'000'000), kWall);
+  // INT64_MAX: counts as received now (nobody looks older for it); far in the past: rejected.
+  scene.apply(status("forged", std::numeric_limits<std::int64_t>::max()), kWall);
+  EXPECT_THROW(scene.apply(status("old", std::numeric_limits<std::int64_t>::min()), kWall),
+               RejectedMessage);
+  auto j = scene.toJson();
+  ASSERT_EQ(j["statuses"].size(), 3u);
+  for (const auto& s : j["statuses"]) EXPECT_FALSE(s["silent"].get<bool>()) << s["name"];
+  EXPECT_EQ(j["statuses"][2]["name"], "path_assessor");
+  EXPECT_NEAR(j["statuses"][2]["age_s"].get<double>(), 1.0, 1e-9);
+
+  // The table full of forged names: a daemon appearing later takes the stalest one's place.
+  for (int i = 0; i < 20; ++i)
+    scene.apply(status("forged" + std::to_string(i), kWall + i * 100'000), kWall + i * 100'000);
+  scene.apply(status("band_source", kWall + 3'000'000), kWall + 3'000'000);
+  scene.apply(status("dialogue_manager", kWall + 3'000'000), kWall + 3'000'000);
+  j = scene.toJson();
+  EXPECT_EQ(j["statuses"].size(), 8u);
+  bool band = false;
+  bool dialogue = false;
+  for (const auto& s : j["statuses"]) {
+    band |= s["name"] == "band_source";
+    dialogue |= s["name"] == "dialogue_manager";
+  }
+  EXPECT_TRUE(band);
+  EXPECT_TRUE(dialogue);
+}
+
+// fuzz_viewer_scene's first finding: before any agent states (no scene time yet) reference
+// paths of new ids were kept without the max_ids cap.
+TEST(ViewerSceneModelTest, CapsHoldBeforeTheFirstAgentStates) {
+  SceneOptions options;
+  options.limits.max_ids = 8;
+  SceneModel scene(options);
+  for (int id = 1; id <= 20; ++id) {
+    ReferencePaths r;
+    r.utime = secondsToUtime(1.0);
+    r.paths.push_back({id, 1, {{0.0, 0.0}, {1.0, 0.0}}});
+    scene.apply(toLcm(r));
+  }
+  EXPECT_EQ(scene.toJson()["reference_paths"].size(), 8u);
 }
 
 }  // namespace

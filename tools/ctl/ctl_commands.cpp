@@ -9,7 +9,7 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/planning/goal_inference.hpp"
 #include "goals.hpp"
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "maps/map_loader.hpp"
 #include "pedestrians.hpp"
 #include "pedestrians_daemon.hpp"

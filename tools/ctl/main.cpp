@@ -14,7 +14,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "ctl_commands.hpp"
 #include "distance_client/distance_client.hpp"
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "runtime/log.hpp"
 #include "runtime/runtime.hpp"
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 
 namespace coopnav::ctl {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "json.hpp"
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "run_analysis.hpp"
 
 namespace coopnav::ctl {

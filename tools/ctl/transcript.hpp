@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "run_analysis.hpp"
 
 namespace coopnav::ctl {

@@ -18,7 +18,7 @@
 #include "coopnav/channels.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "json.hpp"
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
 #include "svg_figures.hpp"

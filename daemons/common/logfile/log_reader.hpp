@@ -1,13 +1,15 @@
 #pragma once
-/// @file Reading a recorded run (an lcm-logger file) into the decoded coopnav messages the log
-/// tools need. A log is untrusted input: events on foreign channels, payloads that do not decode
+/// @file Reading a recorded run (an lcm-logger file): the one log reader of every tool (the
+/// viewer's replay, coopnav_ctl), raw events or the decoded coopnav messages the log tools need.
+/// A log is untrusted input: events on foreign channels, payloads that do not decode
 /// as their channel's type, garbage between events and a cut-off last event are counted and
 /// skipped, never fatal.
 ///
 /// The event framing (LCM log-file format: 28-byte big-endian header, channel, payload) is parsed
 /// here rather than by lcm::LogFile because Debian's LCM 1.3.1 reader asserts on a channel length
 /// >= 1000 (abort) and allocates any data length a corrupt header claims; this reader checks both
-/// against the file before trusting them, and resynchronises on the next sync word.
+/// against the file before trusting them, and resynchronises on the next sync word. Only a
+/// regular file is read (a device or FIFO is refused at open), and never past its size at open.
 
 #include <cstdint>
 #include <cstdio>
@@ -28,7 +30,7 @@
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 
-namespace coopnav::ctl {
+namespace coopnav::logfile {
 
 /// What reading a log met, for the user (stderr) and the summary.
 struct LogReadCounts {
@@ -63,7 +65,8 @@ struct RawEvent {
   std::vector<std::uint8_t> data;
 };
 
-/// Streams the events of one log file. Throws std::runtime_error when the file cannot be opened.
+/// Streams the events of one log file. Throws std::runtime_error when the file cannot be opened
+/// or is not a regular file.
 class LogEventReader {
  public:
   explicit LogEventReader(const std::string& path);
@@ -125,4 +128,9 @@ RunLog readRunLog(const std::string& path);
 /// Decodes one event into `run` (or counts why not). Exposed for tests.
 void addEvent(const RawEvent& event, RunLog& run);
 
+}  // namespace coopnav::logfile
+
+namespace coopnav::ctl {
+// The log tools (tools/ctl) name the reader as their own.
+using namespace coopnav::logfile;  // NOLINT(google-build-using-namespace)
 }  // namespace coopnav::ctl

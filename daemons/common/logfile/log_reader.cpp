@@ -1,5 +1,9 @@
 #include "log_reader.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -7,7 +11,7 @@
 
 #include "coopnav/channels.hpp"
 
-namespace coopnav::ctl {
+namespace coopnav::logfile {
 namespace {
 
 constexpr std::uint32_t kSyncWord = 0xEDA1DA01u;
@@ -23,14 +27,15 @@ std::uint64_t readBe(const unsigned char* p, int n) {
   return v;
 }
 
-// Next sync word at or after `from`; returns its offset (file positioned after it) or -1.
-std::int64_t scanForSync(std::FILE* f, std::int64_t from) {
+// Next sync word at or after `from` and before `end` (the size at open: a file that grows while
+// read is read as it was); returns its offset (file positioned after it) or -1.
+std::int64_t scanForSync(std::FILE* f, std::int64_t from, std::int64_t end) {
   if (fseeko(f, from, SEEK_SET) != 0) return -1;
   std::uint32_t window = 0;
   std::int64_t pos = from;
   int c = 0;
   int have = 0;
-  while ((c = std::getc(f)) != EOF) {
+  while (pos < end && (c = std::getc(f)) != EOF) {
     window = (window << 8) | static_cast<std::uint32_t>(c);
     ++pos;
     if (++have >= 4 && window == kSyncWord) return pos - 4;
@@ -82,10 +87,25 @@ std::string LogReadCounts::describe() const {
 }
 
 LogEventReader::LogEventReader(const std::string& path) {
-  file_ = std::fopen(path.c_str(), "rb");
-  if (!file_) throw std::runtime_error("cannot open log " + path + ": " + std::strerror(errno));
-  if (fseeko(file_, 0, SEEK_END) == 0) file_size_ = ftello(file_);
-  fseeko(file_, 0, SEEK_SET);
+  // Opened without blocking (a FIFO with no writer would block the open itself) and checked:
+  // only a regular file has a size to bound the reads by; /dev/zero, a FIFO or a terminal would
+  // be read forever, so they are refused at once.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open log " + path + ": " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw std::runtime_error("log " + path +
+                             " is not a regular file (a device, FIFO or directory cannot be "
+                             "read as a log)");
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  file_ = ::fdopen(fd, "rb");
+  if (!file_) {
+    ::close(fd);
+    throw std::runtime_error("cannot open log " + path + ": " + std::strerror(errno));
+  }
+  file_size_ = static_cast<std::int64_t>(st.st_size);
 }
 
 LogEventReader::~LogEventReader() {
@@ -95,7 +115,7 @@ LogEventReader::~LogEventReader() {
 bool LogEventReader::next(RawEvent& out) {
   for (;;) {
     const std::int64_t pos = ftello(file_);
-    const std::int64_t sync = scanForSync(file_, pos);
+    const std::int64_t sync = scanForSync(file_, pos, file_size_);
     if (sync < 0) {
       counts_.skipped_bytes += file_size_ - pos;
       return false;
@@ -116,7 +136,7 @@ bool LogEventReader::next(RawEvent& out) {
     if (!plausible || channel_len + std::int64_t{data_len} > remaining) {
       // A plausible header that runs past the end with no later sync word is a cut-off last
       // event (logger killed); anything else is corruption: resynchronise after this sync word.
-      if (plausible && scanForSync(file_, sync + 1) < 0) {
+      if (plausible && scanForSync(file_, sync + 1, file_size_) < 0) {
         counts_.truncated = true;
         fseeko(file_, 0, SEEK_END);
         return false;
@@ -242,4 +262,4 @@ RunLog readRunLog(const std::string& path) {
   return run;
 }
 
-}  // namespace coopnav::ctl
+}  // namespace coopnav::logfile

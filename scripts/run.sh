@@ -65,6 +65,7 @@ coopnav_trap coopnav_stop_all EXIT
 coopnav_trap 'coopnav_stop_all; exit 130' INT TERM
 
 summaries=()
+ended_badly=()
 failed=0
 dm_args="${COOPNAV_DAEMON_ARGS_dialogue_manager:-}"  # --speech adds to these per scenario
 coopnav_progress_start "${#scenarios[@]}"
@@ -95,6 +96,10 @@ for scenario in "${scenarios[@]}"; do
   "$ctl" figures "$dir/$name.lcm" --scenario "$name" --out-dir "$dir"
   echo "   view this run: $(coopnav_bin viewer) --log $dir/$name.lcm  then open http://127.0.0.1:8088/"
   summaries+=("$dir/summary.json")
+  if ! reason="$(coopnav_run_outcome_failure "$dir/summary.json")"; then
+    echo "run.sh: $name: $reason" >&2
+    ended_badly+=("$name: $reason")
+  fi
   echo
 done
 
@@ -103,5 +108,12 @@ if [ "${#summaries[@]}" -gt 0 ]; then
   "$ctl" cm-table "$out/summary.json" | tee "$out/cm_table.txt"
   "$ctl" summary-figures "$out/summary.json" --out-dir "$out"
   echo "run directory: $out (logs, transcripts, summary.json, figures *.svg)"
+fi
+# Exit status: 0 every run reached every goal without contact; 1 a run failed (no log, a daemon
+# died); 3 a run ended in a contact, a standstill or the time limit (each reason on stderr, read
+# from its summary.json): a safe run that does not progress is a failure too.
+if [ "$failed" -eq 0 ] && [ "${#ended_badly[@]}" -gt 0 ]; then
+  printf 'run.sh: %s\n' "${ended_badly[@]}" >&2
+  failed=3
 fi
 exit "$failed"

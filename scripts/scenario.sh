@@ -174,3 +174,30 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
   if [ "$netem_on" = 1 ]; then coopnav_netns_netem "$COOPNAV_NETNS_PREFIX" off; fi
   return "$rc"
 }
+
+# Why a recorded run counts as failed although it ran to its end: a contact (whoever caused
+# it), a standstill or the time limit. Prints the reason and returns 1; returns 0 for a run that
+# reached every goal without contact. Reads the run's summary.json (coopnav_ctl summarize).
+coopnav_run_outcome_failure() {  # SUMMARY.json
+  python3 - "$1" <<'PY'
+import json, sys
+try:
+    s = json.load(open(sys.argv[1]))["scenarios"][0]
+except (OSError, ValueError, KeyError, IndexError) as ex:
+    print(f"no readable summary ({ex})")
+    sys.exit(1)
+state, contact = s.get("final_state"), s.get("contact")
+reasons = []
+if s.get("collision") or contact:
+    c = contact if isinstance(contact, dict) else {}
+    fault = "robot at fault" if c.get("robot_at_fault") else "robot not at fault"
+    reasons.append(f"contact with human {c.get('human_id', '?')} at t = {c.get('t_s')} s ({fault})")
+if state in ("STANDSTILL", "TIME_LIMIT"):
+    reasons.append(f"{state} at t = {s.get('sim_time_s')} s")
+elif state != "GOAL_REACHED" and not reasons:
+    reasons.append(f"final state {state}")
+if reasons:
+    print("; ".join(reasons) + (f": {s['detail']}" if s.get("detail") else ""))
+    sys.exit(1)
+PY
+}

@@ -12,6 +12,7 @@
 #include "maps/map_loader.hpp"
 #include "runtime/daemon_main.hpp"
 #include "runtime/log.hpp"
+#include "wire/robot_kinematics.hpp"
 
 namespace coopnav {
 namespace {
@@ -151,7 +152,8 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
 
   const auto& g = map_->grid();
   detail_ = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
-            std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) + " m";
+            std::to_string(g.height()) + " @ " + std::to_string(g.resolution_m()) + " m; " +
+            robotKinematicsDetail(pc.robot.holonomic);
   log().info("band_source: {}; {} LM iterations per cycle, free-running at most {} Hz", detail_,
              config_.max_iterations > 0 ? config_.max_iterations
                                         : pc.no_inner_iterations * pc.no_outer_iterations,

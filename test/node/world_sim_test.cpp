@@ -102,8 +102,9 @@ class Harness {
     return test::waitFor(pred, timeout, [this] { lcm_.handleTimeout(2); });
   }
 
-  void sendStatus(const std::string& name) {
+  void sendStatus(const std::string& name, const std::string& detail = "") {
     daemon_status_t s{};
+    s.detail = detail;
     s.utime = 0;
     s.name = name;
     s.pid = 1;
@@ -395,6 +396,39 @@ TEST(WorldSimNode, ParticipantThatNeverReportsFailsTheStartNamingIt) {
   EXPECT_NE(h.final()->detail.find("never"), std::string::npos) << h.final()->detail;
   EXPECT_TRUE(h.states().empty());
   EXPECT_EQ(sim.waitExit(5s), 0);
+}
+
+TEST(WorldSimNode, ABandSourcePlanningOtherKinematicsIsRefusedBeforeTheFirstStep) {
+  // tiny_lockstep's robot is differential (the scenario default); the band source announces
+  // holonomic plans (its default config): world_sim ends with an error naming both settings.
+  Harness h;
+  ChildProcess sim(daemonPath("world_sim"), daemonArgs("tiny_lockstep.yaml"));
+  ASSERT_TRUE(h.spinUntil([&] { return h.worldSimReady(); }, 10s));
+  ASSERT_TRUE(h.spinUntil(
+      [&] {
+        h.sendStatus("band_source", "map m.yaml 10x10 @ 0.05 m; robot kinematics holonomic");
+        h.spin(50ms);
+        return h.final() != nullptr;
+      },
+      10s));
+  EXPECT_EQ(h.final()->state, sim_status_t::STATE_ERROR);
+  const std::string& d = h.final()->detail;
+  EXPECT_NE(d.find("robot.kinematics is differential"), std::string::npos) << d;
+  EXPECT_NE(d.find("planner.robot.holonomic: true"), std::string::npos) << d;
+  EXPECT_TRUE(h.states().empty()) << "a step was simulated with the wrong robot";
+  EXPECT_EQ(sim.waitExit(5s), 0);
+}
+
+TEST(WorldSimNode, ABandSourcePlanningTheScenariosKinematicsRunsAsUsual) {
+  Harness h;
+  Participant p;
+  p.before_command = [](Harness& hh, const agent_states_t&) {
+    hh.sendStatus("band_source", "map m.yaml 10x10 @ 0.05 m; robot kinematics differential");
+  };
+  const RunOutcome r = runWithParticipant(h, "tiny_lockstep.yaml", p);
+  EXPECT_EQ(r.exit_code, 0);
+  ASSERT_NE(h.final(), nullptr);
+  EXPECT_NE(h.final()->state, sim_status_t::STATE_ERROR) << h.final()->detail;
 }
 
 /// Runs the daemon on a file, with more arguments if given (already quoted for the shell), and

@@ -11,8 +11,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "action_words.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "json.hpp"
+#include "progress_metrics.hpp"
 #include "transcript.hpp"
 
 namespace coopnav::ctl {
@@ -314,6 +316,9 @@ Json dialogueChecks(const RunLog& run) {
   j["said_to_not_crossing"] = std::move(said_to_not_crossing);
   j["contradictions"] = std::move(contradictions);
   j["told_twice"] = std::move(told_twice);
+  const ActionWordsCheck action_words = checkActionWords(run);
+  j["action_contradicts_words"] = action_words.contradictions;
+  j["action_words_too_late"] = action_words.unsaid_too_late;
   return j;
 }
 
@@ -373,6 +378,13 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   s["docks"] = robot.docks;
   s["retreats"] = robot.retreats;
   s["guard_steps"] = robot.guard_steps;
+  const ProgressMetrics progress = progressMetrics(run);
+  s["stalled_s"] = progress.stalled_s;
+  s["max_mutual_wait_s"] = progress.max_mutual_wait_s;
+  s["max_mutual_wait_start_s"] = numberOrNull(progress.max_mutual_wait_start_s);
+  s["max_mutual_wait_human_id"] = progress.max_mutual_wait_human >= 0
+                                      ? Json(std::int64_t{progress.max_mutual_wait_human})
+                                      : Json();
 
   Json humans = Json::array();
   for (const auto& h : analysis.humans) humans.push_back(humanEntry(run, h, transcript));

@@ -122,6 +122,10 @@ inline Json boolOrNull(const Json* v) { return v != nullptr && v->is_boolean() ?
 
 }  // namespace detail
 
+/// A run is a stalemate when it ends in a standstill or the time limit, or when robot and person
+/// wait for each other longer than this [s] (summary.json max_mutual_wait_s).
+inline constexpr double kStalemateMutualWait_s = 10.0;
+
 /// Roles of the assessed encounters: people coming towards the robot. Not one walking its way
 /// (same_way), across its path at a junction (crossing) or standing (standing).
 inline bool isOncomingRole(const std::string& role) {
@@ -131,8 +135,8 @@ inline bool isOncomingRole(const std::string& role) {
 /// The dialogue checks of one run (summary.json `dialogue_checks`, read from the log alone):
 /// {said, addressed, unaddressed_with_several (said - addressed when the scenario has several
 /// people, else null: alone the paper's words are said unaddressed), said_to_not_crossing,
-/// contradictions, told_twice (the summary's lists), fails}; null when the run has no summary or
-/// its summary no checks (older summaries: unknown, not failing).
+/// contradictions, told_twice, action_contradicts_words (the summary's lists), fails}; null when
+/// the run has no summary or its summary no checks (older summaries: unknown, not failing).
 inline Json dialogueChecksOf(const Json* run, std::size_t humans) {
   const Json* c = detail::field(run, "dialogue_checks");
   if (c == nullptr || !c->is_object()) return Json();
@@ -147,7 +151,8 @@ inline Json dialogueChecksOf(const Json* run, std::size_t humans) {
           : Json();
   bool fails = d["unaddressed_with_several"].is_number() &&
                d["unaddressed_with_several"].get<std::int64_t>() > 0;
-  for (const char* key : {"said_to_not_crossing", "contradictions", "told_twice"}) {
+  for (const char* key :
+       {"said_to_not_crossing", "contradictions", "told_twice", "action_contradicts_words"}) {
     const Json* list = detail::field(c, key);
     d[key] = list != nullptr && list->is_array() ? *list : Json::array();
     fails = fails || !d[key].empty();
@@ -543,13 +548,14 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   std::map<std::string, Tally> accuracy;
   std::map<std::string, std::vector<double>> cm_by_behaviour;
   std::vector<double> ratios;
-  int failed_runs = 0, standstills = 0, goal_not_reached = 0;
+  int failed_runs = 0, standstills = 0, goal_not_reached = 0, stalemates = 0;
+  std::vector<double> mutual_waits, stalled;
   int goal_humans = 0, goal_judged = 0, goal_correct = 0;  // goal inference at round 1
   std::map<std::string, std::optional<double>> sums{
       {"docks", 0.0}, {"retreats", 0.0}, {"guard_steps", 0.0}};
   struct DialogueTally {
     int checked = 0, without = 0, not_crossing = 0, contradictions = 0, told_twice = 0,
-        unaddressed_runs = 0, failing = 0;
+        unaddressed_runs = 0, failing = 0, action_words = 0;
     std::int64_t said = 0, addressed = 0, unaddressed = 0;
   } dlg;
   // Crowds: the safety figures and the checks per kind of encounter.
@@ -602,6 +608,16 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       else if (sum)
         *sum += v.get<double>();
     }
+    // Progress (summary.json from coopnav_ctl summarize: tools/ctl/progress_metrics.hpp).
+    r["stalled_s"] = numberOrNull(field(run, "stalled_s"));
+    r["max_mutual_wait_s"] = numberOrNull(field(run, "max_mutual_wait_s"));
+    const double wait_s = number(field(run, "max_mutual_wait_s"));
+    if (std::isfinite(wait_s)) mutual_waits.push_back(wait_s);
+    if (const double st = number(field(run, "stalled_s")); std::isfinite(st)) stalled.push_back(st);
+    const bool stalemate = outcome == "STANDSTILL" || outcome == "TIME_LIMIT" ||
+                           (std::isfinite(wait_s) && wait_s > kStalemateMutualWait_s);
+    r["stalemate"] = stalemate;
+    stalemates += stalemate ? 1 : 0;
     const double t_run = number(field(run, "robot_time_to_goal_s"));
     const double t_base = number(field(base, "robot_time_to_goal_s"));
     if (!std::isfinite(t_run)) ++goal_not_reached;
@@ -689,6 +705,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       dlg.not_crossing += checks["said_to_not_crossing"].empty() ? 0 : 1;
       dlg.contradictions += checks["contradictions"].empty() ? 0 : 1;
       dlg.told_twice += checks["told_twice"].empty() ? 0 : 1;
+      dlg.action_words += checks["action_contradicts_words"].empty() ? 0 : 1;
       const Json& u = checks["unaddressed_with_several"];
       if (u.is_number() && u.get<std::int64_t>() > 0) {
         ++dlg.unaddressed_runs;
@@ -792,9 +809,20 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   const double med = median(ratios);
   const double max =
       ratios.empty() ? std::nan("") : *std::max_element(ratios.begin(), ratios.end());
+  const double p95 = quantile(ratios, 0.95);
   totals["time_to_goal_ratio"] = Json{{"runs", ratios.size()},
                                       {"median", std::isfinite(med) ? Json(med) : Json()},
+                                      {"p95", std::isfinite(p95) ? Json(p95) : Json()},
                                       {"max", std::isfinite(max) ? Json(max) : Json()}};
+  auto maxOf = [](const std::vector<double>& v) {
+    return v.empty() ? Json() : Json(*std::max_element(v.begin(), v.end()));
+  };
+  totals["stalemates"] = stalemates;
+  totals["max_mutual_wait_s"] = maxOf(mutual_waits);
+  const double stalled_median = median(stalled);
+  totals["stalled_s"] =
+      Json{{"median", std::isfinite(stalled_median) ? Json(stalled_median) : Json()},
+           {"max", maxOf(stalled)}};
   totals["dialogue_checks"] = Json{{"runs_checked", dlg.checked},
                                    {"runs_without_checks", dlg.without},
                                    {"said", dlg.said},
@@ -802,6 +830,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
                                    {"runs_said_to_not_crossing", dlg.not_crossing},
                                    {"runs_contradictions", dlg.contradictions},
                                    {"runs_told_twice", dlg.told_twice},
+                                   {"runs_action_contradicts_words", dlg.action_words},
                                    {"runs_unaddressed_with_several", dlg.unaddressed_runs},
                                    {"sentences_unaddressed_with_several", dlg.unaddressed},
                                    {"failing_runs", dlg.failing}};
@@ -842,6 +871,28 @@ inline bool populationFails(const Json& population) {
 inline int dialogueFailingRuns(const Json& population) {
   const Json* c = detail::field(&population.at("totals"), "dialogue_checks");
   return c ? c->at("failing_runs").get<int>() : 0;
+}
+
+/// Encounters that ran to their end without progress or safety: a standstill, the time limit, a
+/// mutual wait over kStalemateMutualWait_s or any contact (a human walking into the robot too: the
+/// population fails on it, though with exit code 1 only when the robot was at fault). One line per
+/// run: its name and why.
+inline std::vector<std::string> runsEndedBadly(const Json& population) {
+  std::vector<std::string> out;
+  for (const auto& r : population.at("runs")) {
+    const std::string outcome = r.at("outcome").get<std::string>();
+    const std::string cause = r.at("contact").at("cause").get<std::string>();
+    std::string why;
+    if (cause != "none" && cause != "no_run") why = "contact (" + cause + ")";
+    if (outcome == "STANDSTILL" || outcome == "TIME_LIMIT")
+      why += (why.empty() ? "" : ", ") + outcome;
+    else if (const Json& w = r.at("max_mutual_wait_s");
+             w.is_number() && w.get<double>() > kStalemateMutualWait_s)
+      why += (why.empty() ? "" : ", ") + std::string("mutual wait of ") +
+             fmt("%.1f", w.get<double>()) + " s";
+    if (!why.empty()) out.push_back(r.at("name").get<std::string>() + ": " + why);
+  }
+  return out;
 }
 
 /// Runs that left no summary: encounters and their muted twins.
@@ -1019,7 +1070,9 @@ inline std::string formatDialogueChecks(const Json& population) {
   s += "  runs with words to someone not being crossed " +
        d.at("runs_said_to_not_crossing").dump() + ", with contradictions " +
        d.at("runs_contradictions").dump() + ", with a group told twice " +
-       d.at("runs_told_twice").dump() + ", with sentences not addressed among several people " +
+       d.at("runs_told_twice").dump() + ", with an action contradicting the words " +
+       d.value("runs_action_contradicts_words", Json(0)).dump() +
+       ", with sentences not addressed among several people " +
        d.at("runs_unaddressed_with_several").dump() + " (" +
        d.at("sentences_unaddressed_with_several").dump() + " sentences)\n";
   s += "  runs failing a dialogue check: " + d.at("failing_runs").dump() + "\n";
@@ -1074,6 +1127,7 @@ inline std::string formatTable(const Json& population) {
       if (!d.at("said_to_not_crossing").empty()) flags += "n";
       if (!d.at("contradictions").empty()) flags += "c";
       if (!d.at("told_twice").empty()) flags += "t";
+      if (!d.at("action_contradicts_words").empty()) flags += "a";
       if (d.at("unaddressed_with_several").is_number() &&
           d.at("unaddressed_with_several").get<std::int64_t>() > 0)
         flags += "u";
@@ -1127,7 +1181,14 @@ inline std::string formatTable(const Json& population) {
     s += " " + b + " " + num(v, "%.3f");
   const Json& ttg = t.at("time_to_goal_ratio");
   s += "\ntime to goal against the run without humans: median " + num(ttg.at("median"), "%.2f") +
-       ", max " + num(ttg.at("max"), "%.2f") + " over " + ttg.at("runs").dump() + " runs\n";
+       ", p95 " + num(ttg.value("p95", Json()), "%.2f") + ", max " + num(ttg.at("max"), "%.2f") +
+       " over " + ttg.at("runs").dump() + " runs\n";
+  if (t.contains("stalemates"))
+    s += "progress: stalemates (STANDSTILL, TIME_LIMIT or a mutual wait over " +
+         fmt("%.0f", kStalemateMutualWait_s) + " s) " + t.at("stalemates").dump() +
+         ", longest mutual wait " + num(t.at("max_mutual_wait_s"), "%.1f") +
+         " s, stalled time median " + num(t.at("stalled_s").at("median"), "%.1f") + " s, max " +
+         num(t.at("stalled_s").at("max"), "%.1f") + " s\n";
   if (t.contains("goal_inference") && t.at("goal_inference").at("humans").get<int>() > 0) {
     const Json& gi = t.at("goal_inference");
     s += "goal inference (goals withheld): region planned with at round 1 = the one walked to, " +

@@ -15,7 +15,8 @@
 //     reads population.json back and checks it against plan.json and population.txt.
 // Exit codes: 0 fine; 1 a contact with the robot at fault (or one the summaries cannot clear);
 // 2 bad arguments or files; 3 runs without a summary (and no failure of exit 1 or 4); 4 a run
-// failed a dialogue check (summary.json dialogue_checks; and no contact of exit 1).
+// failed a dialogue check (summary.json dialogue_checks; and no contact of exit 1); 5 a run ended
+// in a contact, a standstill or the time limit (and nothing of exit 1 or 4).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +136,12 @@ int aggregate(const fs::path& dir) {
                  "contradiction, a group told twice, a sentence not addressed): see "
               << (dir / "population.txt").string() << "\n";
     return 4;
+  }
+  if (const auto bad = pop::runsEndedBadly(population); !bad.empty()) {
+    std::cerr << "coopnav_population: " << bad.size()
+              << " run(s) ended in a contact, a standstill or the time limit:\n";
+    for (const auto& line : bad) std::cerr << "  " << line << "\n";
+    return 5;
   }
   if (pop::runsWithoutSummary(population) > 0) return 3;
   return 0;

@@ -36,6 +36,16 @@ inline double median(std::vector<double> v) {
   return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
+/// The q-quantile of the finite values by nearest rank (the smallest value with at least a
+/// fraction q of the values at or below it; q in (0, 1]); NaN for none.
+inline double quantile(std::vector<double> v, double q) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+  return v[std::min(v.size(), std::max<std::size_t>(rank, 1)) - 1];
+}
+
 /// Mean of the finite values; NaN for none.
 inline double mean(const std::vector<double>& v) {
   double sum = 0.0;

@@ -79,6 +79,45 @@ TEST(PopulationAggregate, RobotAtFaultContactFailsThePopulation) {
   EXPECT_NE(pop::formatTable(out).find("robot_at_fault h2"), std::string::npos);
 }
 
+TEST(PopulationAggregate, StandstillsTimeLimitsAndEveryContactAreRunsEndedBadly) {
+  const Json p = plan(Json::array({encounter("a", Json::array({human(1, "head_on", "minimal")})),
+                                   encounter("b", Json::array({human(1, "head_on", "minimal")})),
+                                   encounter("c", Json::array({human(1, "head_on", "minimal")})),
+                                   encounter("d", Json::array({human(1, "head_on", "minimal")})),
+                                   encounter("e", Json::array({human(1, "head_on", "minimal")}))}));
+  std::map<std::string, Json> s;
+  s["base_x"] = run("GOAL_REACHED", nullptr, Json::array(), 30.0);
+  s["a"] = run("GOAL_REACHED", nullptr, Json::array());
+  s["a"]["max_mutual_wait_s"] = 9.5;
+  s["a"]["stalled_s"] = 2.0;
+  s["e"] = run("GOAL_REACHED", nullptr, Json::array(), 75.0);
+  s["e"]["max_mutual_wait_s"] = 12.0;
+  s["e"]["stalled_s"] = 4.0;
+  s["b"] = run("STANDSTILL", nullptr, Json::array());
+  s["c"] = run("TIME_LIMIT", nullptr, Json::array());
+  s["d"] =
+      run("COLLISION",
+          Json{{"human_id", 1}, {"t_s", 9.0}, {"robot_at_fault", false}, {"robot_speed_m_s", 0.0}},
+          Json::array());
+  const Json out = pop::aggregatePopulation(p, s);
+  EXPECT_FALSE(pop::populationFails(out));  // nobody the robot touched: not exit 1
+  const std::vector<std::string> bad = pop::runsEndedBadly(out);
+  ASSERT_EQ(bad.size(), 4U);
+  EXPECT_EQ(bad[0], "b: STANDSTILL");
+  EXPECT_EQ(bad[1], "c: TIME_LIMIT");
+  EXPECT_EQ(bad[2], "d: contact (human_walked_in)");
+  EXPECT_EQ(bad[3], "e: mutual wait of 12.0 s");
+  EXPECT_EQ(out["totals"]["stalemates"], 3);  // b, c, e; a waited 9.5 s: not a stalemate
+  EXPECT_EQ(out["runs"][4]["stalemate"], true);
+  EXPECT_DOUBLE_EQ(out["totals"]["max_mutual_wait_s"].get<double>(), 12.0);
+  EXPECT_DOUBLE_EQ(out["totals"]["stalled_s"]["max"].get<double>(), 4.0);
+  // Ratios 40/30 (a, b, c, d) and 75/30 (e): the 95th percentile by nearest rank is e's.
+  EXPECT_DOUBLE_EQ(out["totals"]["time_to_goal_ratio"]["p95"].get<double>(), 2.5);
+
+  s["b"] = s["c"] = s["d"] = s["e"] = s["a"];
+  EXPECT_TRUE(pop::runsEndedBadly(pop::aggregatePopulation(p, s)).empty());
+}
+
 TEST(PopulationAggregate, SummariesWithoutTheNewFieldsAreReadAsUnknown) {
   const Json p = plan(Json::array({encounter("a", Json::array({human(1, "head_on", "minimal")})),
                                    encounter("b", Json::array({human(1, "head_on", "minimal")})),
@@ -180,6 +219,10 @@ TEST(PopulationStats, MannWhitneyAuc) {
   EXPECT_TRUE(std::isnan(pop::mannWhitneyAuc({}, {1})));
   EXPECT_DOUBLE_EQ(pop::median({3, 1, 2}), 2.0);
   EXPECT_DOUBLE_EQ(pop::median({4, 1, 2, 3}), 2.5);
+  EXPECT_DOUBLE_EQ(pop::quantile({5, 1, 4, 2, 3}, 0.95), 5.0);
+  EXPECT_DOUBLE_EQ(pop::quantile({5, 1, 4, 2, 3}, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(pop::quantile({1.0, 2.0}, 0.1), 1.0);
+  EXPECT_TRUE(std::isnan(pop::quantile({}, 0.95)));
 }
 
 namespace {

@@ -60,13 +60,15 @@ install(CODE "
     file(MAKE_DIRECTORY \"\${dir}\")
     file(WRITE \"${coopnav_units_out}/\${unit}\" \"\${text}\")
   endforeach()
-  set(dest \"\$ENV{DESTDIR}\${prefix}/lib/systemd/system\")
+  # file(INSTALL) puts DESTDIR in front of an absolute destination itself; file(CREATE_LINK)
+  # does not.
+  set(dest \"\${prefix}/lib/systemd/system\")
   file(INSTALL \"${coopnav_units_out}/coopnav@.service\" \"${coopnav_units_out}/coopnav.target\"
        DESTINATION \"\${dest}\")
   file(INSTALL \"${coopnav_units_out}/coopnav@obstacle_distance_server.service.d\"
        DESTINATION \"\${dest}\")
   file(INSTALL \"${coopnav_units_in}/coopnav.env\" \${yamls}
-       DESTINATION \"\$ENV{DESTDIR}\${confdir}\")
+       DESTINATION \"\${confdir}\")
   foreach(sub maps scenarios)
     file(RELATIVE_PATH target \"\${confdir}\" \"\${prefix}/${coopnav_share}/\${sub}\")
     message(STATUS \"Installing: \$ENV{DESTDIR}\${confdir}/\${sub} -> \${target}\")

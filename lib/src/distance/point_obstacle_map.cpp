@@ -33,7 +33,7 @@ PointObstacleMap::PointObstacleMap(const DistanceMap& base,
 }
 
 DistanceResult PointObstacleMap::nearest(const Eigen::Vector2d& p) const {
-  const DistanceResult base = base_.nearest(p);
+  DistanceResult base = base_.nearest(p);
   if (!p.allFinite()) return base;
   int best = -1;
   double best_d2 = std::numeric_limits<double>::infinity();
@@ -50,7 +50,7 @@ DistanceResult PointObstacleMap::nearest(const Eigen::Vector2d& p) const {
 DistanceResult PointObstacleMap::nearestInHalfPlane(const Eigen::Vector2d& q,
                                                     const Eigen::Vector2d& n,
                                                     double max_range_m) const {
-  const DistanceResult base = base_.nearestInHalfPlane(q, n, max_range_m);
+  DistanceResult base = base_.nearestInHalfPlane(q, n, max_range_m);
   if (!q.allFinite() || !n.allFinite() || !(max_range_m > 0.0)) return base;
   int best = -1;
   double best_d2 = max_range_m * max_range_m;

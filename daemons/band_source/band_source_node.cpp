@@ -92,6 +92,7 @@ void BandSourceConfig::resolvePaths(const std::string& base_dir) { map.resolvePa
 BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),
+      scans_(config.scan),
       clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       goals_clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages) {
   LoadedField loaded = loadDistanceField(config_.map, /*build_tree=*/false);
@@ -116,8 +117,9 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   StepNodeOptions steps;
   // Step k plans with every robot action of k-1 and the goals of k (a lost one is re-sent when
   // the world publishes the step again; docs/lockstep.md "Loss and restarts").
+  // The scan of step k too, when the world's ack of k counts one (scan_obstacles.hpp).
   steps.requirements = {{kDialogueParticipant, -1, {channels::kRobotAction}},
-                        {"world_sim", 0, {}, true}};
+                        {"world_sim", 0, {channels::kScan}, true}};
   steps.timeout = std::chrono::milliseconds(
       static_cast<std::int64_t>(std::llround(config_.step_gate_timeout_s * 1e3)));
   steps_ = std::make_unique<StepNode>(runtime_, steps);
@@ -169,6 +171,8 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   runtime_.subscribe<robot_action_t>(
       channels::kRobotAction, [this](const robot_action_t& m, std::int64_t) { onRobotAction(m); },
       0);
+  runtime_.subscribe<laser_scan_t>(
+      channels::kScan, [this](const laser_scan_t& m, std::int64_t) { onScan(m); }, 0);
   // Free-running cycles run from the loop, after it has drained what is queued.
   runtime_.addTimer(std::chrono::milliseconds(5), [this] { planLatestFreeRunning(); });
 }
@@ -304,7 +308,14 @@ void BandSourceNode::onRobotAction(const robot_action_t& msg) {
                 });
 }
 
+void BandSourceNode::onScan(const laser_scan_t& msg) {
+  const LaserScanRecord r = fromLcm(msg);  // throws RejectedMessage
+  steps_->input("world_sim", channels::kScan, msg.step, "scan",
+                [&] { scans_.store(r, runtime_.limits().max_pending_steps); });
+}
+
 void BandSourceNode::cycle(const AgentStatesSnapshot& s, StepNode::Step& step) {
+  scan_points_ = scans_.take(s, *map_);
   try {
     plan(s, step);
   } catch (const std::exception& e) {
@@ -410,6 +421,7 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   req.stamp_s = stamp_s;
   req.agent = s.robot;
   req.goal = active_goal;
+  req.obstacle_points = scan_points_.planner;
   req.max_iterations = config_.max_iterations;
   req.time_budget_s = s.step < 0 ? config_.free_running_time_budget_s : 0.0;
   // Wall clock for the free-running time budget and the reported solve time only; the plan
@@ -559,6 +571,7 @@ GuardOutput BandSourceNode::guard(const AgentStatesSnapshot& s, const Velocity2&
   in.limits = limits_;
   for (const auto& h : s.humans)
     in.humans.push_back({h.pose.position(), {h.velocity.vx_m_s, h.velocity.vy_m_s}, h.radius_m});
+  in.obstacle_points = scan_points_.guard;
   const GuardOutput g = guardCommand(*map_, in, config_.guard.options);
   if (g.action != last_guard_) {
     log().info("band_source: guard {} at step {} (utime {}, command x {:.2f})", toString(g.action),

@@ -19,6 +19,7 @@
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/goals_t.hpp"
+#include "coopnav/laser_scan_t.hpp"
 #include "coopnav/planning/dock.hpp"
 #include "coopnav/planning/goal_inference.hpp"
 #include "coopnav/planning/room.hpp"
@@ -30,6 +31,7 @@
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
 #include "runtime/step_node.hpp"
+#include "scan_obstacles.hpp"
 #include "wire/conversions.hpp"
 #include "wire/dialogue.hpp"
 
@@ -106,6 +108,8 @@ struct BandSourceConfig {
   BandPlannerConfigYaml planner;
   /// Goals of humans the goals message does not give.
   GoalInferenceYaml goal_inference;
+  /// Laser scans (COOPNAV_SCAN) as obstacles of the moment for the guard and the planner.
+  ScanObstaclesConfig scan;
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -122,6 +126,7 @@ struct BandSourceConfig {
     v("guard", guard);
     v("planner", planner);
     v("goal_inference", goal_inference);
+    v("scan", scan);
     v("limits", limits);
   }
   void resolvePaths(const std::string& base_dir);
@@ -163,6 +168,8 @@ class BandSourceNode {
   void planLatestFreeRunning();
   void onGoals(const goals_t& msg);
   void onRobotAction(const robot_action_t& msg);
+  /// A laser scan: an input of its step (lockstep) or the newest one (free-running).
+  void onScan(const laser_scan_t& msg);
   /// Leaves humans far off the map out of planning (a tracker glitch), with a log line.
   void leaveOutFarHumans(AgentStatesSnapshot& states) const;
   /// One control cycle; never throws (it may run from the gate's timer).
@@ -196,6 +203,9 @@ class BandSourceNode {
   /// The robot's recent positions while it navigates: the way back for a wider place or a retreat.
   Trail trail_;
   GuardAction last_guard_{GuardAction::kNone};
+  ScanObstacles scans_;
+  /// The scan points of the cycle being planned (ScanObstacles::take at its start).
+  ScanObstacles::Points scan_points_;
   /// The agent states' time: a message stamped far from it is rejected and does not move it, so
   /// one stamped INT64_MAX cannot make every later one "backwards" (docs/bad-inputs.md "Caps").
   MessageClock clock_;

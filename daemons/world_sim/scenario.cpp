@@ -2,9 +2,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -250,6 +252,52 @@ sim::WorldSpec toWorldSpec(const Scenario& sc) {
   w.robot = sc.robot;
   w.humans = sc.humans;
   return w;
+}
+
+}  // namespace coopnav::world_sim
+
+namespace coopnav::world_sim {
+
+namespace {
+/// Distance from p to the axis-aligned box (0 inside).
+double boxDistance(const BoxObstacle& b, const Eigen::Vector2d& p) {
+  const Eigen::Vector2d c(std::clamp(p.x(), b.min_x_m, b.max_x_m),
+                          std::clamp(p.y(), b.min_y_m, b.max_y_m));
+  return (p - c).norm();
+}
+}  // namespace
+
+void addUnmappedObstacles(const UnmappedObstaclesSpec& obstacles, OccupancyGrid2& grid) {
+  if (obstacles.empty() || grid.empty()) return;
+  const double res = grid.resolution_m();
+  const double half = 0.5 * res;
+  // A cell is occupied when the shape overlaps it: the distance from its centre to the shape is
+  // within the cell (a box: per axis; a circle: from the nearest point of the cell).
+  for (int j = 0; j < grid.height(); ++j) {
+    for (int i = 0; i < grid.width(); ++i) {
+      const Eigen::Vector2d c = grid.cellCenter_m(i, j);
+      bool hit = false;
+      for (const BoxObstacle& b : obstacles.boxes)
+        hit = hit || (c.x() + half > b.min_x_m && c.x() - half < b.max_x_m &&
+                      c.y() + half > b.min_y_m && c.y() - half < b.max_y_m);
+      for (const CircleObstacle& k : obstacles.circles) {
+        const Eigen::Vector2d o(k.x_m, k.y_m);
+        const Eigen::Vector2d q(std::clamp(o.x(), c.x() - half, c.x() + half),
+                                std::clamp(o.y(), c.y() - half, c.y() + half));
+        hit = hit || (q - o).norm() < k.radius_m;
+      }
+      if (hit) grid.set(i, j, CellState::kOccupied);
+    }
+  }
+}
+
+double unmappedClearance(const UnmappedObstaclesSpec& obstacles, const Eigen::Vector2d& centre,
+                         double radius_m) {
+  double m = std::numeric_limits<double>::infinity();
+  for (const BoxObstacle& b : obstacles.boxes) m = std::min(m, boxDistance(b, centre) - radius_m);
+  for (const CircleObstacle& k : obstacles.circles)
+    m = std::min(m, (centre - Eigen::Vector2d(k.x_m, k.y_m)).norm() - k.radius_m - radius_m);
+  return m;
 }
 
 }  // namespace coopnav::world_sim

@@ -131,6 +131,58 @@ struct RatesSpec {
   }
 };
 
+/// A disc of the world that is not on the robot's map (issue 45).
+struct CircleObstacle {
+  double x_m{0.0}, y_m{0.0}, radius_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    const Range xy{-kMaxCoordinate_m, kMaxCoordinate_m};
+    v("x_m", x_m, xy, Required{});
+    v("y_m", y_m, xy, Required{});
+    v("radius_m", radius_m, Range{0.01, 100.0}, Required{});
+  }
+};
+
+/// Obstacles in the world but not on the robot's map (a chair, a trolley, an open door): the
+/// simulator's physics and laser see them, the daemons' map (the `map:` section) does not.
+struct UnmappedObstaclesSpec {
+  std::vector<BoxObstacle> boxes;
+  std::vector<CircleObstacle> circles;
+  template <class V>
+  void visit(V& v) {
+    v("boxes", boxes);
+    v("circles", circles);
+  }
+  bool empty() const { return boxes.empty() && circles.empty(); }
+};
+
+/// The robot's simulated planar laser (lib/sim/laser.hpp), published on COOPNAV_SCAN each step.
+struct LaserSpec {
+  bool enabled{false};
+  double range_min_m{0.05};
+  double range_max_m{8.0};
+  double fov_deg{270.0};
+  double resolution_deg{0.5};
+  double noise_sigma_m{0.01};
+  double mount_x_m{0.0};
+  double mount_y_m{0.0};
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled);
+    v("range_min_m", range_min_m, Range{0.0, 100.0});
+    v("range_max_m", range_max_m, Range{0.1, 100.0});
+    v("fov_deg", fov_deg, Range{1.0, 360.0});
+    v("resolution_deg", resolution_deg, Range{0.05, 10.0});
+    v("noise_sigma_m", noise_sigma_m, Range{0.0, 1.0});
+    v("mount_x_m", mount_x_m, Range{-5.0, 5.0});
+    v("mount_y_m", mount_y_m, Range{-5.0, 5.0});
+    v.require(range_max_m > range_min_m, "range_max_m", "must be greater than range_min_m");
+    // laser_scan_t carries at most MAX_RANGES rays.
+    v.require(fov_deg / resolution_deg + 1.0 <= 4096.0, "resolution_deg",
+              "gives more than 4096 rays over fov_deg (laser_scan_t::MAX_RANGES)");
+  }
+};
+
 struct LockstepSpec {
   bool enabled{true};
   std::vector<std::string> participants;  ///< daemon names that must finish each tick
@@ -373,6 +425,8 @@ struct Scenario {
   sim::TrackerParams tracker;
   /// false: COOPNAV_GOALS carries only the robot's goal (the humans' goals are to be inferred).
   bool publish_human_goals{true};
+  UnmappedObstaclesSpec unmapped_obstacles;
+  LaserSpec laser;
   std::string source;  ///< file the scenario came from (for messages)
 
   /// Every key of a scenario file (format: docs/scenario-format.md). map.file is read as written;
@@ -395,6 +449,8 @@ struct Scenario {
     TrackerParamsYaml tracker_yaml{&tracker};
     v("tracker", tracker_yaml);
     v("publish_human_goals", publish_human_goals);
+    v("unmapped_obstacles", unmapped_obstacles);
+    v("laser", laser);
     RobotSpecYaml robot_yaml{&robot};
     v("robot", robot_yaml, Required{});
     std::vector<HumanSpecYaml> items;
@@ -445,6 +501,12 @@ void checkScenarioAgainstMap(const Scenario& scenario, const DistanceMap& map);
 /// map has more than max_cells cells or more than an OcTree holds. No OcTree is built (the
 /// simulator needs the grid only): the result's tree is null.
 LoadedMap loadScenarioMap(const Scenario& scenario, std::int64_t max_cells = kMaxMapCells);
+/// The world's grid: marks every cell an unmapped obstacle overlaps occupied (what the robot's
+/// map does not hold; the simulator's collisions and laser see it).
+void addUnmappedObstacles(const UnmappedObstaclesSpec& obstacles, OccupancyGrid2& grid);
+/// Robot-body clearance to the nearest unmapped obstacle [m] (+inf when there is none).
+double unmappedClearance(const UnmappedObstaclesSpec& obstacles, const Eigen::Vector2d& centre,
+                         double radius_m);
 /// The simulator's input for the scenario.
 sim::WorldSpec toWorldSpec(const Scenario& scenario);
 

@@ -140,6 +140,8 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
   try {
     scenario_ = world_sim::loadScenario(config_.scenario);
     LoadedMap map = world_sim::loadScenarioMap(scenario_);
+    // The world holds what the robot's map does not (the daemons load the `map:` section alone).
+    world_sim::addUnmappedObstacles(scenario_.unmapped_obstacles, map.grid);
     // Unknown cells are walls for the simulator as for the distance server (open.pgm's pillar).
     field_ = std::make_shared<GridDistanceField>(std::move(map.grid), UnknownPolicy::kObstacle);
     world_sim::checkScenarioAgainstMap(scenario_, *field_);
@@ -151,6 +153,7 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     // Its own random streams from the seed: the humans' draws are the same with it on or off.
     tracker_ = std::make_unique<sim::Tracker>(config_.tracker.apply(scenario_.tracker),
                                               scenario_.seed, ids, scenario_.time_limit_s);
+    sensing_ = std::make_unique<world_sim::WorldSensing>(scenario_, config_.laser != "off");
   } catch (const world_sim::ScenarioError& e) {
     throw StartupError(e.what());
   } catch (const MapLoadError& e) {
@@ -426,6 +429,7 @@ bool WorldSimNode::advance() {
   const sim::StepResult r = sim_->step(last_command_);
   ++step_;
   agents_ = r.agents;
+  sensing_->noteRobot(agents_.front(), r.t_s);
   for (const sim::CueOutcome& o : r.cues) logCue(o);
   publishStep();
   if (r.status != sim::SimStatus::kRunning) {
@@ -500,6 +504,10 @@ void WorldSimNode::publishStep() {
       goals.goals.push_back({h.state.id, AgentKind::kHuman, scenario_.humans[h.person].goal});
   }
   outputs_.publish(step, channels::kGoals, toLcm(goals));
+  // The robot's scan of this instant, before the states that open the step: the world's ack
+  // counts it, and the band source waits for it as for the goals (docs/lockstep.md).
+  if (sensing_->laserOn())
+    outputs_.publish(step, channels::kScan, sensing_->scan(*field_, agents_, utime, step));
 
   AgentStatesSnapshot s;
   s.utime = utime;
@@ -576,6 +584,10 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
                   (sum.first_contact->robot_at_fault ? " (robot at fault)"
                                                      : " (robot not at fault)")
             : std::string("no robot-human contact"));
+  if (sensing_->hasUnmapped())
+    log().info("world_sim: min robot clearance to the unmapped obstacles {} m at t = {} s",
+               fixed2(sensing_->minUnmappedClearance_m()),
+               fixed2(sensing_->minUnmappedClearanceT_s()));
   if (retransmits_ > 0)
     log().info("world_sim: steps published again {} times (acks overdue)", retransmits_);
   if (tracker_->params().active()) {

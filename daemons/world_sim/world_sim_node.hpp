@@ -28,6 +28,7 @@
 #include "runtime/step_gate.hpp"
 #include "runtime/step_outputs.hpp"
 #include "scenario.hpp"
+#include "sensing.hpp"
 #include "wire/conversions.hpp"
 
 namespace coopnav {
@@ -99,6 +100,10 @@ struct WorldSimConfig {
   /// scenario: the scenario's publish_human_goals decides; true / false override it (false:
   /// COOPNAV_GOALS carries only the robot's goal).
   std::string publish_human_goals{"scenario"};
+  /// scenario: the scenario's laser section decides (a scan on COOPNAV_SCAN each step when
+  /// enabled); off: no scan whatever the scenario says (the planner and guard then see the map
+  /// and the people only).
+  std::string laser{"scenario"};
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -114,6 +119,7 @@ struct WorldSimConfig {
     v("human_planner", human_planner);
     v("tracker", tracker);
     v("publish_human_goals", publish_human_goals, OneOf{{"scenario", "true", "false"}});
+    v("laser", laser, OneOf{{"scenario", "off"}});
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
     v("limits", limits);
   }
@@ -191,6 +197,8 @@ class WorldSimNode {
   std::unique_ptr<sim::Simulation> sim_;
   /// Between the true humans and COOPNAV_AGENT_STATES / COOPNAV_GOALS; physics uses the truth.
   std::unique_ptr<sim::Tracker> tracker_;
+  /// Unmapped obstacles' clearance and the robot's laser (scenario `unmapped_obstacles`, `laser`).
+  std::unique_ptr<world_sim::WorldSensing> sensing_;
   bool publish_human_goals_{true};
   bool lockstep_{true};
   double real_time_factor_{1.0};

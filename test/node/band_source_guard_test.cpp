@@ -19,6 +19,7 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/goals_t.hpp"
+#include "coopnav/laser_scan_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/runtime.hpp"
@@ -183,6 +184,98 @@ TEST_F(BandSourceRoomPlanTest, BandsSayHowTheRobotWouldMakeRoomForEachHumanAhead
         b.humans[i].agent_id == 1 ? bands_t::ROOM_DOCK_HERE : bands_t::ROOM_UNKNOWN;
     EXPECT_EQ(b.room_plans[i], want) << "human " << b.humans[i].agent_id;
   }
+}
+
+// Obstacles of the moment (issue 45): in lockstep, step k waits for the world's scan of k when
+// the world's ack of k counts one, and the command of that step never moves the robot towards
+// the scan's returns within the guard's clearance; the next step, whose ack counts no scan, is
+// planned at once, and the guard no longer sees step 0's returns.
+class BandSourceScanTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // A gate timeout far beyond the test's waits: step 0 must wait for its scan, not time out.
+    config_ = (std::filesystem::temp_directory_path() /
+               ("band_source_scan_test_" + std::to_string(::getpid()) + ".yaml"))
+                  .string();
+    std::ofstream(config_) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+                           << "step_gate_timeout_s: 10.0\n";
+    dut_ = std::make_unique<test::ChildProcess>(
+        test::daemonPath("band_source"),
+        std::vector<std::string>{"--config", config_, "--lcm-url", test::testLcmUrl()});
+    ASSERT_TRUE(probe_.waitFor([&] { return probe_.status.has_value(); }));
+  }
+  void TearDown() override { std::filesystem::remove(config_); }
+  void world(std::int64_t k, bool with_scan) {
+    const std::int64_t utime = kStart_us + k * kStep_us;
+    goals_t g = robotGoalAt(20.0, 6.5);
+    g.utime = utime;
+    probe_.rt.publish(channels::kGoals, g);
+    agent_states_t m{};
+    m.utime = utime;
+    m.step = k;
+    m.robot = agent(0, agent_state_t::KIND_ROBOT, 6.5, 6.5, 0.0, 0.0, 0.0, kRobotRadius_m);
+    probe_.rt.publish(channels::kAgentStates, m);
+    step_ack_t ack{};
+    ack.utime = utime;
+    ack.step = k;
+    ack.participant = "world_sim";
+    ack.output_channels = {channels::kGoals, channels::kAgentStates};
+    ack.output_counts = {1, 1};
+    if (with_scan) {
+      ack.output_channels.push_back(channels::kScan);
+      ack.output_counts.push_back(1);
+    }
+    ack.num_outputs = static_cast<std::int16_t>(ack.output_channels.size());
+    ack.restart_step = -1;
+    probe_.rt.publish(channels::kStepAck, ack);
+  }
+  // Returns 0.6 m ahead of the robot's centre, across its way (a box face 0.13 m from its body).
+  laser_scan_t boxAhead(std::int64_t k) {
+    laser_scan_t s{};
+    s.utime = kStart_us + k * kStep_us;
+    s.step = k;
+    s.sensor_x_m = 6.5;
+    s.sensor_y_m = 6.5;
+    s.angle_min_rad = -0.6F;
+    s.angle_increment_rad = 0.1F;
+    s.range_min_m = 0.05F;
+    s.range_max_m = 8.0F;
+    for (int i = 0; i <= 12; ++i) {
+      const double a = -0.6 + 0.1 * i;
+      s.ranges_m.push_back(static_cast<float>(0.6 / std::cos(a)));
+    }
+    s.num_ranges = static_cast<std::int16_t>(s.ranges_m.size());
+    return s;
+  }
+
+  std::string config_;
+  Probe probe_;
+  std::unique_ptr<test::ChildProcess> dut_;
+};
+
+TEST_F(BandSourceScanTest, AStepWaitsForItsScanAndItsCommandKeepsClearOfTheReturns) {
+  // The world says it is there before step 0, as world_sim does: from then on its acks and
+  // their counts are waited for.
+  step_ack_t here{};
+  here.utime = kStart_us;
+  here.step = -1;
+  here.participant = "world_sim";
+  here.restart_step = -1;
+  probe_.rt.publish(channels::kStepAck, here);
+  probe_.rt.spinFor(50);
+  world(0, true);
+  probe_.rt.spinFor(200);
+  EXPECT_EQ(probe_.cmds.count(0), 0u) << "step 0 planned before its scan came";
+  probe_.rt.publish(channels::kScan, boxAhead(0));
+  ASSERT_TRUE(probe_.waitFor([&] { return probe_.acks.count(0) && probe_.cmds.count(0); }));
+  const velocity_command_t& c0 = probe_.cmds[0];
+  EXPECT_LE(c0.vx_m_s, 1e-9) << "step 0 drives towards the box it was shown";
+
+  world(1, false);
+  ASSERT_TRUE(probe_.waitFor([&] { return probe_.acks.count(1) && probe_.cmds.count(1); }));
+  // Step 0's scan does not linger: with nobody near and no scan, the guard leaves the command.
+  EXPECT_EQ(probe_.cmds[1].guard, velocity_command_t::GUARD_NONE);
+  EXPECT_TRUE(dut_->running());
 }
 
 }  // namespace

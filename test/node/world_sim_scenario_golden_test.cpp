@@ -107,6 +107,23 @@ std::string print(Scenario sc, const std::string& source_dir = "") {
                           std::to_string(tr.id_switches) + " " + num(tr.id_switch_window_s) + " " +
                           num(tr.range_m));
   }
+  // Unmapped obstacles and the laser (issue 45): printed only when a scenario has them.
+  for (std::size_t i = 0; i < sc.unmapped_obstacles.boxes.size(); ++i) {
+    const BoxObstacle& b = sc.unmapped_obstacles.boxes[i];
+    p.line("unmapped_obstacles.boxes[" + std::to_string(i) + "]",
+           num(b.min_x_m) + " " + num(b.min_y_m) + " " + num(b.max_x_m) + " " + num(b.max_y_m));
+  }
+  for (std::size_t i = 0; i < sc.unmapped_obstacles.circles.size(); ++i) {
+    const CircleObstacle& c = sc.unmapped_obstacles.circles[i];
+    p.line("unmapped_obstacles.circles[" + std::to_string(i) + "]",
+           num(c.x_m) + " " + num(c.y_m) + " " + num(c.radius_m));
+  }
+  if (sc.laser.enabled) {
+    const LaserSpec& l = sc.laser;
+    p.line("laser", num(l.range_min_m) + " " + num(l.range_max_m) + " " + num(l.fov_deg) + " " +
+                        num(l.resolution_deg) + " " + num(l.noise_sigma_m) + " " +
+                        num(l.mount_x_m) + " " + num(l.mount_y_m));
+  }
   p.pose("robot.start", sc.robot.start);
   p.pose("robot.goal", sc.robot.goal);
   p.line("robot.radius_m", num(sc.robot.radius_m));

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "coopnav/band/velocity_command.hpp"
+#include "coopnav/distance/point_obstacle_map.hpp"
 #include "coopnav/geometry/geometry.hpp"
 
 namespace coopnav {
@@ -538,8 +540,14 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     a.reference = &out.others[i].reference_path;
     agents.push_back(a);
   }
+  // Obstacles of the moment only where there are some: without them the solve is the static
+  // map's, bit for bit.
+  std::optional<PointObstacleMap> with_points;
+  if (!req.obstacle_points.empty()) with_points.emplace(*map_, req.obstacle_points);
+  const DistanceMap& obstacles =
+      with_points ? static_cast<const DistanceMap&>(*with_points) : *map_;
   const OptimizeStats stats =
-      optimizeBands(agents, *map_, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
+      optimizeBands(agents, obstacles, cfg, req.max_iterations, req.time_budget_s, req.clock_s);
   out.iterations = stats.iterations;
   out.accepted_steps = stats.accepted;
   out.final_cost = stats.final_cost;

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
+#include "coopnav/distance/point_obstacle_map.hpp"
 #include "coopnav/geometry/geometry.hpp"
 
 namespace coopnav {
@@ -58,6 +60,12 @@ struct Predictor {
         if (g >= o.min_clearance_m) continue;
         if (g < gap(in.robot.position(), h, t(k)) - 1e-9) return false;
         if (moved.dot(h.position + h.velocity * t(k) - r) > 1e-9) return false;
+      }
+      for (const Eigen::Vector2d& q : in.obstacle_points) {
+        const double g = (r - q).norm() - in.robot_radius_m;
+        if (g >= o.min_clearance_m) continue;
+        if (g < (in.robot.position() - q).norm() - in.robot_radius_m - 1e-9) return false;
+        if (moved.dot(q - r) > 1e-9) return false;
       }
     }
     return true;
@@ -117,7 +125,9 @@ const char* toString(GuardAction a) {
 GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const GuardOptions& o) {
   GuardOutput out;
   out.command_body = in.command_body;
-  if (in.humans.empty() || !isFinite(in.robot) || !(o.sample_dt_s > 0.0)) return out;
+  if ((in.humans.empty() && in.obstacle_points.empty()) || !isFinite(in.robot) ||
+      !(o.sample_dt_s > 0.0))
+    return out;
   const Predictor pr{in, o};
 
   // 1. Never close on a human below the clearance.
@@ -149,6 +159,10 @@ GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const Gua
     }
   }
   if (!threat) return out;
+  // The evasion's room: the walls, and the obstacles of the moment where there are some.
+  std::optional<PointObstacleMap> with_points;
+  if (!in.obstacle_points.empty()) with_points.emplace(map, in.obstacle_points);
+  const DistanceMap& room = with_points ? static_cast<const DistanceMap&>(*with_points) : map;
   const double sent_gap = pr.minGap(out.command_body);
   std::vector<Eigen::Vector2d> dirs;
   if (in.limits.holonomic) {
@@ -171,7 +185,7 @@ GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const Gua
     constexpr double kFar = 1e3;  // clampToLimits scales it down to the fastest allowed
     const Eigen::Vector2d b = worldToBody(d, in.robot.theta_rad);
     const Velocity2 cmd = clampToLimits({b.x() * kFar, b.y() * kFar, 0.0}, in.limits);
-    if (atRest(cmd) || !roomFor(map, in, o, cmd)) continue;
+    if (atRest(cmd) || !roomFor(room, in, o, cmd)) continue;
     const double g = pr.minGap(cmd);
     if (g > best_gap) {
       best_gap = g;

@@ -131,3 +131,66 @@ TEST(SafetyGuardTest, WithNoRoomTheRobotStaysPut) {
 
 }  // namespace
 }  // namespace coopnav
+
+namespace coopnav {
+namespace {
+
+// Obstacles of the moment: a laser return closes the command's way as a standing human does.
+TEST(SafetyGuardScanTest, ACommandTowardsAScanPointIsScaledToKeepTheClearance) {
+  const auto map = test::BoxMap::corridor(-20.0, 20.0, -20.0, 20.0);
+  GuardOptions o;
+  GuardInput in;
+  in.robot = {0.0, 0.0, 0.0};
+  in.robot_radius_m = 0.47;
+  in.command_body = {0.7, 0.0, 0.0};
+  // A box face 1.2 m ahead: gap 0.73 m; 0.7 m/s for 1 s would leave 0.03 m.
+  in.obstacle_points = {{1.2, -0.05}, {1.2, 0.0}, {1.2, 0.05}};
+  const GuardOutput g = guardCommand(*map, in, o);
+  EXPECT_EQ(g.action, GuardAction::kSlowed);
+  EXPECT_NEAR(g.scale, (0.73 - o.min_clearance_m) / 0.7, 1e-3);
+  EXPECT_LE(g.scale, (0.73 - o.min_clearance_m) / 0.7 + 1e-12);
+  // Already within the clearance: stopped; backing off is left alone; a point behind or far to
+  // the side changes nothing, bit for bit.
+  in.obstacle_points = {{0.6, 0.0}};
+  EXPECT_EQ(guardCommand(*map, in, o).action, GuardAction::kStopped);
+  in.command_body = {-0.3, 0.0, 0.0};
+  EXPECT_EQ(guardCommand(*map, in, o).action, GuardAction::kNone);
+  const Velocity2 cmd{0.6180339887, -0.1234567, 0.3141592};
+  in.command_body = cmd;
+  in.obstacle_points = {{-2.0, 0.0}, {0.3, 3.0}};
+  const GuardOutput far = guardCommand(*map, in, o);
+  EXPECT_EQ(far.action, GuardAction::kNone);
+  EXPECT_EQ(far.command_body, cmd);
+}
+
+TEST(SafetyGuardScanTest, AnEvasionFromAHumanDoesNotDriveIntoScanPoints) {
+  // A human closing on a robot at rest in open space; then a trolley the map does not hold
+  // (its outline as laser returns) where that evasion went: the robot evades elsewhere, keeping
+  // its wall margin from the trolley over the horizon.
+  const auto map = test::BoxMap::corridor(-20.0, 20.0, -20.0, 20.0);
+  GuardOptions o;
+  GuardInput in;
+  in.robot = {0.0, 0.0, 0.0};
+  in.robot_radius_m = 0.47;
+  in.humans = {{{1.2, 0.0}, {-1.0, 0.0}, 0.3}};
+  const GuardOutput free = guardCommand(*map, in, o);
+  ASSERT_EQ(free.action, GuardAction::kEvading);
+  const Eigen::Vector2d way = world(free.command_body, 0.0).normalized();
+  const Eigen::Vector2d c = way * 0.75;  // the trolley's centre, on that way
+  const Eigen::Vector2d side(-way.y(), way.x());
+  for (double s = -0.3; s <= 0.3 + 1e-9; s += 0.05) {
+    in.obstacle_points.push_back(c + side * s - way * 0.1);
+    in.obstacle_points.push_back(c + side * s + way * 0.1);
+  }
+  const GuardOutput g = guardCommand(*map, in, o);
+  ASSERT_EQ(g.action, GuardAction::kEvading);
+  const Eigen::Vector2d v = world(g.command_body, 0.0);
+  for (int k = 0; k <= 20; ++k) {
+    const Eigen::Vector2d r = v * (o.horizon_s * k / 20.0);
+    for (const Eigen::Vector2d& q : in.obstacle_points)
+      EXPECT_GE((r - q).norm(), in.robot_radius_m + o.evade_wall_margin_m - 2e-3);
+  }
+}
+
+}  // namespace
+}  // namespace coopnav

@@ -41,6 +41,10 @@ struct PlanRequest {
   AgentState agent;     ///< the planning agent (normally the robot)
   Pose2 goal;           ///< the planning agent's goal (theta used unless free_goal_heading)
   std::vector<OtherAgentInput> others;
+  /// Obstacles of the moment (laser returns the static map may not hold), world frame [m]: the
+  /// bands' obstacle term sees the nearer of the map and these (PointObstacleMap). Empty: the
+  /// static map alone, as without a scan. The global path stays on the static map.
+  std::vector<Eigen::Vector2d> obstacle_points;
   int max_iterations{0};      ///< total LM iterations; <= 0: config inner × outer
   double time_budget_s{0.0};  ///< solver time budget; <= 0: unlimited
   /// Monotonic clock [s] for the time budget and PlanResult::solver_time_s (lib/ reads no

@@ -43,6 +43,11 @@ struct GuardInput {
   double robot_radius_m{0.34};
   Velocity2 command_body;  ///< the planner's command (robot body frame)
   std::vector<GuardHuman> humans;
+  /// Obstacles of the moment (laser returns, people's legs among them), world frame [m]: the
+  /// command may not bring the robot's body nearer one than min_clearance_m either, where
+  /// standing still would not (they stand still: they never make the robot evade), and an
+  /// evasion keeps its wall margin from them as from the map. Empty: as without a scan.
+  std::vector<Eigen::Vector2d> obstacle_points;
   RobotLimits limits;
 };
 

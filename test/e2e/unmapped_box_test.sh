@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# A guard that sees what the map does not (issue 45), end to end through scripts/run.sh: a box
+# stands in open.pgm's 2.25 m corridor, in the robot's way, and is not on the robot's map; only
+# world_sim's simulated laser (COOPNAV_SCAN) shows it to the band source.
+#  1. unmapped_box_corridor, the box alone: no collision, a clearance > 0 from the box; the robot
+#     passes it or stops short of it (measured: it stops 0.25 m short and the run ends in
+#     STANDSTILL: its global path is planned on the static map, through the box, and the band
+#     held to it does not leave it far enough; the guard holds the robot).
+#  2. unmapped_box_encounter, the box where the robot meets a minimal human: no collision, no
+#     contact with the human, clearance > 0 from the box (it passes, or stops and waits).
+#  3. The control: the first scenario with the laser off (world_sim --set laser=off): the robot,
+#     blind to the box, drives into it (the run ends in COLLISION). So the first run's clearance
+#     is the scan's doing.
+set -euo pipefail
+src="${COOPNAV_SOURCE_DIR:?}"
+source "$src/scripts/lib.sh"  # coopnav_trap
+export COOPNAV_BUILD_DIR="${COOPNAV_BUILD_DIR:?}"
+tmp="$(mktemp -d)"
+coopnav_trap 'rm -rf "$tmp"' EXIT
+scen="$src/test/data/scenarios"
+port=$COOPNAV_TEST_PORT_BASE
+
+run() {  # run NAME OUT [world_sim args]
+  local name=$1 out=$2
+  COOPNAV_RUN_PORT_BASE=$port COOPNAV_DAEMON_ARGS_world_sim="${3:-}" bash "$src/scripts/run.sh" \
+    --no-build --out "$out" "$scen/$name.yaml" >"$out.out" 2>&1 ||
+    { cat "$out.out"; echo "FAIL: run.sh $name"; exit 1; }
+  port=$((port + 20))
+}
+field() {  # field OUT NAME KEY: a top-level value of the run's scenario in summary.json
+  sed -n "s/.*\"$3\": *\([^,}]*\).*/\1/p" "$1/summary.json" | head -1 | tr -d '"'
+}
+box_clearance() {  # OUT NAME: world_sim's least robot clearance to the unmapped obstacles [m]
+  sed -n 's/.*min robot clearance to the unmapped obstacles \([-0-9.]*\) m.*/\1/p' \
+    "$1/$2/world_sim.log" | tail -1
+}
+ended() { grep -o "ended at .*" "$1/$2/world_sim.log" | tail -1; }
+
+fail=0
+check() {  # check LABEL CONDITION...
+  local label=$1; shift
+  if "$@"; then echo "ok   $label"; else echo "FAIL $label"; fail=1; fi
+}
+positive() { awk -v x="$1" 'BEGIN { exit !(x != "" && x > 0) }'; }
+
+run unmapped_box_corridor "$tmp/box"
+c1="$(box_clearance "$tmp/box" unmapped_box_corridor)"
+echo "box alone: $(ended "$tmp/box" unmapped_box_corridor); clearance to the box $c1 m"
+check "box alone: no collision" [ "$(field "$tmp/box" x collision)" = false ]
+check "box alone: clearance to the box > 0 ($c1 m)" positive "$c1"
+check "box alone: the robot passed it or stopped short of it (GOAL_REACHED or STANDSTILL)" \
+  grep -q "GOAL_REACHED\|STANDSTILL" <<<"$(field "$tmp/box" x final_state)"
+
+run unmapped_box_encounter "$tmp/enc"
+c2="$(box_clearance "$tmp/enc" unmapped_box_encounter)"
+echo "box and human: $(ended "$tmp/enc" unmapped_box_encounter); clearance to the box $c2 m," \
+  "to the human $(field "$tmp/enc" x min_clearance_m) m"
+cat "$tmp/enc/unmapped_box_encounter/transcript.txt"
+check "box and human: no collision" [ "$(field "$tmp/enc" x collision)" = false ]
+check "box and human: no contact with the human" \
+  bash -c "! grep -q '\"contact\": *{' '$tmp/enc/summary.json'"
+check "box and human: clearance to the box > 0 ($c2 m)" positive "$c2"
+
+run unmapped_box_corridor "$tmp/blind" "--set laser=off"
+c3="$(box_clearance "$tmp/blind" unmapped_box_corridor)"
+echo "control, laser off: $(ended "$tmp/blind" unmapped_box_corridor); clearance to the box $c3 m"
+check "control: without the scan the robot drives into the box" \
+  grep -q "COLLISION\|collision" <<<"$(ended "$tmp/blind" unmapped_box_corridor) $(field "$tmp/blind" x final_state)"
+
+[ "$fail" = 0 ] || exit 1
+echo "unmapped box: seen by the laser, kept clear of, alone and with a person"

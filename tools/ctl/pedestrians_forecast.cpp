@@ -201,13 +201,20 @@ namespace {
 
 std::vector<Judgement> forecastJudgementsAt(const ForecastModel& m,
                                             const std::vector<WalkerRun>& runs, double lead_s) {
+  // Through assessment::CooperationForecaster: what a daemon would publish at that time.
   std::vector<Judgement> js;
   for (const auto& run : runs) {
+    assessment::CooperationForecaster fc(m);
+    fc.start(run.reference.front(), headingOf(run));
+    const double t_s = runDecisionTime(run, lead_s);
+    for (const auto& o : run.observations) {
+      if (o.t_s > t_s + kTimeTolS) break;
+      fc.observe(o.t_s, o.human_m, o.robot_m);
+    }
     Judgement j;
-    const auto f = runFeaturesAt(run, runDecisionTime(run, lead_s));
-    if (f) {
+    if (!std::isnan(fc.pContributing())) {
       j.known = true;
-      j.score = assessment::forecastProbability(m, *f);
+      j.score = fc.pContributing();
       j.said = j.score > kForecastThreshold;
     } else {
       j.score = kUnknownScore;

@@ -162,4 +162,34 @@ ForecastModel fitForecastModel(const std::vector<ForecastFeatures>& features,
   return m;
 }
 
+void CooperationForecaster::start(const Eigen::Vector2d& origin_m, const Eigen::Vector2d& heading) {
+  started_ = true;
+  origin_m_ = origin_m;
+  heading_ = heading;
+  first_.clear();
+  recent_.clear();
+  features_.reset();
+  p_ = std::numeric_limits<double>::quiet_NaN();
+}
+
+void CooperationForecaster::observe(double t_s, const Eigen::Vector2d& human_m,
+                                    const Eigen::Vector2d& robot_m) {
+  if (!started_) return;
+  if (!recent_.empty() && !(t_s > recent_.back().t_s)) return;
+  const ForecastObservation o{t_s, human_m, robot_m};
+  // forecastFeatures() reads the first observation, the first one a span after it, the last one
+  // at or before now − span, and now.
+  if (first_.empty() || first_.back().t_s < first_.front().t_s + kForecastVelocitySpanS - 1e-9)
+    first_.push_back(o);
+  recent_.push_back(o);
+  while (recent_.size() > 2 && recent_[1].t_s <= t_s - kForecastVelocitySpanS + 1e-9)
+    recent_.pop_front();
+  std::vector<ForecastObservation> obs(first_.begin(), first_.end());
+  for (const auto& r : recent_)
+    if (r.t_s > obs.back().t_s) obs.push_back(r);
+  features_ = forecastFeatures(obs, origin_m_, heading_);
+  p_ = features_ ? forecastProbability(model_, *features_)
+                 : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace coopnav::assessment

@@ -162,3 +162,47 @@ TEST(Forecast, ModelStandardisesAndKeepsConstantFeaturesAtScaleOne) {
 
 }  // namespace
 }  // namespace coopnav::assessment
+
+namespace coopnav::assessment {
+namespace {
+
+TEST(CooperationForecaster, MatchesTheFeaturesOfTheWholeTrackWithBoundedMemory) {
+  ForecastModel m;
+  m.bias = -0.3;
+  m.weight = {1.0, 0.5, 0.2, -0.1, 0.05, -0.4};
+  CooperationForecaster fc(m);
+  EXPECT_TRUE(std::isnan(fc.pContributing()));
+  fc.observe(0.0, {0, 0}, {8, 0.5});  // before start: ignored
+  const Eigen::Vector2d origin(0.0, 0.0);
+  const Eigen::Vector2d heading(1.0, 0.1);
+  fc.start(origin, heading);
+  std::vector<ForecastObservation> all;
+  for (int k = 0; k < 40; ++k) {
+    const double t = 0.4 * k;
+    // Weaving human, robot coming head-on with a slow drift.
+    const Eigen::Vector2d h(1.1 * t, 0.3 * std::sin(0.7 * t) - 0.02 * t * t);
+    const Eigen::Vector2d r(20.0 - 0.9 * t, 0.4 + 0.05 * t);
+    all.push_back({t, h, r});
+    fc.observe(t, h, r);
+    const auto f = forecastFeatures(all, origin, heading);
+    if (!f) {
+      EXPECT_TRUE(std::isnan(fc.pContributing())) << t;
+      continue;
+    }
+    ASSERT_TRUE(fc.features().has_value()) << t;
+    for (std::size_t i = 0; i < kForecastFeatureCount; ++i)
+      EXPECT_NEAR(fc.features()->x[i], f->x[i], 1e-12) << t << " " << i;
+    EXPECT_NEAR(fc.pContributing(), forecastProbability(m, *f), 1e-15) << t;
+  }
+  const double last = fc.pContributing();
+  fc.observe(15.0, {0, 0}, {1, 1});  // not later than the last (15.6 s): ignored
+  EXPECT_EQ(fc.pContributing(), last);
+  fc.stop();
+  fc.observe(20.0, {0, 0}, {1, 1});  // after stop: ignored, the last value stays
+  EXPECT_EQ(fc.pContributing(), last);
+  fc.start(origin, heading);
+  EXPECT_TRUE(std::isnan(fc.pContributing()));
+}
+
+}  // namespace
+}  // namespace coopnav::assessment

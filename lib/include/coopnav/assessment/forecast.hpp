@@ -14,6 +14,8 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <deque>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -89,5 +91,34 @@ LogisticFit fitLogisticL2(const Eigen::MatrixXd& X, const Eigen::VectorXd& y, do
 /// Standardises (mean, population standard deviation; a constant feature gets scale 1) and fits.
 ForecastModel fitForecastModel(const std::vector<ForecastFeatures>& features,
                                const std::vector<int>& labels, double l2);
+
+/// p_contributing of one human over an interaction, as a daemon publishes it: started with the
+/// human's position and heading at the START (the reference path's start and direction), fed its
+/// observations; keeps only what the features read (the first velocity span and the last one), so
+/// memory is bounded whatever the interaction's length.
+class CooperationForecaster {
+ public:
+  explicit CooperationForecaster(const ForecastModel& model = {}) : model_(model) {}
+  /// Starts an interaction (clears the observations).
+  void start(const Eigen::Vector2d& origin_m, const Eigen::Vector2d& heading);
+  /// Ends it: later observations are ignored, the last probability stays.
+  void stop() { started_ = false; }
+  /// An observation; ignored before start(), after stop() and when not later than the last one.
+  void observe(double t_s, const Eigen::Vector2d& human_m, const Eigen::Vector2d& robot_m);
+  /// In (0, 1); NaN while unknown (no interaction, or less than half a velocity span seen).
+  double pContributing() const { return p_; }
+  /// Features behind pContributing() (nullopt while unknown).
+  const std::optional<ForecastFeatures>& features() const { return features_; }
+
+ private:
+  ForecastModel model_;
+  bool started_{false};
+  Eigen::Vector2d origin_m_{0.0, 0.0};
+  Eigen::Vector2d heading_{1.0, 0.0};
+  std::vector<ForecastObservation> first_;  // from the start to the first one a span later
+  std::deque<ForecastObservation> recent_;  // the last span, and the one just before it
+  std::optional<ForecastFeatures> features_;
+  double p_{std::numeric_limits<double>::quiet_NaN()};
+};
 
 }  // namespace coopnav::assessment

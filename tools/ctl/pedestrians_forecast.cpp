@@ -408,7 +408,8 @@ std::string forecastProfileYaml(const ForecastModel& m) {
        "# tools/ctl/README.md, \"Judgement in time\"; "
        "test/unit/tools/pedestrians_forecast_test.cpp\n"
        "# checks that this file is that fit). p = 1 / (1 + exp(-(bias + sum_i weight_i *\n"
-       "# (x_i - mean_i) / scale_i))).\n";
+       "# (x_i - mean_i) / scale_i))). Not a path_assessor config (no -c): a model file, read by\n"
+       "# coopnav_ctl (loadForecastProfile) and assessment::CooperationForecaster's users.\n";
   o << "# L2 penalty the weights were fitted with (on standardised features; the bias is free).\n";
   o << "l2: " << fmt("%.17g", m.l2) << "\n";
   o << "# Intercept (log-odds at the mean features).\n";

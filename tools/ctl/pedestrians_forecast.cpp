@@ -305,6 +305,7 @@ ForecastStudy runForecastStudy(const std::vector<PedestrianPair>& pairs,
                                      pairs, fc_loso));
   s.model = fitForecast(pairs);
   std::vector<std::vector<Judgement>> fc_in;
+  fc_in.reserve(leads.size());
   for (const double lead_s : leads) fc_in.push_back(forecastJudgementsAt(s.model, runs, lead_s));
   s.tables.push_back(scoreJudgements("forecast p_contributing, fit on all (in-sample ceiling)",
                                      "the shipped forecast profile", pairs, fc_in));

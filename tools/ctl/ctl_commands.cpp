@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 
@@ -13,6 +14,7 @@
 #include "maps/map_loader.hpp"
 #include "pedestrians.hpp"
 #include "pedestrians_daemon.hpp"
+#include "pedestrians_forecast.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
 #include "svg_figures.hpp"
@@ -31,6 +33,9 @@ struct LogCommandOptions {
   CLI::App* summary_figures{nullptr};
   CLI::App* pedestrians{nullptr};
   CLI::App* calibrate{nullptr};
+  CLI::App* forecast{nullptr};
+  std::string forecast_profile_out;  // forecast: --write-profile
+  bool decision_time{false};         // pedestrians: --decision-time
   CLI::App* goals{nullptr};
   CLI::App* goal_candidates{nullptr};
   std::optional<double> goals_beta_per_m;  // goals: fit leave-one-sequence-out unless given
@@ -181,6 +186,11 @@ int pedestriansCommand() {
   config.tau_m = o.tau_m.value_or(config.tau_m);
   if (o.side_rule)
     config.side_rule = assessment::sideRuleFromString(*o.side_rule).value_or(config.side_rule);
+  if (o.decision_time) {
+    // The settings given (no fit here): the judgement read at t_cross - {4 .. 0} s.
+    std::cout << ctl::formatDecisionTables({ctl::scoreJudgements(
+        "CM", "the settings above, round-1 window", pairs, ctl::cmJudgements(pairs, config))});
+  }
   const auto e = ctl::evaluateWalkers(pairs, config, window);
   std::cout << ctl::formatPedestrianEvaluation(
       e, o.gamma_per_s.value_or(std::pow(config.gamma, 1.0 / config.sample_period_s)), window);
@@ -189,6 +199,23 @@ int pedestriansCommand() {
 
 int calibrateCommand() {
   std::cout << ctl::formatCalibration(ctl::calibrate(ctl::loadPedestrianPairs(opts().log)));
+  return 0;
+}
+
+int forecastCommand() {
+  const auto& o = opts();
+  const auto pairs = ctl::loadPedestrianPairs(o.log);
+  const auto study = ctl::runForecastStudy(pairs, ctl::calibrate(pairs));
+  std::cout << ctl::formatForecastStudy(study);
+  if (!o.forecast_profile_out.empty()) {
+    std::ofstream out(o.forecast_profile_out);
+    out << ctl::forecastProfileYaml(study.model);
+    if (!out) {
+      std::cerr << o.forecast_profile_out << ": cannot write\n";
+      return 1;
+    }
+    std::cout << "wrote " << o.forecast_profile_out << "\n";
+  }
   return 0;
 }
 
@@ -299,6 +326,19 @@ void addCtlCommands(CLI::App& app) {
       "fit gamma, tau, the side rule and the window on pedestrian pairs (leave one sequence out)");
   o.calibrate->add_option("pairs", o.log, "headon_pairs.json")->required();
 
+  o.pedestrians->add_flag("--decision-time", o.decision_time,
+                          "also the judgement's AUC and accuracy at t_cross - {4, 3, 2, 1, 0} s, "
+                          "per sequence, with bootstrap intervals");
+
+  o.forecast = app.add_subcommand(
+      "forecast",
+      "judgement in time on pedestrian pairs: paper / calibrated CM and the p_contributing "
+      "forecast at t_cross - {4 .. 0} s, leave one sequence out; fit the forecast profile");
+  o.forecast->add_option("pairs", o.log, "headon_pairs.json")->required();
+  o.forecast->add_option(
+      "--write-profile", o.forecast_profile_out,
+      "write the forecast fitted on all pairs (config/path_assessor_forecast.yaml)");
+
   o.goals = app.add_subcommand(
       "goals", "score goal inference (most likely exit at t_cross - 3 s) on pedestrian pairs");
   o.goals->add_option("pairs", o.log, "headon_pairs.json")->required();
@@ -324,6 +364,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.summary_figures) return summaryFiguresCommand();
   if (*o.pedestrians) return pedestriansCommand();
   if (*o.calibrate) return calibrateCommand();
+  if (*o.forecast) return forecastCommand();
   if (*o.goals) return goalsCommand();
   if (*o.goal_candidates) return goalCandidatesCommand();
   return 2;

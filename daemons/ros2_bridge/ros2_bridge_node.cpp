@@ -157,7 +157,8 @@ Ros2BridgeNode::Ros2BridgeNode(const Config& config, Runtime& runtime)
   runtime.addTimer(std::chrono::milliseconds(config.dds_poll_period_ms), [this] { pollDds(); });
   runtime.addTimer(std::chrono::milliseconds(static_cast<int>(std::lround(1000.0 / config.watchdog_hz))),
                    [this] { watchdogTick(); });
-  runtime.setRunning("DDS domain " + std::to_string(domain));
+  running_detail_ = "DDS domain " + std::to_string(domain);
+  runtime.setRunning(running_detail_);
   log().info("ros2_bridge: DDS domain {}, namespace '{}', humans from {}", domain,
              config.ros_namespace, config.humans_from);
 }
@@ -242,6 +243,11 @@ void Ros2BridgeNode::onCommand(const velocity_command_t& msg) {
   const ros2::Twist t = ros2::twistOfCommand(msg);  // throws on NaN: nothing is sent
   last_command_s_ = monotonicNowS();
   writeTwist(t);
+  if (holding_) {
+    holding_ = false;
+    log().info("ros2_bridge: velocity commands again");
+    runtime_.setRunning(running_detail_);
+  }
 }
 
 void Ros2BridgeNode::watchdogTick() {
@@ -249,10 +255,13 @@ void Ros2BridgeNode::watchdogTick() {
   if (!last_command_s_) return;
   if (!ros2::commandStale(last_command_s_, monotonicNowS(), config_.cmd_timeout_s)) return;
   writeTwist(ros2::Twist{});
-  if (watchdog_zeros_++ == 0 || watchdog_zeros_ % 100 == 0)
+  ++watchdog_zeros_;
+  if (!holding_) {
+    holding_ = true;
     log().warn("ros2_bridge: no velocity command for {} s: zero on /cmd_vel",
                config_.cmd_timeout_s);
-  runtime_.setDegraded("no velocity command: the watchdog holds the base");
+    runtime_.setDegraded("no velocity command: the watchdog holds the base");
+  }
 }
 
 void Ros2BridgeNode::onBands(const bands_t& msg) {

@@ -156,6 +156,8 @@ class Ros2BridgeNode {
   std::int64_t humans_utime_{-1};
   std::optional<double> last_command_s_;  ///< monotonic [s] of the last command forwarded
   std::int64_t watchdog_zeros_{0};
+  bool holding_{false};  ///< the watchdog is sending zero
+  std::string running_detail_;
   std::optional<bands_t> bands_;
   std::map<std::int32_t, situation_t> situations_;
   std::optional<utterance_t> utterance_;

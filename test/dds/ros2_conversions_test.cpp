@@ -94,7 +94,7 @@ TEST(Ros2Conversions, RobotFromOdometryInTheMapFrameWithWorldVelocity) {
   const agent_state_t s = robotFromOdometry(odometry(kOdom, 1.0, 0.0, 0.0, 0.5, 0.2),
                                             frames(10.0, 0.0, M_PI / 2), 0.34);
   EXPECT_EQ(s.id, 0);
-  EXPECT_EQ(s.kind, agent_state_t::KIND_ROBOT);
+  EXPECT_EQ(s.kind, +agent_state_t::KIND_ROBOT);
   EXPECT_NEAR(s.x_m, 10.0, kEps);
   EXPECT_NEAR(s.y_m, 1.0, kEps);
   EXPECT_NEAR(s.theta_rad, M_PI / 2, kEps);
@@ -141,7 +141,7 @@ TEST(Ros2Conversions, HumansFromTrackedAgentsUseTheBodySegmentAndSkipTheRobot) {
   const auto humans = humansFromTrackedAgents(msg, frames(1.0, 0.0, 0.0), opt);
   ASSERT_EQ(humans.size(), 1U);
   EXPECT_EQ(humans[0].id, 7);
-  EXPECT_EQ(humans[0].kind, agent_state_t::KIND_HUMAN);
+  EXPECT_EQ(humans[0].kind, +agent_state_t::KIND_HUMAN);
   EXPECT_NEAR(humans[0].x_m, 3.0, kEps);
   EXPECT_NEAR(humans[0].y_m, 1.0, kEps);
   EXPECT_NEAR(std::abs(humans[0].theta_rad), M_PI, kEps);
@@ -192,7 +192,7 @@ TEST(Ros2Conversions, GoalPoseBecomesTheRobotsGoal) {
   ASSERT_EQ(g.num_goals, 1);
   EXPECT_EQ(g.utime, 5'000'000);
   EXPECT_EQ(g.goals[0].agent_id, 0);
-  EXPECT_EQ(g.goals[0].kind, agent_state_t::KIND_ROBOT);
+  EXPECT_EQ(g.goals[0].kind, +agent_state_t::KIND_ROBOT);
   EXPECT_NEAR(g.goals[0].x_m, 20.5, kEps);
   EXPECT_NEAR(g.goals[0].theta_rad, 0.5, kEps);
 }
@@ -293,9 +293,9 @@ TEST(Ros2Conversions, MarkersShowBandsAssessmentAndUtterance) {
     return nullptr;
   };
   ASSERT_FALSE(m.empty());
-  EXPECT_EQ(m.front().action, kMarkerDeleteAll);
+  EXPECT_EQ(m.front().action, +kMarkerDeleteAll);
   ASSERT_NE(find("robot_band"), nullptr);
-  EXPECT_EQ(find("robot_band")->type, kMarkerLineStrip);
+  EXPECT_EQ(find("robot_band")->type, +kMarkerLineStrip);
   EXPECT_EQ(find("robot_band")->points.size(), 3U);
   ASSERT_NE(find("human_bands"), nullptr);
   EXPECT_EQ(find("human_bands")->id, 4);
@@ -304,7 +304,7 @@ TEST(Ros2Conversions, MarkersShowBandsAssessmentAndUtterance) {
   ASSERT_NE(find("cp_r"), nullptr);
   EXPECT_NEAR(find("cp_r")->pose.y_m, -0.5, kEps);
   ASSERT_NE(find("dir"), nullptr);
-  EXPECT_EQ(find("dir")->type, kMarkerArrow);
+  EXPECT_EQ(find("dir")->type, +kMarkerArrow);
   const MarkerSpec* text = find("assessment");
   ASSERT_NE(text, nullptr);
   for (const char* part : {"Dir left", "d_h 0.40", "d_OH 0.80", "d_OR ?",
@@ -317,7 +317,7 @@ TEST(Ros2Conversions, MarkersShowBandsAssessmentAndUtterance) {
   b.status = bands_t::STATUS_NO_PATH;
   const auto m2 = markersOf(b, {}, nullptr);
   ASSERT_EQ(m2.size(), 1U);
-  EXPECT_EQ(m2.front().action, kMarkerDeleteAll);
+  EXPECT_EQ(m2.front().action, +kMarkerDeleteAll);
 }
 
 }  // namespace

@@ -2,11 +2,14 @@
 // a bare DDS round trip measured in the same run, all on the loopback interface
 // (test/dds/cyclonedds_loopback.xml unless CYCLONEDDS_URI is set) in a DDS domain of its own and
 // an LCM port of its own (ttl=0).
-//   in:   /odom written (DDS) -> COOPNAV_AGENT_STATES heard (LCM)  [one DDS hop, the poll, one LCM hop]
-//   out:  COOPNAV_ROBOT_CMD published (LCM) -> /cmd_vel read (DDS)  [one LCM hop, one DDS hop]
+//   in:   /odom written (DDS) -> COOPNAV_AGENT_STATES heard (LCM)  [one DDS hop, the poll, one LCM
+//   hop] out:  COOPNAV_ROBOT_CMD published (LCM) -> /cmd_vel read (DDS)  [one LCM hop, one DDS hop]
 //   bare: a Twist written -> echoed by a forked bare DDS process -> read back (two DDS hops)
-// Each sample is sent after the previous one arrived (ping-pong), so none queues. Figures: p50
-// and p99 [ms]; RESULT lines also give each bridge p50 over the bare round trip's p50.
+// Each sample is sent after the previous one arrived (ping-pong), so none queues, and after a
+// random pause of 0-5 ms (seeded) so that it arrives at any phase of the bridge's DDS poll timer,
+// as a robot's messages do (sent right after the previous answer, it would always wait a whole
+// poll period). Figures: p50 and p99 [ms]; RESULT lines also give each bridge p50 over the bare
+// round trip's p50.
 #include <dds/dds.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -17,6 +20,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
+#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,7 +55,8 @@ dds_entity_t endpoint(dds_entity_t pp, const char* name, const dds_topic_descrip
 
 /// Waits on a DDS reader (waitset, no polling delay) until a Twist with linear.x == want is taken
 /// or `timeout` passes.
-bool awaitTwist(dds_entity_t ws, dds_entity_t reader, double want, std::chrono::milliseconds timeout) {
+bool awaitTwist(dds_entity_t ws, dds_entity_t reader, double want,
+                std::chrono::milliseconds timeout) {
   const auto end = Clock::now() + timeout;
   while (Clock::now() < end) {
     dds_waitset_wait(ws, nullptr, 0, DDS_MSECS(50));
@@ -60,8 +65,8 @@ bool awaitTwist(dds_entity_t ws, dds_entity_t reader, double want, std::chrono::
     const dds_return_t n = dds_take(reader, samples, infos, 8, 8);
     bool hit = false;
     for (dds_return_t i = 0; i < n; ++i)
-      hit = hit || (infos[i].valid_data &&
-                    static_cast<const ros2::Twist*>(samples[i])->linear.x == want);
+      hit = hit ||
+            (infos[i].valid_data && static_cast<const ros2::Twist*>(samples[i])->linear.x == want);
     if (n > 0) dds_return_loan(reader, samples, n);
     if (hit) return true;
   }
@@ -99,15 +104,15 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2)
     if (std::string(argv[i]) == "--samples") samples = std::atoi(argv[i + 1]);
   if (std::getenv("CYCLONEDDS_URI") == nullptr)
-    ::setenv("CYCLONEDDS_URI", ("file://" + kSource + "/test/dds/cyclonedds_loopback.xml").c_str(), 1);
+    ::setenv("CYCLONEDDS_URI", ("file://" + kSource + "/test/dds/cyclonedds_loopback.xml").c_str(),
+             1);
 
   const std::string log_dir = kBuild + "/bench_bridge_logs";
   std::filesystem::create_directories(log_dir);
-  const pid_t bridge = bench::spawnProcess(
-      {kBuild + "/daemons/ros2_bridge/coopnav_ros2_bridge", "-c",
-       kSource + "/config/ros2_bridge.yaml", "--lcm-url", kUrl, "--set",
-       "domain_id=" + std::to_string(kDomain)},
-      log_dir + "/ros2_bridge.log");
+  const pid_t bridge = bench::spawnProcess({kBuild + "/daemons/ros2_bridge/coopnav_ros2_bridge",
+                                            "-c", kSource + "/config/ros2_bridge.yaml", "--lcm-url",
+                                            kUrl, "--set", "domain_id=" + std::to_string(kDomain)},
+                                           log_dir + "/ros2_bridge.log");
   const pid_t echo = ::fork();
   if (echo == 0) echoProcess();
 
@@ -115,8 +120,10 @@ int main(int argc, char** argv) {
   const dds_entity_t pp = dds_create_participant(kDomain, nullptr, nullptr);
   const dds_entity_t odom_w = endpoint(pp, "rt/odom", &nav_msgs_msg_dds__Odometry__desc, false);
   const dds_entity_t cmd_r = endpoint(pp, "rt/cmd_vel", &geometry_msgs_msg_dds__Twist__desc, true);
-  const dds_entity_t ping_w = endpoint(pp, "rt/bench_ping", &geometry_msgs_msg_dds__Twist__desc, false);
-  const dds_entity_t pong_r = endpoint(pp, "rt/bench_pong", &geometry_msgs_msg_dds__Twist__desc, true);
+  const dds_entity_t ping_w =
+      endpoint(pp, "rt/bench_ping", &geometry_msgs_msg_dds__Twist__desc, false);
+  const dds_entity_t pong_r =
+      endpoint(pp, "rt/bench_pong", &geometry_msgs_msg_dds__Twist__desc, true);
   const dds_entity_t ws_cmd = dds_create_waitset(pp);
   dds_waitset_attach(ws_cmd, dds_create_readcondition(cmd_r, DDS_ANY_STATE), cmd_r);
   const dds_entity_t ws_pong = dds_create_waitset(pp);
@@ -177,7 +184,13 @@ int main(int argc, char** argv) {
   } else {
     Stats in, out, bare;
     int lost = 0;
+    std::mt19937 rng(1);
+    std::uniform_int_distribution<int> pause_us(0, 5000);
+    const auto pause = [&] {
+      std::this_thread::sleep_for(std::chrono::microseconds(pause_us(rng)));
+    };
     for (int k = 0; k < samples; ++k) {
+      pause();
       auto t0 = Clock::now();
       sendOdom(k);
       if (awaitStates(k, std::chrono::milliseconds(500)))
@@ -186,6 +199,7 @@ int main(int argc, char** argv) {
         ++lost;
       velocity_command_t c{};
       c.vx_m_s = 1.0 + k;
+      pause();
       t0 = Clock::now();
       lcm.publish(channels::kRobotCmd, &c);
       if (awaitTwist(ws_cmd, cmd_r, c.vx_m_s, std::chrono::milliseconds(500)))
@@ -194,6 +208,7 @@ int main(int argc, char** argv) {
         ++lost;
       ros2::Twist t{};
       t.linear.x = 1.0 + k;
+      pause();
       t0 = Clock::now();
       dds_write(ping_w, &t);
       if (awaitTwist(ws_pong, pong_r, t.linear.x, std::chrono::milliseconds(500)))

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -51,15 +51,14 @@ struct Ros2BridgeNode::Dds {
                         bool sensor) {
     if (name.empty()) return 0;
     const dds_entity_t topic = dds_create_topic(participant, desc, name.c_str(), nullptr, nullptr);
-    if (topic < 0)
-      throw StartupError("DDS topic " + name + ": " + dds_strretcode(topic));
+    if (topic < 0) throw StartupError("DDS topic " + name + ": " + dds_strretcode(topic));
     dds_qos_t* q = sensor ? sensorQos() : defaultQos();
     const dds_entity_t e = reader ? dds_create_reader(participant, topic, q, nullptr)
                                   : dds_create_writer(participant, topic, q, nullptr);
     dds_delete_qos(q);
     if (e < 0)
-      throw StartupError(std::string("DDS ") + (reader ? "reader" : "writer") + " " + name +
-                         ": " + dds_strretcode(e));
+      throw StartupError(std::string("DDS ") + (reader ? "reader" : "writer") + " " + name + ": " +
+                         dds_strretcode(e));
     return e;
   }
 };
@@ -139,8 +138,7 @@ Ros2BridgeNode::Ros2BridgeNode(const Config& config, Runtime& runtime)
   dds->cmd_vel = dds->endpoint(name(t.cmd_vel), &geometry_msgs_msg_dds__Twist__desc, false, false);
   dds->markers =
       dds->endpoint(name(t.markers), &visualization_msgs_msg_dds__MarkerArray__desc, false, false);
-  dds->utterance =
-      dds->endpoint(name(t.utterance), &std_msgs_msg_dds__String__desc, false, false);
+  dds->utterance = dds->endpoint(name(t.utterance), &std_msgs_msg_dds__String__desc, false, false);
   dds_ = dds.release();
 
   runtime.subscribe<velocity_command_t>(
@@ -155,8 +153,9 @@ Ros2BridgeNode::Ros2BridgeNode(const Config& config, Runtime& runtime)
       channels::kUtterance, [this](const utterance_t& m, std::int64_t) { onUtterance(m); }, 0,
       false);
   runtime.addTimer(std::chrono::milliseconds(config.dds_poll_period_ms), [this] { pollDds(); });
-  runtime.addTimer(std::chrono::milliseconds(static_cast<int>(std::lround(1000.0 / config.watchdog_hz))),
-                   [this] { watchdogTick(); });
+  runtime.addTimer(
+      std::chrono::milliseconds(static_cast<int>(std::lround(1000.0 / config.watchdog_hz))),
+      [this] { watchdogTick(); });
   running_detail_ = "DDS domain " + std::to_string(domain);
   runtime.setRunning(running_detail_);
   log().info("ros2_bridge: DDS domain {}, namespace '{}', humans from {}", domain,
@@ -173,7 +172,8 @@ void Ros2BridgeNode::pollDds() {
   takeAll<ros2::Odometry>(dds_->odom, runtime_, "odometry",
                           [this](const ros2::Odometry& m) { onOdometry(m); });
   takeAll<ros2::PoseWithCovarianceStamped>(
-      dds_->pose, runtime_, "pose", [this](const ros2::PoseWithCovarianceStamped& m) { onPose(m); });
+      dds_->pose, runtime_, "pose",
+      [this](const ros2::PoseWithCovarianceStamped& m) { onPose(m); });
   takeAll<ros2::TrackedAgents>(dds_->tracked, runtime_, "tracked agents",
                                [this](const ros2::TrackedAgents& m) { onTrackedAgents(m); });
   takeAll<ros2::People>(dds_->people, runtime_, "people",
@@ -293,7 +293,8 @@ void Ros2BridgeNode::publishMarkers() {
   situations.reserve(situations_.size());
   for (const auto& [id, s] : situations_) situations.push_back(s);
   const utterance_t* say = nullptr;
-  if (utterance_ && utimeDiffSeconds(bands_->utime, utterance_->utime) <= config_.utterance_display_s)
+  if (utterance_ &&
+      utimeDiffSeconds(bands_->utime, utterance_->utime) <= config_.utterance_display_s)
     say = &*utterance_;
   const std::vector<ros2::MarkerSpec> specs = ros2::markersOf(*bands_, situations, say);
   // The DDS structs point into `specs` and `points` (alive until dds_write returns).

@@ -63,7 +63,7 @@ Time utimeToStamp(std::int64_t utime) {
   if (utime <= 0) return t;
   const std::int64_t sec = utime / 1000000;
   t.sec = sec > std::numeric_limits<std::int32_t>::max() ? std::numeric_limits<std::int32_t>::max()
-                                                          : static_cast<std::int32_t>(sec);
+                                                         : static_cast<std::int32_t>(sec);
   t.nanosec = static_cast<std::uint32_t>((utime % 1000000) * 1000);
   return t;
 }

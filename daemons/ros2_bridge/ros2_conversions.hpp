@@ -111,8 +111,7 @@ std::vector<agent_state_t> humansFromPeople(const People& msg, const FrameSet& f
                                             const HumanOptions& options);
 
 /// The robot's goal from a /goal_pose (rviz2 "2D Goal Pose", Nav2), in the map frame.
-goals_t goalsFromPoseStamped(const PoseStamped& msg, const FrameSet& frames,
-                             std::int32_t robot_id);
+goals_t goalsFromPoseStamped(const PoseStamped& msg, const FrameSet& frames, std::int32_t robot_id);
 
 /// A /scan as laser_scan_t: the sensor pose in the map frame is the robot's map pose composed
 /// with the configured mounting offset of the laser on the base. Ranges copied as they are

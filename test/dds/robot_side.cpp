@@ -36,8 +36,7 @@ std::atomic<bool> g_stop{false};
 void onSignal(int) { g_stop = true; }
 
 double nowS() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 using namespace coopnav;
@@ -65,8 +64,8 @@ struct RobotSide {
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 10);
     }
     dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
-    const dds_entity_t e =
-        reader ? dds_create_reader(pp, topic, q, nullptr) : dds_create_writer(pp, topic, q, nullptr);
+    const dds_entity_t e = reader ? dds_create_reader(pp, topic, q, nullptr)
+                                  : dds_create_writer(pp, topic, q, nullptr);
     dds_delete_qos(q);
     if (e < 0) throw std::runtime_error("endpoint " + name + ": " + dds_strretcode(e));
     return e;
@@ -145,8 +144,9 @@ struct RobotSide {
     s.angle_max = m.angle_min_rad + m.angle_increment_rad * static_cast<float>(ranges.size() - 1);
     s.range_min = m.range_min_m;
     s.range_max = m.range_max_m;
-    s.ranges = {static_cast<std::uint32_t>(ranges.size()), static_cast<std::uint32_t>(ranges.size()),
-                ranges.empty() ? nullptr : ranges.data(), false};
+    s.ranges = {static_cast<std::uint32_t>(ranges.size()),
+                static_cast<std::uint32_t>(ranges.size()), ranges.empty() ? nullptr : ranges.data(),
+                false};
     dds_write(scan, &s);
   }
 
@@ -223,8 +223,8 @@ int main(int argc, char** argv) {
     r.goal = r.make("rt/goal_pose", &geometry_msgs_msg_dds__PoseStamped__desc, false, false);
     r.scan = r.make("rt/scan", &sensor_msgs_msg_dds__LaserScan__desc, false, true);
     r.cmd = r.make("rt/cmd_vel", &geometry_msgs_msg_dds__Twist__desc, true, false);
-    r.markers = r.make("rt/coopnav/markers", &visualization_msgs_msg_dds__MarkerArray__desc, true,
-                       false);
+    r.markers =
+        r.make("rt/coopnav/markers", &visualization_msgs_msg_dds__MarkerArray__desc, true, false);
     r.utterance = r.make("rt/coopnav/utterance", &std_msgs_msg_dds__String__desc, true, false);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "robot_side: %s\n", e.what());

@@ -2,6 +2,8 @@
 // (CYCLONEDDS_URI, test/dds/cyclonedds_loopback.xml) in a domain of its own. A test-side DDS
 // participant plays the robot's ROS 2 nodes with the same IDL, names and QoS: each direction
 // (DDS in -> LCM out, LCM in -> DDS out) and the /cmd_vel watchdog.
+#include "ros2_bridge_node.hpp"
+
 #include <dds/dds.h>
 #include <gtest/gtest.h>
 
@@ -16,7 +18,6 @@
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/laser_scan_t.hpp"
-#include "ros2_bridge_node.hpp"
 #include "runtime/runtime.hpp"
 
 namespace coopnav {
@@ -42,8 +43,8 @@ struct RobotSide {
       dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 10);
     }
     dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
-    const dds_entity_t e =
-        reader ? dds_create_reader(pp, topic, q, nullptr) : dds_create_writer(pp, topic, q, nullptr);
+    const dds_entity_t e = reader ? dds_create_reader(pp, topic, q, nullptr)
+                                  : dds_create_writer(pp, topic, q, nullptr);
     dds_delete_qos(q);
     return e;
   }
@@ -93,16 +94,18 @@ TEST(Ros2BridgeNode, DdsInLcmOut) {
   std::optional<agent_states_t> states;
   std::optional<goals_t> goals;
   std::optional<laser_scan_t> scan;
-  probe.subscribe<agent_states_t>(channels::kAgentStates, [&](const agent_states_t& m, std::int64_t) {
-    if (m.num_humans == 1) states = m;
-  });
+  probe.subscribe<agent_states_t>(channels::kAgentStates,
+                                  [&](const agent_states_t& m, std::int64_t) {
+                                    if (m.num_humans == 1) states = m;
+                                  });
   probe.subscribe<goals_t>(channels::kGoals, [&](const goals_t& m, std::int64_t) { goals = m; });
   probe.subscribe<laser_scan_t>(channels::kScan,
                                 [&](const laser_scan_t& m, std::int64_t) { scan = m; });
 
   RobotSide robot;
   const auto odom_w = robot.make("rt/odom", &nav_msgs_msg_dds__Odometry__desc, false);
-  const auto agents_w = robot.make("rt/tracked_agents", &cohan_msgs_msg_dds__TrackedAgents__desc, false);
+  const auto agents_w =
+      robot.make("rt/tracked_agents", &cohan_msgs_msg_dds__TrackedAgents__desc, false);
   const auto goal_w = robot.make("rt/goal_pose", &geometry_msgs_msg_dds__PoseStamped__desc, false);
   const auto scan_w = robot.make("rt/scan", &sensor_msgs_msg_dds__LaserScan__desc, false, true);
 
@@ -161,8 +164,8 @@ TEST(Ros2BridgeNode, DdsInLcmOut) {
         dds_write(scan_w, &ls);
       },
       [&] { return states && goals && scan; });
-  ASSERT_TRUE(all) << "states " << states.has_value() << " goals " << goals.has_value()
-                   << " scan " << scan.has_value();
+  ASSERT_TRUE(all) << "states " << states.has_value() << " goals " << goals.has_value() << " scan "
+                   << scan.has_value();
   EXPECT_EQ(states->utime, 100'000'000);
   EXPECT_EQ(states->step, -1);
   EXPECT_NEAR(states->robot.x_m, 11.0, 1e-9);  // odom (1, 2) + odom->map (10, 0)
@@ -257,8 +260,8 @@ TEST(Ros2BridgeNode, LcmInDdsOutAndTheWatchdogStopsTheBase) {
   ASSERT_TRUE(heard) << vx.size() << " twists, said '" << said << "', " << namespaces.size()
                      << " markers";
   EXPECT_EQ(said, utt.text);
-  for (const char* ns : {"robot_band", "human_bands", "cp_h", "cp_r", "dir", "assessment",
-                         "utterance"})
+  for (const char* ns :
+       {"robot_band", "human_bands", "cp_h", "cp_r", "dir", "assessment", "utterance"})
     EXPECT_NE(std::find(namespaces.begin(), namespaces.end(), ns), namespaces.end()) << ns;
 
   // The pipeline goes quiet: the watchdog sends zero within cmd_timeout_s (0.2 s) plus its
@@ -266,7 +269,8 @@ TEST(Ros2BridgeNode, LcmInDdsOutAndTheWatchdogStopsTheBase) {
   const auto last_cmd = Clock::now();
   vx.clear();
   at.clear();
-  const bool stopped = spinUntil(rt, read, [&] { return !vx.empty() && vx.back() == 0.0; }, 3.0);
+  const bool stopped = spinUntil(
+      rt, read, [&] { return !vx.empty() && vx.back() == 0.0; }, 3.0);
   ASSERT_TRUE(stopped);
   const double after_s = std::chrono::duration<double>(at.back() - last_cmd).count();
   EXPECT_GE(after_s, 0.1);  // not before the timeout (minus the command in flight)
@@ -276,9 +280,9 @@ TEST(Ros2BridgeNode, LcmInDdsOutAndTheWatchdogStopsTheBase) {
   cmd.vx_m_s = std::nan("");
   vx.clear();
   const auto before = rt.counters().rejected;
-  spinUntil(rt, [&] { probe.publish(channels::kRobotCmd, cmd); }, [&] {
-    return rt.counters().rejected > before;
-  });
+  spinUntil(
+      rt, [&] { probe.publish(channels::kRobotCmd, cmd); },
+      [&] { return rt.counters().rejected > before; });
   rt.spinFor(50);
   read();
   for (double v : vx) EXPECT_FALSE(std::isnan(v));

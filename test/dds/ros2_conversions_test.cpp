@@ -307,9 +307,9 @@ TEST(Ros2Conversions, MarkersShowBandsAssessmentAndUtterance) {
   EXPECT_EQ(find("dir")->type, +kMarkerArrow);
   const MarkerSpec* text = find("assessment");
   ASSERT_NE(text, nullptr);
-  for (const char* part : {"Dir left", "d_h 0.40", "d_OH 0.80", "d_OR ?",
-                           "human_needs_to_contribute true", "human_is_constrained false",
-                           "robot_is_constrained unknown"})
+  for (const char* part :
+       {"Dir left", "d_h 0.40", "d_OH 0.80", "d_OR ?", "human_needs_to_contribute true",
+        "human_is_constrained false", "robot_is_constrained unknown"})
     EXPECT_NE(text->text.find(part), std::string::npos) << part << " in " << text->text;
   ASSERT_NE(find("utterance"), nullptr);
   EXPECT_EQ(find("utterance")->text, u.text);

@@ -7,6 +7,10 @@
 //   world COOPNAV_SCAN            -> /scan (sensor_msgs/LaserScan, base frame)
 //   /cmd_vel (geometry_msgs/Twist) -> world COOPNAV_ROBOT_CMD (the simulated base's command)
 //   /coopnav/utterance, /coopnav/markers: printed ("UTTERANCE <text>", "MARKERS <n>").
+// --sim-cues-from URL (simulation only): COOPNAV_BANDS and COOPNAV_UTTERANCE of the pipeline's
+// bus are passed to the world as they are. world_sim's people predict the robot from its band and
+// hear what it says; on a robot they see it and hear its speech stack (/coopnav/utterance), which
+// no ROS topic can stand for here.
 // Every /cmd_vel is printed "CMD <monotonic s> <vx> <vy> <omega>" so that a script can time the
 // watchdog. Stops on SIGINT/SIGTERM.
 #include <dds/dds.h>
@@ -19,6 +23,7 @@
 #include <csignal>
 #include <cstdio>
 #include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -189,6 +194,11 @@ struct RobotSide {
   }
 };
 
+/// A pipeline message passed to the world's bus as it is (--sim-cues-from).
+void forwardToWorld(const lcm::ReceiveBuffer* rb, const std::string& channel, lcm::LCM* world) {
+  world->publish(channel, rb->data, rb->data_size);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -196,10 +206,13 @@ int main(int argc, char** argv) {
   std::string lcm_url;
   int domain = 0;
   std::vector<double> odom_origin{0.0, 0.0, 0.0};
+  std::string cues_url;
   app.add_option("--lcm-url", lcm_url, "world_sim's LCM bus")->required();
   app.add_option("--domain", domain, "DDS domain (ROS_DOMAIN_ID)")->required();
   app.add_option("--odom-origin", odom_origin, "odom frame origin in the map: x y yaw")
       ->expected(3);
+  app.add_option("--sim-cues-from", cues_url,
+                 "pipeline bus whose bands and utterances the simulated people perceive");
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
@@ -249,10 +262,22 @@ int main(int argc, char** argv) {
         self->onScan(*m);
       },
       &r);
+  std::unique_ptr<lcm::LCM> cues;
+  if (!cues_url.empty()) {
+    cues = std::make_unique<lcm::LCM>(cues_url);
+    if (!cues->good()) {
+      std::fprintf(stderr, "robot_side: LCM %s unusable\n", cues_url.c_str());
+      dds_delete(r.pp);
+      return 1;
+    }
+    for (const char* channel : {channels::kBands, channels::kUtterance})
+      cues->subscribeFunction(channel, &forwardToWorld, &lcm);
+  }
   std::printf("READY\n");
   std::fflush(stdout);
   while (!g_stop) {
-    lcm.handleTimeout(2);
+    lcm.handleTimeout(cues ? 1 : 2);
+    if (cues) cues->handleTimeout(1);
     r.pollDds();
   }
   std::printf("MARKERS %ld\n", r.markers_seen);

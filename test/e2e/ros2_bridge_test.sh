@@ -5,7 +5,9 @@
 # bus; between them only DDS: robot_side publishes /odom (odom frame, origin at the robot's start
 # pose, which the bridge is configured with), /tracked_agents and /goal_pose from the world and
 # applies /cmd_vel as the world's robot command. world_sim runs free (real time) and gives no
-# human goal (a robot's tracker knows none: the band source infers it).
+# human goal (a robot's tracker knows none: the band source infers it). What the simulated people
+# perceive of the robot besides its body (its band, its words) robot_side passes from the
+# pipeline's bus to the world (--sim-cues-from): on a robot they see it and hear it.
 # Checks: the run reaches the decisions of the LCM-only run (the golden transcript of
 # narrow_minimal: what is said each round and the dock / resume); the utterances and the markers
 # arrive on the DDS side; then, in a second run, SIGKILL of band_source while the robot drives
@@ -35,6 +37,7 @@ ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 # The robot's start pose in narrow_minimal: the odom frame's origin in the map.
 ox=11.0 oy=1.575 oyaw=0.0
 cmd_timeout_s=0.5
+robot_radius_m=0.47  # the scenario's robot (CoHAN's PR2 footprint, docs/scenario-format.md)
 
 start_pipeline() {  # the five daemons and the bridge on the pipeline bus
   local d args
@@ -46,7 +49,8 @@ start_pipeline() {  # the five daemons and the bridge on the pipeline bus
   done
   coopnav_spawn "$tmp/ros2_bridge.log" "$bridge" -c "$cfg/ros2_bridge.yaml" --lcm-url "$pipe_bus" \
     --set "domain_id=$domain" --set "odom_to_map_x_m=$ox" --set "odom_to_map_y_m=$oy" \
-    --set "odom_to_map_yaw_rad=$oyaw" --set "cmd_timeout_s=$cmd_timeout_s"
+    --set "odom_to_map_yaw_rad=$oyaw" --set "cmd_timeout_s=$cmd_timeout_s" \
+    --set "robot_radius_m=$robot_radius_m"
   "$ctl" --lcm-url "$pipe_bus" wait-ready obstacle_distance_server band_source situation_assessor \
     path_assessor dialogue_manager ros2_bridge --timeout-s 60 ||
     { tail -5 "$tmp"/*.log; echo "FAIL: the pipeline did not come up"; exit 1; }
@@ -58,7 +62,7 @@ coopnav_spawn "$tmp/record.log" "$COOPNAV_BUILD_DIR/tools/coopnav_record" -f -c 
   --lcm-url "$pipe_bus" "$tmp/pipeline.lcm"
 start_pipeline
 coopnav_spawn "$tmp/robot_side.out" "$robot_side" --lcm-url "$robot_bus" --domain "$domain" \
-  --odom-origin "$ox" "$oy" "$oyaw"
+  --odom-origin "$ox" "$oy" "$oyaw" --sim-cues-from "$pipe_bus"
 sleep 1  # DDS discovery between robot_side and the bridge (volatile topics)
 rc=0
 "$(coopnav_bin world_sim)" -c "$cfg/world_sim.yaml" --set "scenario=$scenario" \
@@ -100,7 +104,7 @@ fi
 COOPNAV_PIDS=()
 start_pipeline
 coopnav_spawn "$tmp/robot_side2.out" "$robot_side" --lcm-url "$robot_bus" --domain "$domain" \
-  --odom-origin "$ox" "$oy" "$oyaw"
+  --odom-origin "$ox" "$oy" "$oyaw" --sim-cues-from "$pipe_bus"
 sleep 1
 "$(coopnav_bin world_sim)" -c "$cfg/world_sim.yaml" --set "scenario=$scenario" \
   --set mode=real_time --set publish_human_goals=false --lcm-url "$robot_bus" \

@@ -180,6 +180,46 @@ TEST(Ros2BridgeNode, DdsInLcmOut) {
   EXPECT_EQ(scan->utime, 100'000'000);
 }
 
+TEST(Ros2BridgeNode, AmclPoseSetsOdomToMap) {
+  Ros2BridgeConfig config = testConfig();
+  config.topics.pose = "amcl_pose";
+  Runtime rt("ros2_bridge", "memq://");
+  Ros2BridgeNode node(config, rt);
+  Runtime probe("ros2_bridge_probe", "memq://");
+  std::optional<agent_states_t> states;
+  probe.subscribe<agent_states_t>(channels::kAgentStates,
+                                  [&](const agent_states_t& m, std::int64_t) { states = m; });
+  RobotSide robot;
+  const auto odom_w = robot.make("rt/odom", &nav_msgs_msg_dds__Odometry__desc, false);
+  const auto pose_w =
+      robot.make("rt/amcl_pose", &geometry_msgs_msg_dds__PoseWithCovarianceStamped__desc, false);
+  char odom_frame[] = "odom";
+  char map_frame[] = "map";
+  char base[] = "base_link";
+  ros2::Odometry odom{};
+  odom.header.frame_id = odom_frame;
+  odom.header.stamp = {50, 0};
+  odom.child_frame_id = base;
+  odom.pose.pose.position = {1.0, 0.0, 0.0};
+  odom.pose.pose.orientation = ros2::quaternionOfYaw(0.0);
+  // AMCL: the same base at (5, 5) heading +y in the map.
+  ros2::PoseWithCovarianceStamped amcl{};
+  amcl.header.frame_id = map_frame;
+  amcl.header.stamp = {50, 0};
+  amcl.pose.pose.position = {5.0, 5.0, 0.0};
+  amcl.pose.pose.orientation = ros2::quaternionOfYaw(M_PI / 2);
+  const bool moved = spinUntil(
+      rt,
+      [&] {
+        dds_write(odom_w, &odom);
+        dds_write(pose_w, &amcl);
+      },
+      [&] { return states && std::abs(states->robot.x_m - 5.0) < 1e-6; });
+  ASSERT_TRUE(moved) << (states ? states->robot.x_m : -1.0);
+  EXPECT_NEAR(states->robot.y_m, 5.0, 1e-6);
+  EXPECT_NEAR(states->robot.theta_rad, M_PI / 2, 1e-6);
+}
+
 TEST(Ros2BridgeNode, LcmInDdsOutAndTheWatchdogStopsTheBase) {
   Runtime rt("ros2_bridge", "memq://");
   Ros2BridgeNode node(testConfig(), rt);

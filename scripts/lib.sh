@@ -16,6 +16,7 @@ COOPNAV_DEBS=(
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev libcpp-httplib-dev
   iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core chromium
   clang-14 libclang-rt-14-dev clang-format clang-tidy
+  cyclonedds-dev cyclonedds-tools  # the ROS 2 bridge (daemons/ros2_bridge): Cyclone DDS + idlc
 )
 
 coopnav_sudo() {

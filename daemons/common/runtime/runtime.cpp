@@ -75,6 +75,7 @@ bool Runtime::stopSignalled() { return g_signalled.load(); }
 
 void Runtime::setLimits(const InputLimits& limits) {
   limits_ = limits;
+  for (auto& s : subscriptions_) s->syncLcmCapacity();
   setLogCaps(static_cast<std::size_t>(limits.max_text_bytes), limits.log_lines_per_s);
 }
 
@@ -114,13 +115,21 @@ void Runtime::Subscription::enqueue(const lcm::ReceiveBuffer* rbuf) {
       {std::vector<std::uint8_t>(bytes, bytes + size), rbuf->recv_utime, inbox.next_seq++});
   queued_bytes += size;
   ++inbox.waiting;
-  // LCM's own per-subscription queue (between its receive thread and this copy) holds what
-  // arrives while a handler runs: bounded as ours, in messages of the largest size seen, so that
-  // it cannot hold more bytes than the caps either. Its drops (the newest) are those of a lost
-  // datagram: a lockstep step is then re-published (docs/lockstep.md).
   largest_bytes = std::max(largest_bytes, size);
+  syncLcmCapacity();
+}
+
+void Runtime::Subscription::syncLcmCapacity() {
+  // LCM's own per-subscription queue (between its receive thread and the copy into ours) holds
+  // what arrives while a handler runs: bounded as ours, in messages of the largest size seen, so
+  // that it cannot hold more bytes than the caps either. Its drops (the newest) are those of a
+  // lost datagram: a lockstep step is then re-published (docs/lockstep.md). Set from the start:
+  // LCM's default (30) would cut a burst before the first message is handled.
+  const InputLimits& limits = runtime->limits_;
+  const std::size_t max_messages =
+      static_cast<std::size_t>(capacity > 0 ? capacity : limits.queue_messages);
   const int lcm_cap = static_cast<int>(std::clamp<std::size_t>(
-      max_bytes / std::max<std::size_t>(largest_bytes, 1), 1, max_messages));
+      limits.queueBytes() / std::max<std::size_t>(largest_bytes, 1), 1, max_messages));
   if (lcm_cap != lcm_capacity && handle) {
     handle->setQueueCapacity(lcm_cap);  // never 0: LCM reads 0 as unlimited
     lcm_capacity = lcm_cap;
@@ -216,7 +225,10 @@ Runtime::~Runtime() {
     if (fd >= 0) ::close(fd);
 }
 
-void Runtime::registerSubscription(Subscription* sub) { inbox_->subs.push_back(sub); }
+void Runtime::registerSubscription(Subscription* sub) {
+  inbox_->subs.push_back(sub);
+  sub->syncLcmCapacity();
+}
 
 std::size_t Runtime::queued() const { return inbox_->waiting; }
 

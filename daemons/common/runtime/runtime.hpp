@@ -277,6 +277,8 @@ struct Runtime::Subscription {
   std::int64_t dropped_unreported{0};
   /// Queues a received message, dropping the oldest waiting ones beyond the caps.
   void enqueue(const lcm::ReceiveBuffer* rbuf);
+  /// Sizes LCM's own queue of this subscription from the caps and the largest message seen.
+  void syncLcmCapacity();
   // A plain function with a context pointer (LCM's subscribeFunction), not a member function:
   // LCM's member-function wrapper calls `(subs->handler->*subs->handlerMethod)(...)`, and GCC 12's
   // -fsanitize=vptr checks an uninitialised temporary in that expression, so every message would

@@ -1,5 +1,6 @@
 #include "world_sim_node.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -21,6 +22,9 @@
 namespace coopnav {
 
 namespace {
+
+/// Utterances to one person kept while their words have not ended (WorldSimNode::hear).
+constexpr std::size_t kMaxUnendedCuesPerHuman = 16;
 
 /// What the words of an utterance ask of the person (the side as the person sees it).
 sim::Cue cueOf(const UtteranceMsg& u) {
@@ -282,17 +286,45 @@ void WorldSimNode::hear(const utterance_t& msg) {
     throw RejectedMessage("utterance asks human " + std::to_string(msg.human_id) +
                           " to move without a side");
   if (u.slot.delivery != dialogue::Delivery::kSaid) return;  // decided, not said: nobody hears it
-  last_said_ = "\"" + msg.text + "\" to human " + std::to_string(msg.human_id);
   PendingCue c;
   c.cue = cueOf(u);
+  // Words are heard when they end, on the simulation's clock: ending further ahead than a
+  // message may be stamped (limits.max_time_jump_s) they would wait unheard all run; ended
+  // longer ago than limits.forget_after_s, the encounter they were said for is long over.
+  const double now_s = sim_->time_s();
+  const InputLimits& limits = runtime_.limits();
+  if (!(c.cue.t_s <= now_s + limits.max_time_jump_s))
+    throw RejectedMessage("utterance to human " + std::to_string(msg.human_id) + " ends at t " +
+                          fixed2(c.cue.t_s) +
+                          " s, more than limits.max_time_jump_s = " + fmt(limits.max_time_jump_s) +
+                          " s after the simulation's t " + fixed2(now_s) + " s");
+  if (c.cue.t_s < now_s - limits.forget_after_s)
+    throw DroppedMessage(
+        "utterance to human " + std::to_string(msg.human_id) + " ended at t " + fixed2(c.cue.t_s) +
+        " s, more than limits.forget_after_s = " + fmt(limits.forget_after_s) +
+        " s before the simulation's t " + fixed2(now_s) + " s: nobody acts on it any more");
   c.cue.human_id = human->id;
   c.step = msg.step;
+  // Words not yet ended are kept per person up to kMaxUnendedCuesPerHuman: one person hears one
+  // sentence at a time, and the dialogue manager says one per round.
+  const auto unended = [&](std::int32_t id) {
+    return sim_->pendingCues(id) + static_cast<std::size_t>(std::count_if(
+                                       cues_.begin(), cues_.end(),
+                                       [&](const PendingCue& p) { return p.cue.human_id == id; }));
+  };
+  if (unended(human->id) >= kMaxUnendedCuesPerHuman)
+    throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) + ": " +
+                         std::to_string(kMaxUnendedCuesPerHuman) +
+                         " utterances to that person have not ended yet");
+  last_said_ = "\"" + keptText(msg.text, limits.maxTextBytes()) + "\" to human " +
+               std::to_string(msg.human_id);
   cues_.push_back(c);
   // Words to a group are heard by everyone in it (one plan, said once: crowd.hpp).
   for (const std::int32_t id : u.group) {
     const std::optional<std::size_t> member = tracker_->personOf(id);
     if (!member) continue;  // left the scene since: nobody to hear it
     c.cue.human_id = scenario_.humans[*member].id;
+    if (unended(c.cue.human_id) >= kMaxUnendedCuesPerHuman) continue;  // that person: full
     cues_.push_back(c);
   }
 }

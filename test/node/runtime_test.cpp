@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
@@ -72,6 +75,75 @@ TEST(RuntimeTest, HandlerExceptionsAreCountedAndTheLoopGoesOn) {
                 [&] { rt.spinFor(5); });
   EXPECT_EQ(rt.counters().rejected, 1);
   EXPECT_EQ(rt.counters().dropped, 1);
+}
+
+// Issue 47: a peer publishing faster than a daemon handles grew LCM's queue without bound (a
+// path assessor to 2.95 GB in 30 s). Each subscription now keeps limits.queue_messages and
+// limits.queue_mib waiting, the oldest dropped first and counted. memq:// delivers every message,
+// so what is dropped is exactly the queue's doing.
+TEST(RuntimeTest, AFloodKeepsTheNewestWaitingMessagesOfAChannelAndCountsTheDroppedOnes) {
+  Runtime rt("dut", "memq://");
+  InputLimits limits;
+  limits.queue_messages = 50;
+  rt.setLimits(limits);
+  std::vector<std::int64_t> got;
+  std::vector<std::string> order;
+  rt.subscribe<agent_states_t>("RT_TEST_FLOOD", [&](const agent_states_t& m, std::int64_t) {
+    got.push_back(m.utime);
+    order.push_back("flood");
+  });
+  int latest_only = 0;
+  std::int64_t latest_utime = -1;
+  rt.subscribe<agent_states_t>(
+      "RT_TEST_LATEST",
+      [&](const agent_states_t& m, std::int64_t) {
+        ++latest_only;
+        latest_utime = m.utime;
+        order.push_back("latest");
+      },
+      /*queue_capacity=*/1);
+  for (int i = 0; i < 1000; ++i) {
+    agent_states_t m{};
+    m.utime = i;
+    rt.publish("RT_TEST_FLOOD", m);
+    if (i % 100 == 99) rt.publish("RT_TEST_LATEST", m);
+  }
+  test::waitFor([&] { return got.size() >= 50 && latest_only >= 1; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  rt.spinFor(20);
+  ASSERT_EQ(got.size(), 50u);
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], 950 + static_cast<int>(i));
+  EXPECT_EQ(latest_only, 1);
+  EXPECT_EQ(latest_utime, 999);
+  EXPECT_EQ(rt.queueDropped("RT_TEST_FLOOD"), 950);
+  EXPECT_EQ(rt.queueDropped("RT_TEST_LATEST"), 9);
+  EXPECT_EQ(rt.counters().dropped, 959);
+  EXPECT_EQ(rt.queued(), 0u);
+  // Handled in arrival order across channels: the latest was sent after the last flood message.
+  ASSERT_EQ(order.size(), 51u);
+  EXPECT_EQ(order.back(), "latest");
+}
+
+TEST(RuntimeTest, TheBytesWaitingOnAChannelAreCappedButOneMessageOfAnySizeGetsThrough) {
+  Runtime rt("dut", "memq://");
+  InputLimits limits;
+  limits.queue_mib = 1;
+  rt.setLimits(limits);
+  rt.subscribe<agent_states_t>("RT_TEST_BIG", [](const agent_states_t&, std::int64_t) {});
+  const std::vector<std::uint8_t> third(300 * 1024, 0xAB);  // not an agent state: rejected
+  for (int i = 0; i < 10; ++i)
+    rt.lcm().publish("RT_TEST_BIG", third.data(), static_cast<unsigned>(third.size()));
+  test::waitFor([&] { return rt.counters().received >= 3; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  rt.spinFor(20);
+  EXPECT_EQ(rt.counters().received, 3);  // 3 x 300 KiB fit in 1 MiB
+  EXPECT_EQ(rt.queueDropped("RT_TEST_BIG"), 7);
+  const std::vector<std::uint8_t> huge(3 * 1024 * 1024, 0xCD);
+  rt.lcm().publish("RT_TEST_BIG", huge.data(), static_cast<unsigned>(huge.size()));
+  test::waitFor([&] { return rt.counters().received >= 4; }, std::chrono::seconds(2),
+                [&] { rt.spinFor(5); });
+  EXPECT_EQ(rt.counters().received, 4);
+  EXPECT_EQ(rt.queueDropped("RT_TEST_BIG"), 7);
 }
 
 TEST(RuntimeTest, StepAcksCarryTheParticipantName) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -244,6 +245,46 @@ TEST_F(StepGateTest, AcksArriveOverLcm) {
   ASSERT_TRUE(test::waitFor([&] { return !ran_.empty(); }, std::chrono::seconds(2),
                             [&] { rt_.spinFor(5); }));
   EXPECT_EQ(steps(), std::vector<std::int64_t>({1}));
+}
+
+TEST_F(StepGateTest, AcksCountingImpossibleNumbersOfOutputsAreRejectedAndNeverWaitedFor) {
+  StepGate gate(rt_, options({{"situation_assessor", 0, {"SITUATION"}}}, milliseconds(60000)));
+  Runtime peer("situation_assessor", test::testLcmUrl());
+  peer.ackStep(1000, 0);
+  ASSERT_TRUE(test::waitFor([&] { return gate.lastAck("situation_assessor") == 0; },
+                            std::chrono::seconds(2), [&] { rt_.spinFor(5); }));
+  gate.submit(1, record(1));
+  const auto rejected0 = rt_.counters().rejected;
+  // A forged ack of step 1 counting -1, then INT32_MAX situations: refused whole (a gate that
+  // took either waited for messages that never come, up to its timeout, every step).
+  for (const std::int32_t bad : {-1, std::numeric_limits<std::int32_t>::max()}) {
+    step_ack_t ack{};
+    ack.utime = 2000;
+    ack.step = 1;
+    ack.participant = "situation_assessor";
+    ack.output_channels = {"SITUATION"};
+    ack.output_counts = {bad};
+    ack.num_outputs = 1;
+    peer.publish(channels::kStepAck, ack);
+  }
+  ASSERT_TRUE(test::waitFor([&] { return rt_.counters().rejected == rejected0 + 2; },
+                            std::chrono::seconds(2), [&] { rt_.spinFor(5); }));
+  EXPECT_EQ(gate.lastAck("situation_assessor"), 0);
+  EXPECT_TRUE(ran_.empty());
+  // The real ack (one situation, received) runs the step at once, not at the timeout.
+  EXPECT_TRUE(gate.noteReceived("situation_assessor", "SITUATION", 1, "7"));
+  step_ack_t ack{};
+  ack.utime = 2000;
+  ack.step = 1;
+  ack.participant = "situation_assessor";
+  ack.output_channels = {"SITUATION"};
+  ack.output_counts = {1};
+  ack.num_outputs = 1;
+  peer.publish(channels::kStepAck, ack);
+  ASSERT_TRUE(test::waitFor([&] { return !ran_.empty(); }, std::chrono::seconds(2),
+                            [&] { rt_.spinFor(5); }));
+  EXPECT_FALSE(ran_[0].degraded);
+  EXPECT_EQ(rt_.counters().rejected, rejected0 + 2);
 }
 
 TEST_F(StepGateTest, TheTimerRunsADegradedStepWithoutAnyCallFromTheTest) {

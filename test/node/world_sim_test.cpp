@@ -183,8 +183,11 @@ class Harness {
   }
   void onStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     daemon_status_t m;
-    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0 && m.name == "world_sim")
+    if (m.decode(rbuf->data, 0, static_cast<int>(rbuf->data_size)) > 0 && m.name == "world_sim") {
       ++world_sim_status_;
+      world_sim_rejected_ = std::max(world_sim_rejected_, m.rejected);
+      world_sim_dropped_ = std::max(world_sim_dropped_, m.dropped);
+    }
   }
   void onGoals(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     ++goals_;
@@ -197,6 +200,12 @@ class Harness {
   std::vector<std::string> state_bytes_;
   std::vector<sim_status_t> sim_status_;
   int world_sim_status_{0};
+
+ public:
+  std::int64_t world_sim_rejected_{0};  ///< world_sim's counters, the highest reported
+  std::int64_t world_sim_dropped_{0};
+
+ private:
   std::size_t goals_{0};
   std::vector<goals_t> goal_msgs_;
   std::size_t repeats_{0};
@@ -526,6 +535,27 @@ TEST(WorldSimNode, AskToMoveMakesAResponsiveHumanYieldToTheAskedSide) {
   EXPECT_NEAR(final_y[2], final_y[0], 1e-9);  // muted: as if nothing was said
   EXPECT_NEAR(final_y[0], 3.0, 0.05);
   EXPECT_LT(final_y[1], 3.0 - 0.5);
+}
+
+TEST(WorldSimNode, UtterancesEndingFarAheadOrBeyondWhatAPersonHearsAtOnceAreNotKept) {
+  // Issue 47: world_sim kept every cue it heard, whatever its time. At step 5: an ask whose words
+  // end 1000 s ahead (more than limits.max_time_jump_s: rejected), then 40 asks for steps 5..44
+  // ending 30 s ahead (at most 16 not yet ended are kept per person: 24 dropped).
+  Harness h;
+  Participant p;
+  p.before_command = [](Harness& hh, const agent_states_t& s) {
+    if (s.step != 5) return;
+    hh.sendAskToMove(s.step, s.utime + 1'000'000'000, 1, situation_t::DIR_LEFT, 0.5);
+    for (int i = 0; i < 40; ++i)  // steps ahead: a step's words are heard once (one key)
+      hh.sendAskToMove(s.step + i, s.utime + 30'000'000, 1, situation_t::DIR_LEFT, 0.5);
+  };
+  EXPECT_EQ(runWithParticipant(h, "tiny_responsive.yaml", p).exit_code, 0);
+  h.spin(300ms);  // the final status
+  EXPECT_EQ(h.world_sim_rejected_, 1);
+  EXPECT_EQ(h.world_sim_dropped_, 24);
+  // None of them ended within the run: the person kept its line.
+  ASSERT_FALSE(h.states().empty());
+  EXPECT_NEAR(h.states().back().humans[0].y_m, 3.0, 0.05);
 }
 
 TEST(WorldSimNode, PlannerBackedFacilitatingHumanWalksWithoutParticipants) {

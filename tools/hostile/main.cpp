@@ -178,8 +178,12 @@ int main(int argc, char** argv) {
   app.add_option("--expect-detail", o.expect_detail, "--watch: text the status detail holds");
   app.add_flag("--await-stopping", o.await_stopping,
                "--watch: print \"ready\", then wait for the final STOPPING status");
+  double flood_s = 2.0;
+  app.add_option("--flood-s", flood_s, "how long each flood_* probe floods [s] (default 2)")
+      ->check(CLI::Range(0.1, 3600.0));
   CLI11_PARSE(app, argc, argv);
   using namespace coopnav::hostile;
+  setFloodSeconds(flood_s);
   if (o.list) {
     for (const auto& p : probes()) {
       std::string targets;

@@ -414,6 +414,81 @@ Outcome journalFlood(Bus& bus) {
   return {true, sent + "; DEGRADED: " + shortText(a->detail)};
 }
 
+// ---- 10. a flood at the fastest rate one peer publishes ---------------------------------------
+
+double g_flood_s = 2.0;
+
+/// Publishes `make(i)` on `channel` as fast as this process can for g_flood_s (RSS polled every
+/// 20 ms by the bus), lets the daemon settle, then sends 5 normal messages 50 ms apart and checks
+/// that the daemon handled them (its `received` grows by them): it still answers normal traffic.
+template <class Make>
+Outcome flood(Bus& bus, const std::string& daemon, const char* channel, Make make) {
+  const Before b = before(bus, daemon);
+  const auto t0 = Clock::now();
+  auto next_poll = t0;
+  std::int64_t sent = 0;
+  std::int64_t bytes = 0;
+  while (msSince(t0) < g_flood_s * 1000.0) {
+    const auto msg = make(sent, false);
+    bus.runtime().publish(channel, msg);
+    bytes += msg.getEncodedSize();
+    ++sent;
+    if (Clock::now() >= next_poll) {
+      bus.spin(0);  // polls the daemon's memory, handles its status
+      next_poll = Clock::now() + std::chrono::milliseconds(20);
+    }
+  }
+  const double rate = static_cast<double>(sent) / std::max(1e-3, msSince(t0) / 1000.0);
+  bus.spin(1000);
+  const Watched* w = bus.find(daemon);
+  if (!w || !alive(w->pid)) return {false, daemon + " died under the flood"};
+  const auto mid = after(bus, b);
+  const std::string counts = mid ? fmt("received +%lld dropped +%lld",
+                                       static_cast<long long>(mid->received - b.status.received),
+                                       static_cast<long long>(mid->dropped - b.status.dropped))
+                                 : std::string("no status");
+  const std::string sent_text =
+      fmt("%lld messages (%.1f MB) in %.1f s, %.0f/s: ", static_cast<long long>(sent),
+          static_cast<double>(bytes) / 1e6, g_flood_s, rate) +
+      counts;
+  if (!mid) return {false, sent_text};
+  const Before b2 = before(bus, daemon);
+  for (int i = 0; i < 5; ++i) {
+    bus.runtime().publish(channel, make(sent + i, true));
+    bus.spin(50);
+  }
+  const auto a = after(bus, b2);
+  const long long normal = a ? static_cast<long long>(a->received - b2.status.received) : -1;
+  if (normal < 5)
+    return {false, sent_text + fmt("; then %lld of 5 normal messages handled", normal)};
+  return {true, sent_text + "; then the 5 normal messages handled"};
+}
+
+Outcome floodAgentStates(Bus& bus, const std::string& daemon) {
+  return flood(bus, daemon, channels::kAgentStates, [](std::int64_t i, bool) {
+    return corridorStates(kEpoch_us + i * 1000, -1, 1, static_cast<int>(i % 1000));
+  });
+}
+Outcome floodPathAssessor(Bus& bus) { return floodAgentStates(bus, "path_assessor"); }
+Outcome floodBandSource(Bus& bus) { return floodAgentStates(bus, "band_source"); }
+Outcome floodSituationAssessor(Bus& bus) {
+  // Bands of 16 humans x 250 poses (~0.5 MB each), as the backlog probe.
+  return flood(bus, "situation_assessor", channels::kBands, [](std::int64_t i, bool) {
+    return corridorBands(kEpoch_us + i * 1000, -1, 16, 250);
+  });
+}
+Outcome floodDialogueManager(Bus& bus) {
+  return flood(bus, "dialogue_manager", channels::kSituation, [](std::int64_t i, bool) {
+    return situation(kEpoch_us + i * 1000, -1, 1, 3.0, "flood");
+  });
+}
+Outcome floodDistanceServer(Bus& bus) {
+  return flood(bus, "obstacle_distance_server", channels::kDistanceRequest,
+               [](std::int64_t i, bool) {
+                 return distanceRequest(i, std::string(channels::kDistanceReplyPrefix) + "FLOOD");
+               });
+}
+
 const std::vector<Probe> kProbes = {
     {"bands_time_span",
      {"situation_assessor"},
@@ -493,6 +568,36 @@ const std::vector<Probe> kProbes = {
      "log lines cut to limits.max_text_bytes, rate-limited, \"suppressed N lines\" (caller)",
      true,
      actionReasonFlood},
+    {"flood_path_assessor",
+     {"path_assessor"},
+     "small agent states as fast as one peer publishes, for --flood-s",
+     "RSS under the cap, the drops counted, 5 normal messages handled after",
+     true,
+     floodPathAssessor},
+    {"flood_band_source",
+     {"band_source"},
+     "small agent states as fast as one peer publishes, for --flood-s",
+     "RSS under the cap, the drops counted, 5 normal messages handled after",
+     true,
+     floodBandSource},
+    {"flood_situation_assessor",
+     {"situation_assessor"},
+     "bands of 16 humans x 250 poses as fast as one peer publishes, for --flood-s",
+     "RSS under the cap, the drops counted, 5 normal messages handled after",
+     true,
+     floodSituationAssessor},
+    {"flood_dialogue_manager",
+     {"dialogue_manager"},
+     "situations as fast as one peer publishes, for --flood-s",
+     "RSS under the cap, the drops counted, 5 normal messages handled after",
+     true,
+     floodDialogueManager},
+    {"flood_obstacle_distance_server",
+     {"obstacle_distance_server"},
+     "distance requests as fast as one peer publishes, for --flood-s",
+     "RSS under the cap, the drops counted, 5 normal messages handled after",
+     true,
+     floodDistanceServer},
     {"journal_flood",
      {"path_assessor"},
      "~3 MiB of journaled input to a daemon with --state-dir, limits.journal_max_mib=1",
@@ -504,6 +609,7 @@ const std::vector<Probe> kProbes = {
 }  // namespace
 
 const std::vector<Probe>& probes() { return kProbes; }
+void setFloodSeconds(double s) { g_flood_s = s; }
 
 const Probe* findProbe(const std::string& name) {
   for (const auto& p : kProbes)

@@ -29,5 +29,7 @@ struct Probe {
 /// Every probe, in the order test/e2e/hostile_test.sh runs them.
 const std::vector<Probe>& probes();
 const Probe* findProbe(const std::string& name);
+/// [s] How long each flood_* probe floods (default 2; --flood-s).
+void setFloodSeconds(double s);
 
 }  // namespace coopnav::hostile

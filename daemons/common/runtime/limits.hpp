@@ -43,6 +43,17 @@ struct InputLimits {
   /// [MiB] Restart journal (--state-dir) size beyond which the journal stops growing: the daemon
   /// says so (DEGRADED) and a restart after that point loses its state, never the disk.
   int journal_max_mib{256};
+  /// Messages one subscription keeps waiting while the daemon is busy with earlier ones; beyond
+  /// it the oldest waiting message of that channel is dropped, counted in `dropped` and named in
+  /// a log line once a second (runtime.hpp). The oldest: on a state channel a newer message
+  /// supersedes it, a lockstep step it held is re-published by the world (docs/lockstep.md
+  /// "Loss and restarts"), and a request's client has most likely given up on it. A subscription
+  /// may ask for fewer (Runtime::subscribe's queue_capacity).
+  int queue_messages{256};
+  /// [MiB] Bytes one subscription keeps waiting, with the same oldest-first drop; one message of
+  /// any size is always kept (a channel's largest valid message must get through).
+  int queue_mib{4};
+  std::size_t queueBytes() const { return static_cast<std::size_t>(queue_mib) << 20U; }
 
   template <class V>
   void visit(V& v) {
@@ -54,6 +65,8 @@ struct InputLimits {
     v("max_text_bytes", max_text_bytes, Range{16, 1 << 20});
     v("log_lines_per_s", log_lines_per_s, Range{1, 100000});
     v("journal_max_mib", journal_max_mib, Range{1, 1 << 20});
+    v("queue_messages", queue_messages, Range{1, 1000000});
+    v("queue_mib", queue_mib, Range{1, 4096});
   }
 };
 

@@ -75,27 +75,98 @@ bool Runtime::stopSignalled() { return g_signalled.load(); }
 
 void Runtime::setLimits(const InputLimits& limits) {
   limits_ = limits;
+  for (auto& s : subscriptions_) s->syncLcmCapacity();
   setLogCaps(static_cast<std::size_t>(limits.max_text_bytes), limits.log_lines_per_s);
 }
 
+/// The messages received on one LCM instance and not yet handled, over the subscriptions of every
+/// runtime using it: handled oldest first, whichever runtime spins (memq:// is shared).
+struct Runtime::Inbox {
+  std::vector<Subscription*> subs;
+  std::uint64_t next_seq{0};
+  std::size_t waiting{0};
+};
+
 namespace {
 
-std::shared_ptr<lcm::LCM> openLcm(const std::string& url) {
-  if (url.rfind("memq://", 0) != 0) return std::make_shared<lcm::LCM>(url);
-  // One in-process bus per process: runtimes come and go, the bus lives while any uses it.
-  static std::weak_ptr<lcm::LCM> shared;
-  std::shared_ptr<lcm::LCM> bus = shared.lock();
-  if (!bus) {
-    bus = std::make_shared<lcm::LCM>(url);
-    shared = bus;
-  }
-  return bus;
-}
+/// [messages] What one wake-up moves from LCM into the queues before handling the next message:
+/// a copy each, so that LCM's own queue stays short however slow a handler is.
+constexpr int kPumpBudget = 10000;
 
 }  // namespace
 
+void Runtime::Subscription::enqueue(const lcm::ReceiveBuffer* rbuf) {
+  Runtime& rt = *runtime;
+  Inbox& inbox = *rt.inbox_;
+  const std::size_t max_messages =
+      static_cast<std::size_t>(capacity > 0 ? capacity : rt.limits_.queue_messages);
+  const std::size_t max_bytes = rt.limits_.queueBytes();
+  const std::size_t size = rbuf->data_size;
+  while (!queue.empty() && (queue.size() >= max_messages || queued_bytes + size > max_bytes)) {
+    queued_bytes -= queue.front().bytes.size();
+    queue.pop_front();
+    --inbox.waiting;
+    ++dropped;
+    ++dropped_unreported;
+    ++rt.counters_.dropped;
+  }
+  const auto* bytes = static_cast<const std::uint8_t*>(rbuf->data);
+  queue.push_back(
+      {std::vector<std::uint8_t>(bytes, bytes + size), rbuf->recv_utime, inbox.next_seq++});
+  queued_bytes += size;
+  ++inbox.waiting;
+  largest_bytes = std::max(largest_bytes, size);
+  syncLcmCapacity();
+}
+
+void Runtime::Subscription::syncLcmCapacity() {
+  // LCM's own per-subscription queue (between its receive thread and the copy into ours) holds
+  // what arrives while a handler runs: bounded as ours, in messages of the largest size seen, so
+  // that it cannot hold more bytes than the caps either. Its drops (the newest) are those of a
+  // lost datagram: a lockstep step is then re-published (docs/lockstep.md). Set from the start:
+  // LCM's default (30) would cut a burst before the first message is handled.
+  const InputLimits& limits = runtime->limits_;
+  const std::size_t max_messages =
+      static_cast<std::size_t>(capacity > 0 ? capacity : limits.queue_messages);
+  const int lcm_cap = static_cast<int>(std::clamp<std::size_t>(
+      limits.queueBytes() / std::max<std::size_t>(largest_bytes, 1), 1, max_messages));
+  if (lcm_cap != lcm_capacity && handle) {
+    handle->setQueueCapacity(lcm_cap);  // never 0: LCM reads 0 as unlimited
+    lcm_capacity = lcm_cap;
+  }
+}
+
+void Runtime::Subscription::handleFront() {
+  Waiting w = std::move(queue.front());
+  queue.pop_front();
+  queued_bytes -= w.bytes.size();
+  --runtime->inbox_->waiting;
+  if (journaled && runtime->receive_hook_)
+    runtime->receive_hook_(channel, w.bytes.data(), w.bytes.size(), w.recv_utime);
+  lcm::ReceiveBuffer rbuf{};
+  rbuf.data = w.bytes.data();
+  rbuf.data_size = static_cast<std::uint32_t>(w.bytes.size());
+  rbuf.recv_utime = w.recv_utime;
+  on_message(&rbuf);
+}
+
 Runtime::Runtime(std::string name, const std::string& lcm_url) : name_(std::move(name)) {
-  lcm_ = openLcm(lcm_url);
+  if (lcm_url.rfind("memq://", 0) == 0) {
+    // One in-process bus per process: runtimes come and go, the bus lives while any uses it.
+    static std::weak_ptr<lcm::LCM> shared;
+    static std::weak_ptr<Inbox> shared_inbox;
+    lcm_ = shared.lock();
+    inbox_ = shared_inbox.lock();
+    if (!lcm_ || !inbox_) {
+      lcm_ = std::make_shared<lcm::LCM>(lcm_url);
+      inbox_ = std::make_shared<Inbox>();
+      shared = lcm_;
+      shared_inbox = inbox_;
+    }
+  } else {
+    lcm_ = std::make_shared<lcm::LCM>(lcm_url);
+    inbox_ = std::make_shared<Inbox>();
+  }
   // LCM 1.3.1 ignores a failed provider/self-test until handleTimeout aborts on fd -1.
   if (!lcm_->good() || lcm_->getFileno() < 0) {
     throw LcmUnavailable("LCM provider '" + (lcm_url.empty() ? std::string("default") : lcm_url) +
@@ -144,10 +215,57 @@ void Runtime::checkDuplicate() {
 
 Runtime::~Runtime() {
   if (status_sub_) lcm_->unsubscribe(status_sub_);
-  for (auto& s : subscriptions_)
+  for (auto& s : subscriptions_) {
     if (s->handle) lcm_->unsubscribe(s->handle);
+    inbox_->waiting -= s->queue.size();
+    auto& subs = inbox_->subs;
+    subs.erase(std::remove(subs.begin(), subs.end(), s.get()), subs.end());
+  }
   for (int fd : stop_pipe_)
     if (fd >= 0) ::close(fd);
+}
+
+void Runtime::registerSubscription(Subscription* sub) {
+  inbox_->subs.push_back(sub);
+  sub->syncLcmCapacity();
+}
+
+std::size_t Runtime::queued() const { return inbox_->waiting; }
+
+std::int64_t Runtime::queueDropped(const std::string& channel) const {
+  std::int64_t n = 0;
+  for (const auto& s : subscriptions_)
+    if (s->channel == channel) n += s->dropped;
+  return n;
+}
+
+int Runtime::pump(int budget) {
+  int n = 0;
+  while (n < budget && lcm_->handleTimeout(0) > 0) ++n;
+  return n;
+}
+
+bool Runtime::handleNext() {
+  if (inbox_->waiting == 0) return false;
+  Subscription* oldest = nullptr;
+  for (Subscription* s : inbox_->subs)
+    if (!s->queue.empty() && (!oldest || s->queue.front().seq < oldest->queue.front().seq))
+      oldest = s;
+  if (!oldest) return false;
+  oldest->handleFront();
+  return true;
+}
+
+void Runtime::reportQueueDrops() {
+  for (auto& s : subscriptions_) {
+    if (s->dropped_unreported == 0) continue;
+    const int cap = s->capacity > 0 ? s->capacity : limits_.queue_messages;
+    log().warn(
+        "{}: dropped the oldest {} waiting messages of {} in the last second: its queue was full "
+        "({} messages or {} MiB; limits.queue_messages, limits.queue_mib)",
+        name_, s->dropped_unreported, s->channel, cap, limits_.queue_mib);
+    s->dropped_unreported = 0;
+  }
 }
 
 void Runtime::dispatch(const std::function<void()>& body, const std::string& channel) {
@@ -249,6 +367,7 @@ void Runtime::setRunning(const std::string& detail) {
 }
 
 void Runtime::publishStatus() {
+  reportQueueDrops();
   daemon_status_t s;
   s.utime = wallUtime();
   s.name = name_;
@@ -310,12 +429,15 @@ int Runtime::spinFor(int timeout_ms) {
     int wait_ms = static_cast<int>(
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
     wait_ms = std::max(0, std::min(wait_ms, msUntilNextTimer()));
-    // handleTimeout(0) is a non-blocking poll; a negative timeout would return -1 at once.
-    const int r = lcm_->handleTimeout(wait_ms);
-    if (r > 0) {
+    pump(kPumpBudget);
+    if (handleNext()) {
       ++handled;
       continue;
     }
+    // handleTimeout(0) is a non-blocking poll; a negative timeout would return -1 at once.
+    // A message it receives is only queued: the next round handles it.
+    const int r = lcm_->handleTimeout(wait_ms);
+    if (r > 0) continue;
     if (r < 0 && errno != EINTR) return handled;
     if (std::chrono::steady_clock::now() >= deadline) return handled;
   }
@@ -345,22 +467,29 @@ int Runtime::run() {
   fds[2] = {stop_pipe_[0], POLLIN, 0};
   while (!stop_ && !g_signalled.load()) {
     runDueTimers();
-    const int n = ::poll(fds, 3, msUntilNextTimer());
+    // Messages still waiting in the queues (a wake-up handles at most 1000): do not sleep.
+    const int n = ::poll(fds, 3, inbox_->waiting > 0 ? 0 : msUntilNextTimer());
     if (n < 0) {
       if (errno == EINTR) continue;
       log().error("{}: poll failed: {}", name_, std::strerror(errno));
       return kExitRuntime;
     }
     if ((fds[1].revents & POLLIN) || (fds[2].revents & POLLIN)) break;
-    if (fds[0].revents & POLLIN) {
-      // Drain what is queued without blocking, so a burst does not starve the status timer.
-      // How many were waiting is the daemon's backlog (a queue that grows when it cannot keep up).
-      // A stop is looked at between any two messages: a backlog never delays it by more than
-      // the one message in hand.
+    if ((fds[0].revents & POLLIN) || inbox_->waiting > 0) {
+      // Move what LCM received into the bounded queues, then handle the oldest, again and again
+      // (at most 1000 per wake-up, so that a burst does not starve the status timer): LCM's own
+      // queue stays short whatever a handler costs. How many wait is the daemon's backlog (a
+      // queue that grows when it cannot keep up). A stop is looked at between any two messages:
+      // a backlog never delays it by more than the one message in hand.
+      pump(kPumpBudget);
+      if (inbox_->waiting > 1)
+        max_backlog_ = std::max(
+            max_backlog_, static_cast<int>(std::min<std::size_t>(inbox_->waiting - 1, 1U << 30U)));
       int handled = 0;
-      while (handled < 1000 && !stop_ && !g_signalled.load() && lcm_->handleTimeout(0) > 0)
+      while (handled < 1000 && !stop_ && !g_signalled.load() && handleNext()) {
         ++handled;
-      max_backlog_ = std::max(max_backlog_, handled - 1);
+        pump(kPumpBudget);
+      }
     }
   }
   if (g_signalled.load()) log().info("{}: signal received, stopping", name_);

@@ -6,9 +6,11 @@
 /// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
 /// request timeouts) use the monotonic clock: they are about liveness, never about decisions.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
@@ -80,7 +82,10 @@ class Runtime {
   /// Subscribes with safe decoding: a message that fails to decode (wrong type on the channel,
   /// truncated, corrupt count) is counted as rejected and logged, never crashes the daemon.
   /// The handler may throw RejectedMessage or DroppedMessage to have the message counted so.
-  /// `queue_capacity` 0 = unlimited (request/reply servers must never drop silently).
+  /// Received messages wait in the subscription's own bounded queue until handled, oldest of the
+  /// process first: at most `queue_capacity` messages (0 = limits.queue_messages) and
+  /// limits.queue_mib; beyond either the oldest waiting one of the channel is dropped, counted in
+  /// `dropped` and named in a log line at the next status (limits.hpp says why the oldest).
   /// `journaled` = false keeps the channel out of the restart journal (journal.hpp): inputs
   /// that are answers to this process's own requests, or that it may recompute on demand.
   template <class Msg>
@@ -158,6 +163,10 @@ class Runtime {
   void requestStop();
 
   const RuntimeCounters& counters() const { return counters_; }
+  /// Messages received and waiting to be handled, over every subscription of this process's bus.
+  std::size_t queued() const;
+  /// Messages of `channel` dropped from its full queue since this runtime started.
+  std::int64_t queueDropped(const std::string& channel) const;
   void countDropped() { ++counters_.dropped; }
   void countRejected() { ++counters_.rejected; }
 
@@ -173,6 +182,7 @@ class Runtime {
 
  private:
   struct Subscription;
+  struct Inbox;
   struct Timer {
     std::chrono::milliseconds period;
     std::chrono::steady_clock::time_point next;
@@ -185,10 +195,17 @@ class Runtime {
   void publishStatus();
   void runDueTimers();
   int msUntilNextTimer() const;
+  /// Moves what LCM received into the subscriptions' queues (a copy each), at most `budget`.
+  int pump(int budget);
+  /// Handles the oldest waiting message of the bus (any runtime's); false when none waits.
+  bool handleNext();
+  void registerSubscription(Subscription* sub);
+  void reportQueueDrops();
 
   std::string name_;
   InputLimits limits_;
   std::shared_ptr<lcm::LCM> lcm_;
+  std::shared_ptr<Inbox> inbox_;  ///< shared by every runtime on lcm_ (memq://)
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<Timer> timers_;
   RuntimeCounters counters_;
@@ -241,21 +258,37 @@ void decodeOrReject(const void* data, std::size_t size, Msg& msg) {
 }
 
 struct Runtime::Subscription {
+  struct Waiting {
+    std::vector<std::uint8_t> bytes;
+    std::int64_t recv_utime;
+    std::uint64_t seq;  ///< arrival order over the whole bus
+  };
   Runtime* runtime{nullptr};
   std::string channel;
   std::function<void(const lcm::ReceiveBuffer*)> on_message;
   lcm::Subscription* handle{nullptr};
   bool journaled{true};
+  int capacity{0};  ///< messages; 0 = the runtime's limits.queue_messages
+  std::deque<Waiting> queue;
+  std::size_t queued_bytes{0};
+  std::size_t largest_bytes{0};  ///< largest message seen: sizes LCM's own queue (runtime.cpp)
+  int lcm_capacity{-1};
+  std::int64_t dropped{0};  ///< since the start
+  std::int64_t dropped_unreported{0};
+  /// Queues a received message, dropping the oldest waiting ones beyond the caps.
+  void enqueue(const lcm::ReceiveBuffer* rbuf);
+  /// Sizes LCM's own queue of this subscription from the caps and the largest message seen.
+  void syncLcmCapacity();
   // A plain function with a context pointer (LCM's subscribeFunction), not a member function:
   // LCM's member-function wrapper calls `(subs->handler->*subs->handlerMethod)(...)`, and GCC 12's
   // -fsanitize=vptr checks an uninitialised temporary in that expression, so every message would
   // abort a UBSan build (a compiler bug, reproduced without LCM; clang is clean; see
   // docs/sanitizers.md).
   static void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string&, Subscription* self) {
-    if (self->journaled && self->runtime->receive_hook_)
-      self->runtime->receive_hook_(self->channel, rbuf->data, rbuf->data_size, rbuf->recv_utime);
-    self->on_message(rbuf);
+    self->enqueue(rbuf);
   }
+  /// Hands the oldest waiting message to the journal hook and the handler.
+  void handleFront();
 };
 
 template <class Msg>
@@ -276,8 +309,9 @@ void Runtime::subscribe(const std::string& channel,
         channel);
   };
   // Channel names are anchored GLib regexes in LCM: escape nothing, ours are plain UPPER_SNAKE.
+  sub->capacity = std::max(0, queue_capacity);
   sub->handle = lcm_->subscribeFunction(channel, &Subscription::onMessage, sub.get());
-  if (sub->handle) sub->handle->setQueueCapacity(queue_capacity);
+  registerSubscription(sub.get());
   subscriptions_.push_back(std::move(sub));
 }
 

@@ -17,7 +17,20 @@ StepGate::StepGate(Runtime& runtime, StepGateOptions options)
   runtime_.subscribe<step_ack_t>(channels::kStepAck, [this](const step_ack_t& ack, std::int64_t) {
     std::map<std::string, int> counts;
     const auto n = std::min(ack.output_channels.size(), ack.output_counts.size());
-    for (std::size_t i = 0; i < n; ++i) counts[ack.output_channels[i]] = ack.output_counts[i];
+    // A count the gate would wait for that no participant can publish in one step (negative, or
+    // INT32_MAX) holds the step until its timeout, every step it is sent for: refused whole.
+    // Every output of a step is per human (at most a few each), so limits.max_ids bounds it.
+    const int max_count = runtime_.limits().max_ids;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t c = ack.output_counts[i];
+      if (c < 0 || c > max_count)
+        throw RejectedMessage("step ack of " + keptText(ack.participant, 64) + " for step " +
+                              std::to_string(ack.step) + " counts " + std::to_string(c) +
+                              " messages on " + keptText(ack.output_channels[i], 64) +
+                              " (possible: 0 to " + std::to_string(max_count) +
+                              ", limits.max_ids)");
+      counts[ack.output_channels[i]] = c;
+    }
     if (ack.participant == "world_sim" && runtime_.name() != "world_sim")
       runtime_.noteWorldAck(ack.step);
     onAck(ack.participant, ack.step, counts);

@@ -269,7 +269,7 @@ class ResponsiveBehaviour final : public HumanBehaviour {
       going_on_ = false;
     }
     if (ctx.cues != nullptr) {
-      for (; acted_on_ < ctx.cues->size(); ++acted_on_) act((*ctx.cues)[acted_on_], ctx, enc);
+      for (const Cue& c : *ctx.cues) act(c, ctx, enc);
     }
     const double minimal_m = avoid_.update(ctx, enc);
     // The shift it was told to make supersedes the sidestep, never by less than the sidestep.
@@ -314,7 +314,6 @@ class ResponsiveBehaviour final : public HumanBehaviour {
   ResponsiveParams p_;
   MinimalAvoidance avoid_;
   Yield yield_;
-  std::size_t acted_on_{0};
   bool going_on_{false};
   double offset_m_{0.0};
 };

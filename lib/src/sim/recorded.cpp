@@ -34,6 +34,29 @@ std::vector<std::string> fields(const std::string& line) {
   return out;
 }
 
+/// [bytes] Of a bad row, what its error quotes: a row of a hostile file may be megabytes long.
+constexpr std::size_t kQuotedRowBytes = 80;
+
+/// `text` for an error message: its first kQuotedRowBytes bytes, control bytes and bytes above
+/// 0x7E as \xNN (a file's text must not steer the terminal), and how long it was if cut.
+std::string quoted(const std::string& text) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  const std::size_t n = std::min(text.size(), kQuotedRowBytes);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c > 0x7E) {
+      out += "\\x";
+      out += kHex[c >> 4U];
+      out += kHex[c & 0xFU];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (n < text.size()) out += "... (" + std::to_string(text.size()) + " bytes)";
+  return out;
+}
+
 /// Parses a whole field as a finite double.
 bool toNumber(const std::string& s, double& out) {
   if (s.empty()) return false;
@@ -110,9 +133,9 @@ std::vector<TrackSample> parseTrackCsv(const std::string& text, const std::strin
       throw TrackError(at +
                        "expected three finite numbers 't x y' (comma or space separated), "
                        "got '" +
-                       line + "'");
+                       quoted(line) + "'");
     if (!out.empty() && !(v[0] > out.back().t_s))
-      throw TrackError(at + "time " + f[0] + " is not after the previous row's");
+      throw TrackError(at + "time " + quoted(f[0]) + " is not after the previous row's");
     out.push_back({v[0], v[1], v[2]});
   }
   if (out.empty()) throw TrackError(source + ": no 't x y' rows");

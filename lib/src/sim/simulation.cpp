@@ -119,6 +119,12 @@ void Simulation::addCue(const Cue& cue) {
   }
 }
 
+std::size_t Simulation::pendingCues(std::int32_t human_id) const {
+  for (const Human& h : humans_)
+    if (h.spec.id == human_id) return h.pending.size();
+  return 0;
+}
+
 void Simulation::hearCues(Human& h, std::vector<CueOutcome>& out) {
   std::size_t n = 0;
   for (; n < h.pending.size() && h.pending[n].t_s <= t_s_; ++n) {
@@ -221,10 +227,13 @@ void Simulation::physicsStep(const Velocity2& cmd_body, StepResult& out) {
     for (std::size_t j = 0; j < snapshot.size(); ++j)
       if (j != i) others.push_back(snapshot[j]);
     hearCues(h, out.cues);
-    // Only what it has started acting on is visible.
-    std::vector<Cue> heard;
-    for (const Cue& c : h.acting)
-      if (c.t_s <= t_s_) heard.push_back(c);
+    // Only what it has started acting on is visible, each cue once, in the step it starts: the
+    // behaviour keeps what it made of it, and the simulator only the cues still to come (kept
+    // all run long, a flood of words made every step scan them all).
+    const auto started =
+        std::find_if(h.acting.begin(), h.acting.end(), [&](const Cue& c) { return c.t_s > t_s_; });
+    std::vector<Cue> heard(h.acting.begin(), started);
+    h.acting.erase(h.acting.begin(), started);
     BehaviourContext ctx;
     ctx.t_s = t_s_;
     ctx.dt_s = dt_s;

@@ -51,6 +51,21 @@ TEST(RecordedTrack, CsvErrorsNameTheFileAndTheLine) {
   EXPECT_NE(msg.find("walk.csv: no"), std::string::npos) << msg;
 }
 
+TEST(RecordedTrack, ABadRowOfMegabytesIsQuotedOnlyByABoundedEscapedPrefix) {
+  // A 20 MB row used to be repeated whole in the error (and on stderr).
+  const std::string huge(20U << 20U, 'x');
+  std::string msg = errorOf("0 1 2\n0.4 1 \x1b[31m" + huge + "\n");
+  EXPECT_LT(msg.size(), 300u);
+  EXPECT_NE(msg.find("walk.csv:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("0.4 1 \\x1b[31m"), std::string::npos) << msg;  // escaped, not raw
+  EXPECT_EQ(msg.find('\x1b'), std::string::npos);
+  EXPECT_NE(msg.find("bytes)"), std::string::npos) << msg;
+  // A huge time field out of order, too.
+  msg = errorOf("0 1 2\n" + std::string(1U << 20U, '0') + " 1 2\n");
+  EXPECT_LT(msg.size(), 300u);
+  EXPECT_NE(msg.find("not after"), std::string::npos) << msg.substr(0, 300);
+}
+
 RecordedParams straight() {
   RecordedParams p;
   p.track = {{10.0, 0.0, 0.0}, {11.0, 1.0, 0.0}, {13.0, 1.0, 2.0}};

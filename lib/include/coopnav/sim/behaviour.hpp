@@ -69,8 +69,9 @@ struct BehaviourContext {
   double robot_band_stamp_s{0.0};    ///< sim time of the band's t_s = 0
   const std::vector<AgentState>* other_humans{nullptr};  ///< never contains self
   const DistanceMap* map{nullptr};                       ///< nullptr = no walls
-  /// Cues addressed to this human that it has heard, complies with and acts on by t_s, in the
-  /// order it acts on them (t_s = when it starts acting).
+  /// Cues addressed to this human that it has heard, complies with and starts acting on in this
+  /// step (t_s = when it starts acting), in that order: each is given once, the behaviour keeps
+  /// what it makes of it.
   const std::vector<Cue>* cues{nullptr};
 };
 

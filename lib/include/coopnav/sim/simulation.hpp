@@ -165,6 +165,8 @@ class Simulation {
   /// does not change the other draws of the run (a muted twin run walks the same). An unknown
   /// human id is ignored.
   void addCue(const Cue& cue);
+  /// Cues of human `human_id` whose words have not ended yet (0 for an unknown id).
+  std::size_t pendingCues(std::int32_t human_id) const;
   /// The robot's latest band, its t_s = 0 at stamp_s (sim time). Behaviours may read it.
   void setRobotBand(const Band& band, double stamp_s);
 

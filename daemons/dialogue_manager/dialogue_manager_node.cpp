@@ -51,6 +51,8 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.precautionary_dock = precautionary_dock;
   c.crossing_range_m = crossing_range_m;
   c.templates = templates;
+  c.resolve_stand_offs = stand_off.resolve;
+  c.stand_off = stand_off;
   return c;
 }
 
@@ -98,12 +100,18 @@ void DialogueManagerNode::measureTemplates() {
   using dialogue::SpeechAct;
   std::vector<std::string> texts;
   for (int a = static_cast<int>(SpeechAct::kInformDirection);
-       a <= static_cast<int>(SpeechAct::kInformStopping); ++a) {
+       a <= static_cast<int>(SpeechAct::kInformResuming); ++a) {
     const auto act = static_cast<SpeechAct>(a);
     for (const Side side : {Side::kLeft, Side::kRight})
       texts.push_back(dialogue::renderText(config_.templates, act, side));
   }
   texts.push_back(config_.templates.inform_precautionary_docking);
+  for (const auto* t :
+       {&config_.templates.inform_docking_short,
+        &config_.templates.inform_precautionary_docking_short,
+        &config_.templates.inform_wider_place_short, &config_.templates.inform_retreat_short,
+        &config_.templates.inform_stopping_short})
+    if (!t->empty()) texts.push_back(*t);
   std::sort(texts.begin(), texts.end());
   texts.erase(std::unique(texts.begin(), texts.end()), texts.end());
   const auto seconds = speech_.measure(texts);
@@ -333,6 +341,9 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
   if (in.agents) {
     const AgentStatesSnapshot& a = *in.agents;
     robot_pose_ = a.robot.pose;
+    robot_speed_m_s_ = std::hypot(a.robot.velocity.vx_m_s, a.robot.velocity.vy_m_s);
+    robot_radius_m_ = a.robot.radius_m;
+    robot_known_ = true;
     latest_agents_utime_ =
         latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
     continueSwitchedIds(a);
@@ -340,6 +351,7 @@ void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
       Tracked& t = tracked_[h.id];
       t.position_m = h.pose.position();
       t.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
+      t.radius_m = h.radius_m;
       const bool was = t.crossed.crossed;
       t.crossed = dialogue::updateCrossed(t.crossed, h.pose, a.robot.pose.position(),
                                           config_.crossed_hysteresis_m);
@@ -525,6 +537,17 @@ DialogueManagerNode::Decided DialogueManagerNode::decide(
   auto t = tracked_.find(id);
   in.crossed = t != tracked_.end() && t->second.crossed.crossed;
   in.heard_by_s = h.heard_by_s;
+  if (t != tracked_.end() && present_.contains(id) && robot_known_) {
+    // The stand-off watch sees the robot and this person as the latest agent states have them.
+    dialogue::StandOffInput m;
+    m.t_s = in.t_s;
+    m.robot_speed_m_s = robot_speed_m_s_;
+    m.human_speed_m_s = t->second.velocity_m_s.norm();
+    m.centre_distance_m = (t->second.position_m - robot_pose_.position()).norm();
+    m.gap_m = m.centre_distance_m - robot_radius_m_ - t->second.radius_m;
+    m.t_cross_s = situation.t_cross_s;
+    in.motion = m;
+  }
   const dialogue::DecisionOutput out = h.decision.step(in);
   for (const auto& r : out.rounds)
     if (r.round == 2)
@@ -587,9 +610,11 @@ void DialogueManagerNode::emit(
   for (std::size_t k = 0; k < out.utterances.size(); ++k) {
     const dialogue::CoordinatedUtterance* c =
         coordinated && k < coordinated->size() ? (*coordinated)[k] : nullptr;
-    const dialogue::Utterance& u = c ? c->utterance : out.utterances[k];
+    dialogue::Utterance u = c ? c->utterance : out.utterances[k];
     const std::vector<std::int32_t> group = c ? c->group : std::vector<std::int32_t>{};
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
+    // Words that end a stand-off have no crossing to be late for: nobody is going yet.
+    const bool has_deadline = !dialogue::endsStandOff(u.act);
     if (c && c->verdict != dialogue::CrowdVerdict::kSay) {
       // Decided, not said (crowd.hpp): published all the same, as every decided utterance is.
       dialogue::SpeechSlot slot;
@@ -604,9 +629,23 @@ void DialogueManagerNode::emit(
     }
     // A cue is worth saying only if its words end before the crossing; thanks have no deadline.
     const std::optional<double> deadline_s =
-        t && std::isfinite(*t) ? std::optional<double>(t_s + *t) : std::nullopt;
-    const dialogue::SpeechSlot slot =
-        voice_.plan(t_s, speechDuration(u.text), deadline_s, config_.muted);
+        has_deadline && t && std::isfinite(*t) ? std::optional<double>(t_s + *t) : std::nullopt;
+    // Short of time, a making-room sentence is said in its shorter wording rather than not at all.
+    const std::vector<std::string> wordings = dialogue::wordings(config_.templates, u);
+    std::vector<double> durations_s;
+    durations_s.reserve(wordings.size());
+    for (const auto& w : wordings) durations_s.push_back(speechDuration(w));
+    const double free_in_s = std::max(0.0, voice_.freeAt() - t_s);
+    const auto choice = voice_.planFirstFitting(t_s, durations_s, deadline_s, config_.muted);
+    const dialogue::SpeechSlot slot = choice.slot;
+    if (choice.index > 0) {
+      log().info(
+          "dialogue_manager: to human {}: \"{}\" ({:.2f} s) would end {:.2f} s after the "
+          "crossing: said as \"{}\"",
+          stamp.human_id, u.text, durations_s[0],
+          t_s + free_in_s + durations_s[0] - deadline_s.value_or(t_s), wordings[choice.index]);
+      u.text = wordings[choice.index];
+    }
     run.publish(channels::kUtterance, toLcm(stamp, u, t, slot, group));
     switch (slot.delivery) {
       case dialogue::Delivery::kToldToGroup:

@@ -50,12 +50,19 @@ struct TemplatesConfig : dialogue::TextTemplates {
     v("inform_retreat", inform_retreat);
     v("inform_stopping", inform_stopping);
     v("thank", thank);
+    v("inform_going_first", inform_going_first);
+    v("inform_resuming", inform_resuming);
+    v("inform_docking_short", inform_docking_short);
+    v("inform_precautionary_docking_short", inform_precautionary_docking_short);
+    v("inform_wider_place_short", inform_wider_place_short);
+    v("inform_retreat_short", inform_retreat_short);
+    v("inform_stopping_short", inform_stopping_short);
     v("left_word", left_word);
     v("right_word", right_word);
     for (const auto* t :
          {&inform_direction, &ask_to_move, &inform_dock_if_needed, &repeat_direction,
           &ask_to_move_more, &inform_docking, &inform_precautionary_docking, &inform_wider_place,
-          &inform_retreat, &inform_stopping, &thank})
+          &inform_retreat, &inform_stopping, &thank, &inform_going_first, &inform_resuming})
       v.require(!t->empty(), "templates", "no template may be empty");
     v.require(!left_word.empty() && !right_word.empty(), "left_word",
               "left_word and right_word must not be empty");
@@ -72,6 +79,22 @@ struct CrowdConfigYaml : dialogue::CrowdConfig {
   }
 };
 
+/// Stand-offs resolved (lib/dialogue/stand_off.hpp); the defaults are lib/dialogue's.
+struct StandOffConfigYaml : dialogue::StandOffConfig {
+  bool resolve{dialogue::DecisionConfig{}.resolve_stand_offs};
+  template <class V>
+  void visit(V& v) {
+    v("resolve", resolve);
+    v("robot_still_m_s", robot_still_m_s, Range{0.0, 1.0});
+    v("human_still_m_s", human_still_m_s, Range{0.0, 2.0});
+    v("near_gap_m", near_gap_m, Range{0.0, 20.0});
+    v("t_cross_progress_s", t_cross_progress_s, Range{0.0, 60.0});
+    v("mutual_wait_s", mutual_wait_s, Range{0.1, 600.0});
+    v("dock_progress_m", dock_progress_m, Range{0.0, 20.0});
+    v("dock_wait_s", dock_wait_s, Range{0.1, 3600.0});
+  }
+};
+
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
@@ -80,6 +103,7 @@ struct DialogueManagerConfig {
   bool precautionary_dock{dialogue::DecisionConfig{}.precautionary_dock};
   double crossing_range_m{dialogue::DecisionConfig{}.crossing_range_m};
   CrowdConfigYaml crowd;
+  StandOffConfigYaml stand_off;
   double crossed_hysteresis_m{0.2};
   double human_gone_s{2.0};
   /// [s] A path assessment older than this (message time, against the situation decided on) is
@@ -113,6 +137,7 @@ struct DialogueManagerConfig {
     v("precautionary_dock", precautionary_dock);
     v("crossing_range_m", crossing_range_m, Range{0.5, 50.0});
     v("crowd", crowd);
+    v("stand_off", stand_off);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("path_max_age_s", path_max_age_s, Range{0.05, 600.0});
@@ -185,6 +210,7 @@ class DialogueManagerNode {
     std::int64_t last_seen_utime{0};         ///< set when the human is first seen
     Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
     Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
+    double radius_m{0.3};                    ///< [m] as last seen
   };
   /// A new id where a human with an interaction (open or ended) was lost and heading: the
   /// tracker switched ids (lib/geometry/track_continuity.hpp); the interaction goes on under the
@@ -276,7 +302,10 @@ class DialogueManagerNode {
   std::map<std::int32_t, Tracked> tracked_;
   std::map<std::int32_t, StampedPath> latest_path_;
   dialogue::CrowdConversation crowd_;
-  Pose2 robot_pose_;  ///< as last seen in the agent states (where "on my left" is)
+  Pose2 robot_pose_;             ///< as last seen in the agent states (where "on my left" is)
+  double robot_speed_m_s_{0.0};  ///< [m/s] as last seen (the stand-off watch)
+  double robot_radius_m_{0.0};   ///< [m] as last seen
+  bool robot_known_{false};      ///< agent states were seen
   /// The time of every input, guarded: a message stamped far from it is rejected, so one
   /// situation stamped INT64_MAX cannot pin the times below (docs/bad-inputs.md "Caps").
   MessageClock clock_;

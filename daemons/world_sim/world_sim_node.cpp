@@ -40,7 +40,10 @@ sim::Cue cueOf(const UtteranceMsg& u) {
       c.repeat = u.utterance.act == SpeechAct::kRepeatDirection;
       break;
     case SpeechAct::kInformDockIfNeeded:
-      // "It is narrow here. I will wait at the side if needed.": keep clear, away from the robot.
+    case SpeechAct::kInformGoingFirst:
+    case SpeechAct::kInformResuming:
+      // "It is narrow here. I will wait at the side if needed.", "Thank you, I will go first.",
+      // "I will go now.": keep clear, away from the robot.
       c.kind = sim::CueKind::kKeepSide;
       break;
     case SpeechAct::kAskToMove:

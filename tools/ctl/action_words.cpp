@@ -8,10 +8,12 @@
 namespace coopnav::ctl {
 namespace {
 
-/// Words that tell their human the robot goes on (passes on a side, or asks them to make room).
+/// Words that tell their human the robot goes on (passes on a side, asks them to make room, or
+/// ends a stand-off by going).
 bool tellsRobotPasses(std::int8_t act) {
   return act == utterance_t::ACT_INFORM_DIRECTION || act == utterance_t::ACT_REPEAT_DIRECTION ||
-         act == utterance_t::ACT_ASK_TO_MOVE || act == utterance_t::ACT_ASK_TO_MOVE_MORE;
+         act == utterance_t::ACT_ASK_TO_MOVE || act == utterance_t::ACT_ASK_TO_MOVE_MORE ||
+         act == utterance_t::ACT_INFORM_GOING_FIRST || act == utterance_t::ACT_INFORM_RESUMING;
 }
 
 /// Words that tell their human the robot makes room (or may: "I will wait at the side if

@@ -24,8 +24,10 @@ std::string speechActName(std::int8_t act) {
                                        "THANK",
                                        "INFORM_WIDER_PLACE",
                                        "INFORM_RETREAT",
-                                       "INFORM_STOPPING"};
-  return codeName(kNames, utterance_t::ACT_INFORM_DIRECTION, 10, act, "ACT_");
+                                       "INFORM_STOPPING",
+                                       "INFORM_GOING_FIRST",
+                                       "INFORM_RESUMING"};
+  return codeName(kNames, utterance_t::ACT_INFORM_DIRECTION, 12, act, "ACT_");
 }
 
 std::string robotActionName(std::int8_t action) {

@@ -271,7 +271,12 @@ Json dialogueChecks(const RunLog& run) {
     ++said;
     if (!u.group_ids.empty() || u.text.rfind("You ", 0) == 0 || u.text.rfind("All of you", 0) == 0)
       ++addressed;
-    if (u.round == 1 || u.round == 2) {
+    // The words that end a stand-off are said to a person standing within reach and not yet
+    // crossed (lib/dialogue/stand_off.hpp), whose closest approach is "now" (t_CROSS 0) because
+    // nobody moves: they are not words to someone the robot is not crossing.
+    const bool ends_stand_off = u.speech_act == utterance_t::ACT_INFORM_GOING_FIRST ||
+                                u.speech_act == utterance_t::ACT_INFORM_RESUMING;
+    if ((u.round == 1 || u.round == 2) && !ends_stand_off) {
       const situation_t* latest = nullptr;
       for (const auto& sit : run.situations)
         if (sit.human_id == u.human_id && sit.utime <= u.utime &&

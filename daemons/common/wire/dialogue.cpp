@@ -15,7 +15,7 @@ void requireStep(std::int64_t step) {
 }
 
 dialogue::SpeechAct speechActFromLcm(std::int8_t act) {
-  if (act < utterance_t::ACT_INFORM_DIRECTION || act > utterance_t::ACT_INFORM_STOPPING)
+  if (act < utterance_t::ACT_INFORM_DIRECTION || act > utterance_t::ACT_INFORM_RESUMING)
     reject("unknown speech_act " + std::to_string(act));
   return static_cast<dialogue::SpeechAct>(act);
 }

@@ -93,6 +93,10 @@ bool announcesMakingRoom(SpeechAct act) {
   }
 }
 
+bool endsStandOff(SpeechAct act) {
+  return act == SpeechAct::kInformGoingFirst || act == SpeechAct::kInformResuming;
+}
+
 CrowdConversation::CrowdConversation(const CrowdConfig& config) : config_(config) {}
 
 std::vector<CoordinatedUtterance> CrowdConversation::coordinate(
@@ -134,7 +138,7 @@ std::vector<CoordinatedUtterance> CrowdConversation::coordinate(
       if (same) {
         c.verdict = CrowdVerdict::kToldToGroup;
         c.reason = "said to the group in the words to human " + std::to_string(before->said_to);
-      } else if (!announcesMakingRoom(d.utterance.act)) {
+      } else if (!announcesMakingRoom(d.utterance.act) && !endsStandOff(d.utterance.act)) {
         c.verdict = CrowdVerdict::kContradicts;
         c.reason = std::string("the group was told ") + toString(before->act) +
                    " in the words to human " + std::to_string(before->said_to);

@@ -1,6 +1,8 @@
 #include "coopnav/dialogue/decision.hpp"
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "coopnav/geometry/geometry.hpp"
 
@@ -38,6 +40,10 @@ const char* toString(SpeechAct a) {
       return "inform_stopping";
     case SpeechAct::kThank:
       return "thank";
+    case SpeechAct::kInformGoingFirst:
+      return "inform_going_first";
+    case SpeechAct::kInformResuming:
+      return "inform_resuming";
   }
   return "?";
 }
@@ -113,6 +119,12 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir) 
     case SpeechAct::kThank:
       text = templates.thank;
       break;
+    case SpeechAct::kInformGoingFirst:
+      text = templates.inform_going_first;
+      break;
+    case SpeechAct::kInformResuming:
+      text = templates.inform_resuming;
+      break;
   }
   const std::string word = dir == Side::kLeft
                                ? templates.left_word
@@ -125,7 +137,39 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir) 
   return text;
 }
 
-HumanDecision::HumanDecision(const DecisionConfig& config) : config_(config) {}
+std::vector<std::string> wordings(const TextTemplates& templates, const Utterance& u) {
+  std::vector<std::string> out{u.text};
+  // The short form belongs to the long text it shortens, said alone or after the crowd's
+  // address ("You two ahead, I will wait here ..."; crowd.hpp), which it keeps.
+  std::string address;
+  auto is = [&](const std::string& full) {
+    if (u.text == full) return true;
+    const std::string tail = ", " + full;
+    if (u.text.size() > tail.size() &&
+        u.text.compare(u.text.size() - tail.size(), tail.size(), tail) == 0) {
+      address = u.text.substr(0, u.text.size() - full.size());
+      return true;
+    }
+    return false;
+  };
+  const std::string* shorter = nullptr;
+  if (u.act == SpeechAct::kInformDocking && is(templates.inform_docking))
+    shorter = &templates.inform_docking_short;
+  else if (u.act == SpeechAct::kInformDocking && is(templates.inform_precautionary_docking))
+    shorter = &templates.inform_precautionary_docking_short;
+  else if (u.act == SpeechAct::kInformWiderPlace && is(templates.inform_wider_place))
+    shorter = &templates.inform_wider_place_short;
+  else if (u.act == SpeechAct::kInformRetreat && is(templates.inform_retreat))
+    shorter = &templates.inform_retreat_short;
+  else if (u.act == SpeechAct::kInformStopping && is(templates.inform_stopping))
+    shorter = &templates.inform_stopping_short;
+  if (shorter != nullptr && !shorter->empty() && address + *shorter != u.text)
+    out.push_back(address + *shorter);
+  return out;
+}
+
+HumanDecision::HumanDecision(const DecisionConfig& config)
+    : config_(config), watch_(config.stand_off) {}
 
 bool HumanDecision::roundFired(int round) const {
   return round >= 1 && round <= 3 && fired_[round - 1];
@@ -162,7 +206,53 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
   }
   if (in.crossed && !fired_[2]) round3(in, out);
   announceRetreat(in, out);
+  // A stand-off is watched from round 1 (the robot has spoken) until the crossing.
+  if (config_.resolve_stand_offs && fired_[0] && !in.crossed && !ended_ && in.motion) {
+    const StandOff what = watch_.update(*in.motion, docked_);
+    if (what != StandOff::kNone) resolveStandOff(in, what, out);
+  }
   return out;
+}
+
+// Not in the paper (stand_off.hpp). Who goes is decided by the cooperation assessment, the
+// paper's own judgement of the person: one who made room is passed, not waited for.
+void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, DecisionOutput& out) {
+  const SituationSnapshot& s = in.situation;
+  const Tristate still = lessThan(in.path.cm_window_m, s.d_h_m);
+  // Made room, and the passage fits: the robot's plan needs nothing more of the person now, or
+  // they moved the d_h it needed (CM >= d_h), or they are moving aside while the robot has room
+  // of its own.
+  const bool made_room =
+      s.human_needs_to_contribute == Tristate::kFalse || still == Tristate::kFalse ||
+      (in.path.is_contributing == Tristate::kTrue && s.robot_is_constrained == Tristate::kFalse);
+  const double waited_s =
+      what == StandOff::kMutualWait ? watch_.mutualWait_s() : watch_.dockWait_s();
+  RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
+  std::array<char, 32> waited{};
+  std::snprintf(waited.data(), waited.size(), "%.1f", waited_s);
+  const std::string head = std::string("stand-off: ") + toString(what) + " " + waited.data() + " s";
+  watch_.restart();
+  if (docked_) {
+    out.robot_actions.push_back(RobotAction::kResume);
+    docked_ = false;
+    if (made_room) {
+      r.branch = head + " & docked & made room -> go first";
+      say(SpeechAct::kInformGoingFirst, Side::kUndefined, 2, out);
+    } else {
+      r.branch = head + " & docked & !made room -> resume";
+      say(SpeechAct::kInformResuming, Side::kUndefined, 2, out);
+    }
+  } else if (made_room) {
+    r.branch = head + " & made room -> silent";
+    r.reason = "the robot is not docked: no action makes its planner go first";
+  } else if (!docked_ever_) {
+    r.branch = head + " & !made room -> dock";
+    dock(out, false, s.room_plan);
+  } else {
+    r.branch = head + " & !made room -> silent";
+    r.reason = "the robot made room once in this interaction and went on";
+  }
+  out.rounds.push_back(r);
 }
 
 // Not in the paper: a dock that leaves too little room becomes a retreat in the band
@@ -328,6 +418,7 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
 void HumanDecision::dock(DecisionOutput& out, bool precautionary, RoomPlan room) {
   out.robot_actions.push_back(RobotAction::kDock);
   docked_ = true;
+  docked_ever_ = true;
   // What the robot will really do (the band source checked the passage its dock would leave):
   // the promise must hold. Unknown keeps the paper's sentence.
   const SpeechAct concrete = room == RoomPlan::kWiderPlace ? SpeechAct::kInformWiderPlace

@@ -93,4 +93,24 @@ SpeechSlot SpeechTimeline::plan(double t_s, double duration_s, std::optional<dou
   return slot;
 }
 
+SpeechTimeline::Choice SpeechTimeline::planFirstFitting(double t_s,
+                                                        const std::vector<double>& durations_s,
+                                                        std::optional<double> deadline_s,
+                                                        bool muted) {
+  if (durations_s.empty()) {
+    Choice none;
+    none.slot.delivery = muted ? Delivery::kMuted : Delivery::kTooLate;
+    none.slot.start_s = std::max(0.0, free_at_s_ - t_s);
+    return none;
+  }
+  if (!muted) {
+    for (std::size_t i = 0; i < durations_s.size(); ++i) {
+      // plan() occupies the voice only for a slot that is said: trying does not change it.
+      const SpeechSlot slot = plan(t_s, durations_s[i], deadline_s, false);
+      if (slot.delivery == Delivery::kSaid) return {i, slot};
+    }
+  }
+  return {0, plan(t_s, durations_s[0], deadline_s, muted)};
+}
+
 }  // namespace coopnav::dialogue

@@ -103,7 +103,7 @@ TEST(ConversionsDialogue, BadUtterancesAreRejected) {
     return m;
   };
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_act = 0; })), RejectedMessage);
-  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_act = 11; })), RejectedMessage);
+  EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.speech_act = 13; })), RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.direction = 3; })), RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.round = 0; })), RejectedMessage);
   EXPECT_THROW(fromLcm(bad([](utterance_t& m) { m.round = 4; })), RejectedMessage);

@@ -502,6 +502,39 @@ TEST(RenderText, ReplacesEveryDirPlaceholderWithTheConfiguredWords) {
   EXPECT_EQ(renderText(t, Act::kThank, X), "Thank you.");
 }
 
+TEST(Wordings, MakingRoomSentencesHaveAShorterWordingOfTheSamePromise) {
+  const TextTemplates t;
+  const auto of = [&](Act act, const std::string& text) {
+    return wordings(t, Utterance{act, X, 2, text});
+  };
+  const struct {
+    Act act;
+    std::string full, shorter;
+  } kWordings[] = {
+      {Act::kInformDocking, t.inform_docking, t.inform_docking_short},
+      {Act::kInformDocking, t.inform_precautionary_docking, t.inform_precautionary_docking_short},
+      {Act::kInformWiderPlace, t.inform_wider_place, t.inform_wider_place_short},
+      {Act::kInformRetreat, t.inform_retreat, t.inform_retreat_short},
+      {Act::kInformStopping, t.inform_stopping, t.inform_stopping_short},
+  };
+  for (const auto& row : kWordings) {
+    EXPECT_EQ(of(row.act, row.full), (std::vector<std::string>{row.full, row.shorter})) << row.full;
+    EXPECT_LT(row.shorter.size(), row.full.size()) << row.full;
+  }
+  EXPECT_EQ(of(Act::kInformDocking, "I will wait here for you to pass.")[1], "I will wait.");
+  // Cues that are not a making-room promise have one wording.
+  EXPECT_EQ(of(Act::kThank, t.thank).size(), 1U);
+  EXPECT_EQ(of(Act::kInformDirection, renderText(t, Act::kInformDirection, L)).size(), 1U);
+  // The crowd's address is kept.
+  EXPECT_EQ(of(Act::kInformDocking, "You two ahead, " + t.inform_docking)[1],
+            "You two ahead, " + t.inform_docking_short);
+  // A text that is not its template keeps its own wording only; so does an empty short form.
+  EXPECT_EQ(of(Act::kInformDocking, "Wait.").size(), 1U);
+  TextTemplates none = t;
+  none.inform_retreat_short.clear();
+  EXPECT_EQ(wordings(none, Utterance{Act::kInformRetreat, X, 2, none.inform_retreat}).size(), 1U);
+}
+
 TEST(Crossed, RobotBehindHavingBeenAheadWithHysteresis) {
   const Pose2 human{0.0, 0.0, 0.0};  // walking +x
   CrossedTracker s;

@@ -73,6 +73,34 @@ TEST(SpeechTimeline, MutedSaysNothingAndKeepsTheVoiceFree) {
   EXPECT_EQ(voice.plan(5.0, 2.0, 20.0, false).start_s, 0.0);
 }
 
+TEST(SpeechTimeline, ShortOfTimeTheShorterWordingIsSaidRatherThanNothing) {
+  SpeechTimeline voice;
+  // Crossing at 12 s, decided at 10 s: the 3 s wording would end after it, the 1 s one fits.
+  const auto fits = voice.planFirstFitting(10.0, {3.0, 1.0}, 12.0, false);
+  EXPECT_EQ(fits.index, 1U);
+  EXPECT_EQ(fits.slot.delivery, Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(fits.slot.duration_s, 1.0);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 11.0);  // only the wording said takes the voice
+  // With time enough, the full wording.
+  const auto full = voice.planFirstFitting(20.0, {3.0, 1.0}, 30.0, false);
+  EXPECT_EQ(full.index, 0U);
+  EXPECT_EQ(full.slot.delivery, Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 23.0);
+  // Neither fits (the voice is busy until 23 s): the full one is recorded as too late, and the
+  // voice stays as it was.
+  const auto none = voice.planFirstFitting(22.0, {3.0, 1.0}, 23.5, false);
+  EXPECT_EQ(none.index, 0U);
+  EXPECT_EQ(none.slot.delivery, Delivery::kTooLate);
+  EXPECT_DOUBLE_EQ(none.slot.duration_s, 3.0);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 23.0);
+  // Muted: the full wording, muted, whatever the time.
+  const auto muted = voice.planFirstFitting(40.0, {3.0, 1.0}, 41.0, true);
+  EXPECT_EQ(muted.index, 0U);
+  EXPECT_EQ(muted.slot.delivery, Delivery::kMuted);
+  // No wording at all: nothing said, and it says so.
+  EXPECT_EQ(voice.planFirstFitting(50.0, {}, 60.0, false).slot.delivery, Delivery::kTooLate);
+}
+
 std::string le32(std::uint32_t v) {
   std::string s(4, '\0');
   for (int i = 0; i < 4; ++i)

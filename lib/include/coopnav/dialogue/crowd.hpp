@@ -86,6 +86,9 @@ struct CoordinatedUtterance {
 Side robotPassingSide(const Utterance& u);
 /// The robot makes room: a dock, a wider place, a retreat or a stop is announced.
 bool announcesMakingRoom(SpeechAct act);
+/// The act ends a stand-off (kInformGoingFirst, kInformResuming): a new plan for the crossing,
+/// said after what the group was told this round, not against it.
+bool endsStandOff(SpeechAct act);
 
 /// One plan said once per group, and nothing said that contradicts what the robot does.
 class CrowdConversation {

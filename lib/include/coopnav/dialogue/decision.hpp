@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "coopnav/dialogue/stand_off.hpp"
 #include "coopnav/geometry/types.hpp"
 
 namespace coopnav::dialogue {
@@ -35,6 +36,9 @@ enum class SpeechAct : std::int8_t {
   kInformWiderPlace = 8,  ///< it goes back to a wider place on its own path
   kInformRetreat = 9,     ///< it backs away the way it came (also: a dock escalated to a retreat)
   kInformStopping = 10,   ///< no move leaves room: it stops where it is
+  // A stand-off resolved (stand_off.hpp; not in the paper): the robot goes on.
+  kInformGoingFirst = 11,  ///< the person made room: "Thank you, I will go first."
+  kInformResuming = 12,    ///< the person did not come to pass the dock: "I will go now."
 };
 const char* toString(SpeechAct a);
 
@@ -74,6 +78,17 @@ struct TextTemplates {
   std::string inform_retreat{"I will back up to let you pass."};
   std::string inform_stopping{"I will stop here. Please pass carefully."};
   std::string thank{"Thank you."};
+  std::string inform_going_first{"Thank you, I will go first."};
+  std::string inform_resuming{"I will go now."};
+  /// Shorter wordings of the making-room sentences, said when the full one would end after the
+  /// crossing (SpeechTimeline::planFirstFitting): a person about to meet a robot that stops or
+  /// backs away is better told in two words than not at all. Each keeps the promise of its long
+  /// form; an empty one means there is no shorter wording.
+  std::string inform_docking_short{"I will wait."};
+  std::string inform_precautionary_docking_short{"I will make room."};
+  std::string inform_wider_place_short{"I will go back."};
+  std::string inform_retreat_short{"I will back up."};
+  std::string inform_stopping_short{"I will stop."};
   std::string left_word{"left"};
   std::string right_word{"right"};
 };
@@ -110,6 +125,13 @@ struct DecisionConfig {
   /// that.
   double crossing_range_m{3.6};
   TextTemplates templates;
+  /// Resolve a stand-off (StandOffWatch) once round 1 has fired and until the crossing: a
+  /// mutual wait or a dock the person does not come to pass ends, within a bounded time, in a
+  /// decision that is said and done (HumanDecision::resolveStandOff). Not in the paper, whose
+  /// robot waits for as long as the person does (issue 44: a silent standstill is a failure).
+  /// false: the paper's reading, a dock ends only when the person has passed or left.
+  bool resolve_stand_offs{true};
+  StandOffConfig stand_off;
 };
 
 /// Situation assessor output for this human at one time (coopnav_situation_t).
@@ -142,6 +164,9 @@ struct DecisionInput {
   /// [s] when the robot's words said to this human so far have ended (same time base as t_s);
   /// nullopt when nothing was said to it (or the robot is muted).
   std::optional<double> heard_by_s;
+  /// The robot and this human now (speeds, distance), for the stand-off watch; nullopt when the
+  /// agent states do not hold them (the watch then learns nothing this step).
+  std::optional<StandOffInput> motion;
 };
 
 struct Utterance {
@@ -152,6 +177,10 @@ struct Utterance {
   int round{0};
   std::string text;
 };
+
+/// The wordings of utterance `u`, longest first: its own text, then the shorter wording of the
+/// same promise when it is a making-room sentence with one (TextTemplates::*_short) that differs.
+std::vector<std::string> wordings(const TextTemplates& templates, const Utterance& u);
 
 /// Record of one fired round: which flowchart branch was taken and why (also when silent).
 struct RoundOutcome {
@@ -198,6 +227,7 @@ class HumanDecision {
 
   bool roundFired(int round) const;
   bool docked() const { return docked_; }
+  const StandOffWatch& standOffWatch() const { return watch_; }
   bool ended() const { return ended_; }
 
  private:
@@ -213,6 +243,12 @@ class HumanDecision {
   void say(SpeechAct act, Side dir, int round, DecisionOutput& out) const;
   /// While docked for this human: a dock that escalated to a retreat is said once.
   void announceRetreat(const DecisionInput& in, DecisionOutput& out);
+  /// A stand-off reached (StandOffWatch): decided on the cooperation assessment. Docked: resume,
+  /// saying "Thank you, I will go first." when the person made room and the passage fits, else
+  /// "I will go now.". Not docked, in a mutual wait: the person made room, nothing the robot can
+  /// request makes its planner go first (it says so in the round's reason); the person did not,
+  /// dock or retreat (once per interaction) and say so.
+  void resolveStandOff(const DecisionInput& in, StandOff what, DecisionOutput& out);
 
   DecisionConfig config_;
   bool fired_[3]{false, false, false};
@@ -220,6 +256,8 @@ class HumanDecision {
   bool docked_{false};
   bool retreat_said_{false};
   bool ended_{false};
+  bool docked_ever_{false};  ///< a dock was requested in this interaction
+  StandOffWatch watch_;
 };
 
 /// Crossed detection state for one human (design-readings: the robot is behind the human along

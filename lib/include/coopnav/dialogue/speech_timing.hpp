@@ -9,9 +9,11 @@
 /// words take. So every utterance carries its start and its duration, and the person model of the
 /// simulator and the round-2 check (decision.hpp) both count from when the words have been heard.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace coopnav::dialogue {
 
@@ -55,6 +57,17 @@ class SpeechTimeline {
   /// free. `deadline_s` (absolute, e.g. the crossing's time) when its words are useless after it;
   /// a slot that would end later is kTooLate. kMuted and kTooLate slots do not occupy the voice.
   SpeechSlot plan(double t_s, double duration_s, std::optional<double> deadline_s, bool muted);
+  /// Plans the first of several wordings of one utterance (longest first, `durations_s` in that
+  /// order) whose speech ends before `deadline_s`: with little time left a shorter sentence is
+  /// said rather than nothing. When none fits, the first is returned as kTooLate (the transcript
+  /// records the full sentence as not said, and why). Muted: the first, kMuted. Empty
+  /// `durations_s`: index 0 with a kTooLate slot of zero duration.
+  struct Choice {
+    std::size_t index{0};  ///< which wording was planned
+    SpeechSlot slot;
+  };
+  Choice planFirstFitting(double t_s, const std::vector<double>& durations_s,
+                          std::optional<double> deadline_s, bool muted);
   /// Absolute time at which the voice is free again.
   double freeAt() const { return free_at_s_; }
 

@@ -1,0 +1,84 @@
+#pragma once
+/// @file Progress of one crossing, watched per human: a mutual wait (robot and person both
+/// still, near each other, the crossing not getting closer) and a dock the person does not come
+/// to pass. Neither is in the paper, whose rounds fire at t_CROSS thresholds and assume the
+/// crossing comes; this is the freezing-robot stand-off (Trautman & Krause 2010) that issue 44
+/// requires to be resolved within a bounded time. Pure: time is an input; HumanDecision decides
+/// what to do about it (decision.hpp, the cooperation assessment).
+
+#include <optional>
+
+namespace coopnav::dialogue {
+
+/// Thresholds of the watch. Defaults in this one place.
+struct StandOffConfig {
+  /// [m/s] The robot is still below this speed (issue 44's stalled speed).
+  double robot_still_m_s{0.05};
+  /// [m/s] A person waits below this speed: well under a walk (≥ 0.5 m/s), above the velocity
+  /// noise of a tracked person standing still.
+  double human_still_m_s{0.2};
+  /// [m] Near enough to be waiting for each other, surface to surface: about a corridor's width
+  /// and a step, the room a passage is negotiated in.
+  double near_gap_m{2.0};
+  /// [s] The crossing got closer when t_CROSS fell by at least this since the wait began: a
+  /// t_CROSS that creeps down by less (planned bands shifting while nobody moves) is no progress.
+  double t_cross_progress_s{0.5};
+  /// [s] Both still and near this long without the crossing getting closer is a mutual wait.
+  /// Long enough to not take a person's pause to look, or the robot's stop at its dock pose,
+  /// for a stand-off (a reaction is ≈ 1 s, notes §7); short enough that the stand-off is
+  /// resolved long before the 10 s a population counts as a stalemate.
+  double mutual_wait_s{3.0};
+  /// [m] Docked for a person, the person came this much nearer (centre to centre): the
+  /// crossing goes on.
+  double dock_progress_m{0.3};
+  /// [s] Docked, and the person has not come nearer by dock_progress_m for this long: they are
+  /// not coming, and the robot goes on. Counted from the dock request, so it covers the drive to
+  /// the dock pose (a few seconds) and a person's late start after hearing the dock's words.
+  double dock_wait_s{8.0};
+};
+
+/// One step's view of the robot and one person, from the agent states and the situation.
+struct StandOffInput {
+  double t_s{0.0};                  ///< [s] message time
+  double robot_speed_m_s{0.0};      ///< [m/s]
+  double human_speed_m_s{0.0};      ///< [m/s]
+  double centre_distance_m{0.0};    ///< [m] robot centre to person centre
+  double gap_m{0.0};                ///< [m] surface to surface (centre distance less the radii)
+  std::optional<double> t_cross_s;  ///< [s] nullopt = unknown
+};
+
+enum class StandOff {
+  kNone = 0,
+  kMutualWait = 1,  ///< both still and near for mutual_wait_s, the crossing no closer
+  kDockNoShow = 2,  ///< docked, the person not nearer by dock_progress_m for dock_wait_s
+};
+const char* toString(StandOff s);
+
+/// Per-human watch. Not thread-safe.
+class StandOffWatch {
+ public:
+  explicit StandOffWatch(const StandOffConfig& config = {}) : config_(config) {}
+
+  /// Advances with one step; `docked`: a dock for this person is requested and not resumed.
+  /// Returns a stand-off once it is reached, and again at every later step until restart().
+  /// Non-finite inputs count as no evidence: they end a wait being timed (never start one).
+  StandOff update(const StandOffInput& in, bool docked);
+  /// After a decision on a stand-off: every timer starts afresh from the next step.
+  void restart();
+  /// [s] How long the current mutual wait has lasted at the last update (0 when none).
+  double mutualWait_s() const { return mutual_wait_s_; }
+  /// [s] How long the dock has seen no progress at the last update (0 when not docked).
+  double dockWait_s() const { return dock_wait_s_; }
+  const StandOffConfig& config() const { return config_; }
+
+ private:
+  StandOffConfig config_;
+  std::optional<double> wait_since_s_;  ///< both still and near since, the crossing no closer
+  std::optional<double> wait_best_t_cross_s_;
+  std::optional<double> dock_since_s_;  ///< docked, no progress since
+  double dock_best_distance_m_{0.0};
+  double mutual_wait_s_{0.0};
+  double dock_wait_s_{0.0};
+};
+
+}  // namespace coopnav::dialogue

@@ -53,8 +53,8 @@ PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
                                        {"band_source", -1, {channels::kReferencePaths}, true}},
                                       std::chrono::milliseconds(config.gate_timeout_ms)}) {
   runtime_.setLostStateNote(
-      "the CA history of the interactions in progress (their IsContributing stays unknown "
-      "until the next START)");
+      "the CA history and forecast tracks of the interactions in progress (their "
+      "IsContributing and p_contributing stay unknown until the next START)");
   runtime_.setRunning();
   runtime_.subscribe<reference_paths_t>(
       channels::kReferencePaths,

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 
 namespace coopnav::ctl {
 

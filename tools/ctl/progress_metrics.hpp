@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "log_reader.hpp"
+#include "logfile/log_reader.hpp"
 
 namespace coopnav::ctl {
 

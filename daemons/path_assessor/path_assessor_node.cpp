@@ -8,15 +8,44 @@
 
 #include "coopnav/geometry/track_continuity.hpp"
 #include "coopnav/path_assessment_t.hpp"
+#include "profiles/forecast_profile.hpp"
+#include "runtime/daemon_main.hpp"
 #include "runtime/log.hpp"
 #include "wire/assessment.hpp"
 
 namespace coopnav {
-namespace {}  // namespace
+namespace {
+
+/// Paper §II-C: the human's initial shortest path; its start and first direction are where the
+/// forecast measures the side step from. nullopt when the path has no segment of length > 0.
+std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> pathStartAndHeading(const Path2& path) {
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const Eigen::Vector2d d = path[i] - path.front();
+    if (d.norm() > 1e-6) return std::make_pair(path.front(), Eigen::Vector2d(d.normalized()));
+  }
+  return std::nullopt;
+}
+
+/// The forecast profile named by the config, or nullopt when none is; a bad one stops the daemon.
+std::optional<assessment::ForecastModel> loadForecast(const PathAssessorNodeConfig& config) {
+  if (config.forecast_profile.empty()) return std::nullopt;
+  try {
+    return loadForecastProfile(config.forecast_profile);
+  } catch (const std::exception& e) {
+    throw StartupError(std::string("forecast_profile: ") + e.what());
+  }
+}
+
+}  // namespace
+
+void PathAssessorNodeConfig::resolvePaths(const std::string& base_dir) {
+  forecast_profile = resolvePath(base_dir, forecast_profile);
+}
 
 PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
     : config_(config),
       runtime_(runtime),
+      forecast_(loadForecast(config)),
       clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       // Step k assesses after every recorder control of k-1 and every reference path up to k-1
       // are here (a lost one holds the step until the world publishes it again).
@@ -24,8 +53,8 @@ PathAssessorNode::PathAssessorNode(const Config& config, Runtime& runtime)
                                        {"band_source", -1, {channels::kReferencePaths}, true}},
                                       std::chrono::milliseconds(config.gate_timeout_ms)}) {
   runtime_.setLostStateNote(
-      "the CA history of the interactions in progress (their IsContributing stays unknown "
-      "until the next START)");
+      "the CA history and forecast tracks of the interactions in progress (their "
+      "IsContributing and p_contributing stay unknown until the next START)");
   runtime_.setRunning();
   runtime_.subscribe<reference_paths_t>(
       channels::kReferencePaths,
@@ -42,6 +71,13 @@ const assessment::PathRecorder* PathAssessorNode::recorder(std::int32_t human_id
   return it == humans_.end() || !it->second.seen_in_states ? nullptr : &it->second.recorder;
 }
 
+const assessment::CooperationForecaster* PathAssessorNode::forecaster(std::int32_t human_id) const {
+  const auto it = humans_.find(human_id);
+  return it == humans_.end() || !it->second.seen_in_states || !it->second.forecaster
+             ? nullptr
+             : &*it->second.forecaster;
+}
+
 std::size_t PathAssessorNode::referencePathsKept() const {
   std::size_t n = 0;
   for (const auto& [id, h] : humans_) n += h.references.size();
@@ -52,12 +88,16 @@ PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
   auto it = humans_.find(id);
   if (it == humans_.end()) {
     it = humans_
-             .emplace(id, Human{assessment::PathRecorder(config_.recorderConfig()),
-                                {},
-                                false,
-                                0.0,
-                                {0.0, 0.0},
-                                {0.0, 0.0}})
+             .emplace(
+                 id,
+                 Human{assessment::PathRecorder(config_.recorderConfig()),
+                       forecast_ ? std::make_optional(assessment::CooperationForecaster(*forecast_))
+                                 : std::nullopt,
+                       {},
+                       false,
+                       0.0,
+                       {0.0, 0.0},
+                       {0.0, 0.0}})
              .first;
     hear(id);
   }
@@ -199,12 +239,18 @@ void PathAssessorNode::applyControl(const RecorderControl& c) {
         if (!h.recorder.start(t_s, *ref, assessment::lateralRoom(c.d_oh_m, c.d_h_m)))
           throw RejectedMessage("START for human " + std::to_string(c.human_id) +
                                 ": unusable reference path or time");
+        // The recorder accepted the path, so it has a segment: the forecast starts with it.
+        if (h.forecaster) {
+          if (const auto start = pathStartAndHeading(*ref))
+            h.forecaster->start(start->first, start->second);
+        }
         log().info("path_assessor: human {} recording started at step {} ({})", c.human_id, c.step,
                    c.reason);
         break;
       }
     case dialogue::RecorderCommand::kStop:
       h.recorder.stop(t_s);
+      if (h.forecaster) h.forecaster->stop();
       log().info("path_assessor: human {} recording stopped at step {} ({})", c.human_id, c.step,
                  c.reason);
       break;
@@ -291,6 +337,7 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
           "path_assessor: observation of human {} at step {} ignored (time not after "
           "the previous one)",
           a.id, states.step);
+    if (h.forecaster) h.forecaster->observe(t_s, a.pose.position(), robot_m);
     PathAssessmentRecord rec;
     rec.utime = states.utime;
     rec.step = states.step;
@@ -300,6 +347,8 @@ void PathAssessorNode::assess(const AgentStatesSnapshot& states, StepNode::Step&
     rec.gamma = config_.recorder.gamma;
     rec.profile = config_.profile;
     rec.side_rule = h.recorder.config().side_rule;
+    if (h.forecaster && !std::isnan(h.forecaster->pContributing()))
+      rec.p_contributing = h.forecaster->pContributing();
     step.publish(channels::kPathAssessment, toLcm(rec));
   }
   // After the step's humans are heard: those absent for a minute are forgotten now.

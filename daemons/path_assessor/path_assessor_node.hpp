@@ -3,7 +3,9 @@
 /// message; publishes CA, CM and IsContributing per human per agent-states message, then
 /// acknowledges the step. Recording is started, stopped and reset by the dialogue manager's
 /// control messages; in lockstep the work of step k waits for the dialogue manager's ack of
-/// step k-1, so the controls it issued at k-1 are applied first (docs/lockstep.md).
+/// step k-1, so the controls it issued at k-1 are applied first (docs/lockstep.md). Beside CM, a
+/// forecast of cooperation per human (assessment::CooperationForecaster, forecast_profile) over the
+/// same interaction: started at START, fed the same observations, stopped at STOP.
 
 #include <cstdint>
 #include <list>
@@ -14,6 +16,7 @@
 
 #include "config/config.hpp"
 #include "coopnav/agent_states_t.hpp"
+#include "coopnav/assessment/forecast.hpp"
 #include "coopnav/assessment/path_assessment.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/reference_paths_t.hpp"
@@ -39,6 +42,10 @@ struct PathAssessorNodeConfig {
   /// γ, τ and rules, config/path_assessor.yaml), `calibrated` (fitted on real walkers,
   /// config/path_assessor_calibrated.yaml) or `custom`.
   std::string profile{"paper"};
+  /// The forecast profile (coopnav_ctl forecast --write-profile;
+  /// config/path_assessor_forecast.yaml), relative to the config file's folder. "" = no forecast:
+  /// p_contributing is published NaN.
+  std::string forecast_profile;
   /// [ms] how long step k waits for the dialogue manager's ack of k-1 before running degraded.
   int gate_timeout_ms{2000};
 
@@ -61,9 +68,13 @@ struct PathAssessorNodeConfig {
       OneOf{{assessment::toString(assessment::SideRule::kPathSide),
              assessment::toString(assessment::SideRule::kHumanSide)}});
     v("history_s", recorder.history_s, Range{0.0, 60.0});
+    v("forecast_profile", forecast_profile);
     v("gate_timeout_ms", gate_timeout_ms, Range{1, 600000});
     v("limits", limits);
   }
+
+  /// forecast_profile is relative to the config file's folder.
+  void resolvePaths(const std::string& base_dir);
 
   /// The recorder's settings with tau_mode and side_rule applied (both validated by OneOf).
   assessment::PathAssessorConfig recorderConfig() const {
@@ -81,6 +92,8 @@ class PathAssessorNode {
 
   /// The recorder of a human, nullptr if that human was never seen (tests, diagnostics).
   const assessment::PathRecorder* recorder(std::int32_t human_id) const;
+  /// Its forecaster, nullptr likewise or when no forecast_profile is configured.
+  const assessment::CooperationForecaster* forecaster(std::int32_t human_id) const;
   /// Humans with state kept (seen in agent states or named by a reference path; at most
   /// limits.max_ids between messages), and their reference paths in all (tests, diagnostics).
   std::size_t humansKept() const { return humans_.size(); }
@@ -91,6 +104,8 @@ class PathAssessorNode {
  private:
   struct Human {
     assessment::PathRecorder recorder;
+    /// Set when a forecast profile is configured.
+    std::optional<assessment::CooperationForecaster> forecaster;
     /// Reference paths by the step they were published at (-1 free-running); a START of step j
     /// uses the latest one published at or before j, whatever arrived since.
     std::map<std::int64_t, Path2> references;
@@ -133,7 +148,8 @@ class PathAssessorNode {
 
   Config config_;
   Runtime& runtime_;
-  std::vector<RecorderControl> controls_;  ///< lockstep controls not yet applied
+  std::optional<assessment::ForecastModel> forecast_;  ///< forecast_profile, loaded at start
+  std::vector<RecorderControl> controls_;              ///< lockstep controls not yet applied
   /// The time of agent states and reference paths (one time line: the band source stamps its
   /// paths with the agent states' utime); messages stamped far off it are rejected.
   MessageClock clock_;

@@ -398,6 +398,14 @@ void SceneModel::apply(const path_assessment_t& msg) {
     t.cm.emplace_back(ts, *r.snapshot.cm_window_m);
     while (static_cast<int>(t.cm.size()) > options_.cm_history_points) t.cm.pop_front();
   }
+  if (r.p_contributing) {
+    const double ts = seconds(r.utime);
+    // Bounded and de-duplicated as CM's history.
+    auto& p = t.p_contributing;
+    while (!p.empty() && p.back().first >= ts) p.pop_back();
+    p.emplace_back(ts, *r.p_contributing);
+    while (static_cast<int>(p.size()) > options_.cm_history_points) p.pop_front();
+  }
   t.assessment = std::move(r);
   forgetOld();
 }
@@ -697,6 +705,7 @@ json SceneModel::toJson() const {
       a["cm_m"] = num(r.snapshot.cm_window_m);
       a["is_contributing"] = tristateName(r.snapshot.is_contributing_window);
       a["cm_interaction_m"] = num(r.snapshot.cm_interaction_m);
+      a["p_contributing"] = num(r.p_contributing);
       a["tau_m"] = num(r.snapshot.tau_m);
       a["gamma"] = num(r.gamma);
       a["profile"] = r.profile;
@@ -704,12 +713,16 @@ json SceneModel::toJson() const {
       a["recording"] = "idle";
       a["ca"] = json::array();
       a["cm_m"] = nullptr;
+      a["p_contributing"] = nullptr;
       a["tau_m"] = nullptr;
       a["is_contributing"] = "unknown";
     }
     json cm = json::array();
     for (const auto& [t, v] : tr.cm) cm.push_back(json::array({num(t), num(v)}));
     a["cm_history"] = std::move(cm);
+    json pc = json::array();
+    for (const auto& [t, v] : tr.p_contributing) pc.push_back(json::array({num(t), num(v)}));
+    a["p_contributing_history"] = std::move(pc);
     json controls = json::array();
     for (const auto& [t, what] : tr.controls) controls.push_back(json::array({num(t), what}));
     a["controls"] = std::move(controls);

@@ -127,6 +127,8 @@ class SceneModel {
     std::optional<PathAssessmentRecord> assessment;  ///< window_ca_m moved to `ca`
     std::vector<std::pair<double, double>> ca;       ///< (t [s], CA [m]) of the latest, decimated
     std::deque<std::pair<double, double>> cm;        ///< (t [s], CM [m]) newest last
+    /// (t [s], p_contributing) newest last; only known values (the wire checked them in [0, 1])
+    std::deque<std::pair<double, double>> p_contributing;
     std::vector<std::pair<double, std::string>> controls;  ///< (t [s], START / STOP / RESET)
     std::int64_t last_utime{0};
   };

@@ -1,17 +1,22 @@
 // Path assessor over an isolated udpm port: published CA / CM / IsContributing equal a library
 // PathRecorder fed the same input; recorder controls of step k-1 are applied before step k
 // (StepGate on the dialogue manager's ack); unknown ids and bad commands are dropped / rejected
-// and counted; a rejected agent-states message is still acknowledged; SIGTERM exits 0 within 1 s.
+// and counted; a rejected agent-states message is still acknowledged; SIGTERM exits 0 within 1 s;
+// p_contributing is published from the forecast profile, equal to a library forecaster fed the
+// same input, and rises as the human steps aside (NaN without a profile; a bad one stops it).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/step_ack_t.hpp"
 #include "path_assessor_node.hpp"
+#include "profiles/forecast_profile.hpp"
+#include "runtime/daemon_main.hpp"
 #include "test_util.hpp"
 #include "wire/assessment.hpp"
 #include "wire/conversions.hpp"
@@ -272,6 +277,117 @@ TEST_F(PathAssessorRoomTest, TheStartsSituationSetsTheThresholdAndBothAreReporte
   ASSERT_NE(m, nullptr);
   EXPECT_TRUE(std::isnan(m->room_m));
   EXPECT_DOUBLE_EQ(m->tau_m, config_.recorder.tau_m);
+}
+
+TEST_F(PathAssessorTest, WithoutAForecastProfilePContributingIsNaN) {
+  publishReference();
+  for (std::int64_t k = 0; k <= 2; ++k) publishStates(k);
+  ASSERT_TRUE(waitAck(2));
+  publishControl(2, 1, dialogue::RecorderCommand::kStart);
+  for (std::int64_t k = 3; k <= 20; ++k) publishStates(k);
+  ASSERT_TRUE(waitAck(20));
+  ASSERT_NE(latest(20, 1), nullptr);
+  EXPECT_EQ(latest(20, 1)->recording, path_assessment_t::REC_RECORDING);
+  EXPECT_TRUE(std::isnan(latest(20, 1)->p_contributing));
+  EXPECT_EQ(node_->forecaster(1), nullptr);
+}
+
+TEST_F(PathAssessorTest, ABadForecastProfileStopsTheStartNamingTheKey) {
+  PathAssessorNodeConfig c = config_;
+  c.forecast_profile = "/nonexistent/forecast.yaml";
+  try {
+    PathAssessorNode bad(c, *dut_rt_);
+    ADD_FAILURE() << "a missing forecast profile was accepted";
+  } catch (const StartupError& e) {
+    EXPECT_NE(std::string(e.what()).find("forecast_profile"), std::string::npos) << e.what();
+  }
+}
+
+/// The shipped forecast profile (config/path_assessor_forecast.yaml), as the shipped configs name.
+class PathAssessorForecastTest : public PathAssessorTest {
+ protected:
+  void SetUp() override {
+    config_.forecast_profile =
+        std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_forecast.yaml";
+    PathAssessorTest::SetUp();
+  }
+
+  /// Human 1 walks -x along y = 5 at 0.8 m/s, then steps to -y (away from the robot) at 0.5 m/s
+  /// from step kAside on; the robot walks +x along y = 5.4 (on the human's right).
+  static constexpr std::int64_t kAside = 20;
+  static AgentStatesSnapshot asideScene(std::int64_t k) {
+    AgentStatesSnapshot s;
+    s.utime = utimeOf(k);
+    s.step = k;
+    s.robot.id = 0;
+    s.robot.kind = AgentKind::kRobot;
+    const double t = 0.05 * static_cast<double>(k);
+    s.robot.pose = {1.0 + 0.8 * t, 5.4, 0.0};
+    AgentState h;
+    h.id = 1;
+    h.kind = AgentKind::kHuman;
+    const double aside_s = 0.05 * static_cast<double>(std::max<std::int64_t>(k - kAside, 0));
+    h.pose = {9.0 - 0.8 * t, 5.0 - 0.5 * aside_s, M_PI};
+    s.humans.push_back(h);
+    return s;
+  }
+};
+
+TEST_F(PathAssessorForecastTest, PContributingIsPublishedAndRisesAsTheHumanStepsAside) {
+  publishReference();
+  for (std::int64_t k = 0; k <= 2; ++k)
+    probe_->publish(channels::kAgentStates, toLcm(asideScene(k)));
+  ASSERT_TRUE(waitAck(2));
+  EXPECT_TRUE(std::isnan(latest(2, 1)->p_contributing)) << "no interaction yet";
+  publishControl(2, 1, dialogue::RecorderCommand::kStart);
+  for (std::int64_t k = 3; k <= 40; ++k) {
+    if (k == 40) {
+      ASSERT_TRUE(waitAck(39));
+      publishControl(39, 1, dialogue::RecorderCommand::kStop);
+    }
+    probe_->publish(channels::kAgentStates, toLcm(asideScene(k)));
+  }
+  ASSERT_TRUE(waitAck(40));
+  for (std::int64_t k = 41; k <= 44; ++k)
+    probe_->publish(channels::kAgentStates, toLcm(asideScene(k)));
+  ASSERT_TRUE(waitAck(44));
+
+  // The same through the library: started with the reference path's start and direction, fed
+  // the observations of steps 3 .. 39 (the START of step 2 applies from step 3, the STOP of 39
+  // before step 40's observation).
+  assessment::CooperationForecaster lib(
+      loadForecastProfile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_forecast.yaml"));
+  lib.start({10.0, 5.0}, {-1.0, 0.0});
+  auto t = [](std::int64_t k) { return utimeToSeconds(utimeOf(k) - utimeOf(0)); };
+  std::map<std::int64_t, double> expected;
+  for (std::int64_t k = 3; k <= 39; ++k) {
+    const auto s = asideScene(k);
+    lib.observe(t(k), s.humans[0].pose.position(), s.robot.pose.position());
+    expected[k] = lib.pContributing();
+  }
+  std::size_t known = 0;
+  for (std::int64_t k = 3; k <= 39; ++k) {
+    const path_assessment_t* m = latest(k, 1);
+    ASSERT_NE(m, nullptr) << k;
+    if (std::isnan(expected[k])) {
+      EXPECT_TRUE(std::isnan(m->p_contributing)) << k;
+      continue;
+    }
+    ++known;
+    EXPECT_DOUBLE_EQ(m->p_contributing, expected[k]) << k;
+    EXPECT_TRUE(m->p_contributing >= 0.0 && m->p_contributing <= 1.0) << k;
+  }
+  // Known after half a velocity span (0.4 s = 8 steps) of track, long before the step aside.
+  EXPECT_GE(known, 25U);
+  ASSERT_FALSE(std::isnan(latest(kAside, 1)->p_contributing));
+  // Walking straight, 0.4 m off the robot's line: about even (the model's hand value ~0.5); after
+  // a second of stepping away (0.475 m, at 0.5 m/s): ~0.77 by hand, clearly contributing.
+  const double before = latest(kAside, 1)->p_contributing;
+  const double after = latest(39, 1)->p_contributing;
+  EXPECT_GT(after, 0.65);
+  EXPECT_GT(after, before + 0.15);
+  // STOP ends the interaction: the last forecast stays while the human walks on.
+  for (std::int64_t k = 40; k <= 44; ++k) EXPECT_EQ(latest(k, 1)->p_contributing, after) << k;
 }
 
 }  // namespace

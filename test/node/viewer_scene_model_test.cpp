@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "coopnav/channels.hpp"
@@ -44,8 +45,10 @@ bands_t bands(double t_s) {
   return toLcm(b);
 }
 
-path_assessment_t assessment(double t_s, double cm) {
+path_assessment_t assessment(double t_s, double cm,
+                             std::optional<double> p_contributing = std::nullopt) {
   PathAssessmentRecord r;
+  r.p_contributing = p_contributing;
   r.utime = secondsToUtime(t_s);
   r.human_id = 1;
   r.snapshot.state = assessment::RecorderState::kRecording;
@@ -132,15 +135,29 @@ TEST(ViewerSceneModelTest, HumansAreForgottenAndHistoriesBounded) {
   SceneModel scene(options);
   for (int k = 0; k < 30; ++k) {
     scene.apply(states(0.1 * k));
-    scene.apply(assessment(0.1 * k, 0.01 * k));
+    // The forecast: unknown for the first 5, then 0.02 k.
+    scene.apply(
+        assessment(0.1 * k, 0.01 * k, k >= 5 ? std::optional<double>(0.02 * k) : std::nullopt));
   }
-  scene.apply(assessment(2.9, 0.5));  // a step published again: replaces its point
+  scene.apply(assessment(2.9, 0.5, 0.9));  // a step published again: replaces its point
   auto j = scene.toJson();
   ASSERT_EQ(j["assessments"].size(), 1u);
   const auto& cm = j["assessments"][0]["cm_history"];
   EXPECT_EQ(cm.size(), 10u);
   EXPECT_EQ(cm.back()[1], 0.5);
   EXPECT_NEAR(cm.back()[0].get<double>(), 2.9, 1e-9);
+  // p_contributing beside it: bounded the same way, replaced the same way, known values only.
+  EXPECT_EQ(j["assessments"][0]["p_contributing"], 0.9);
+  const auto& pc = j["assessments"][0]["p_contributing_history"];
+  EXPECT_EQ(pc.size(), 10u);
+  EXPECT_EQ(pc.back()[1], 0.9);
+  EXPECT_NEAR(pc.front()[0].get<double>(), 2.0, 1e-9);
+  // Unknown again (a new interaction): the latest is null, the history keeps what was known.
+  scene.apply(states(2.95));
+  scene.apply(assessment(2.95, 0.5));
+  j = scene.toJson();
+  EXPECT_TRUE(j["assessments"][0]["p_contributing"].is_null());
+  EXPECT_EQ(j["assessments"][0]["p_contributing_history"].size(), 10u);
 
   // Human 1 not heard of for more than forget_after_s of message time: its plot goes.
   scene.apply(states(3.0, 0));

@@ -10,6 +10,7 @@
 
 #include "coopnav/assessment/forecast.hpp"
 #include "pedestrians.hpp"
+#include "profiles/forecast_profile.hpp"
 
 namespace coopnav::ctl {
 
@@ -95,9 +96,9 @@ ForecastStudy runForecastStudy(const std::vector<PedestrianPair>& pairs,
 
 std::string formatDecisionTables(const std::vector<DecisionTable>& tables);
 std::string formatForecastStudy(const ForecastStudy& s);
-/// The profile file (config/path_assessor_forecast.yaml) of a model.
-std::string forecastProfileYaml(const assessment::ForecastModel& m);
-/// Reads it back; throws std::runtime_error("<path>: <reason>").
-assessment::ForecastModel loadForecastProfile(const std::string& path);
+/// The profile file (config/path_assessor_forecast.yaml) and its reader live in
+/// daemons/common/profiles, which the path assessor shares.
+using coopnav::forecastProfileYaml;
+using coopnav::loadForecastProfile;
 
 }  // namespace coopnav::ctl

@@ -135,6 +135,39 @@ Json goalInferenceJson(const RunLog& run, std::int32_t id,
   return g;
 }
 
+/// [s] p_contributing over time is kept at most this often: its model reads velocities over 0.8 s
+/// spans, so a finer series repeats itself and a long run's summary would grow with the tracker's
+/// rate.
+constexpr double kPContributingPeriodS = 0.5;
+
+/// The forecast p_contributing of human `id` over time: `[t_s, p]` (p null while unknown) at the
+/// first assessment and then every kPContributingPeriodS of message time, and at the last one.
+Json pContributingSeries(const RunLog& run, std::int32_t id) {
+  Json series = Json::array();
+  std::optional<double> last_kept_s;
+  const path_assessment_t* last = nullptr;
+  for (const auto& a : run.assessments) {
+    if (a.human_id != id) continue;
+    last = &a;
+    const double t_s = utimeToS(a.utime);
+    if (last_kept_s && t_s < *last_kept_s + kPContributingPeriodS) continue;
+    last_kept_s = t_s;
+    series.push_back(Json::array({numberOrNull(t_s), numberOrNull(a.p_contributing)}));
+  }
+  if (last && last_kept_s && utimeToS(last->utime) > *last_kept_s)
+    series.push_back(
+        Json::array({numberOrNull(utimeToS(last->utime)), numberOrNull(last->p_contributing)}));
+  return series;
+}
+
+/// p_contributing of human `id` in its latest assessment at or before `utime` (NaN: none).
+double pContributingAt(const RunLog& run, std::int32_t id, std::int64_t utime) {
+  double p = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& a : run.assessments)
+    if (a.human_id == id && a.utime <= utime) p = a.p_contributing;
+  return p;
+}
+
 Json humanEntry(const RunLog& run, const HumanAnalysis& h,
                 const std::vector<TranscriptEntry>& transcript) {
   Json o = Json::object();
@@ -159,14 +192,16 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
     o["recording"] = recordingName(p->recording);
     o["cm_by_gamma"] = cmByGamma(p->ca_m);
     o["cm_by_gamma_complete"] = p->num_samples == p->window_samples;
+    o["p_contributing"] = numberOrNull(p->p_contributing);
   } else {
     for (const char* k : {"cm_window_m", "window_samples", "is_contributing", "cm_interaction_m",
                           "interaction_samples", "is_contributing_interaction", "gamma", "tau_m",
                           "tau_mode", "tau_fixed_m", "room_m", "tau_room_m", "profile", "side_rule",
-                          "recording", "cm_by_gamma"})
+                          "recording", "cm_by_gamma", "p_contributing"})
       o[k] = nullptr;
     o["cm_by_gamma_complete"] = false;
   }
+  o["p_contributing_over_time"] = pContributingSeries(run, h.id);
   o["cm_interaction_by_gamma"] = h.interaction_ca_complete ? cmByGamma(h.interaction_ca_m) : Json();
   o["interaction_ca_complete"] = h.interaction_ca_complete;
   // The CA itself, so that figures across scenarios (paper's γ-vs-CM plot) need only this file.
@@ -221,6 +256,8 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
       j["act"] = e.what;
       j["text"] = e.text;
       j["round"] = std::int64_t{e.round};
+      // The forecast the decision of this round could read (the latest assessment before it).
+      j["p_contributing"] = numberOrNull(pContributingAt(run, h.id, e.utime));
       j["direction"] = e.direction;
       j["delivery"] = e.delivery;
       j["speech_start_s"] = numberOrNull(e.speech_start_s);

@@ -198,6 +198,7 @@ path_assessment_t toLcm(const PathAssessmentRecord& r) {
   m.tau_room_m = s.tau_room_m;
   m.profile = r.profile;
   m.side_rule = static_cast<std::int8_t>(r.side_rule);
+  m.p_contributing = orNaN(r.p_contributing);
   return m;
 }
 
@@ -272,6 +273,12 @@ PathAssessmentRecord fromLcm(const path_assessment_t& msg) {
       break;
     default:
       reject("side_rule has an unknown value " + std::to_string(msg.side_rule));
+  }
+  // A probability: NaN (unknown) or in [0, 1]; ±inf and anything else is garbage.
+  if (!std::isnan(msg.p_contributing)) {
+    if (!(msg.p_contributing >= 0.0 && msg.p_contributing <= 1.0))
+      reject("p_contributing is neither NaN nor in [0, 1]");
+    r.p_contributing = msg.p_contributing;
   }
   return r;
 }

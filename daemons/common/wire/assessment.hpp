@@ -58,12 +58,16 @@ struct PathAssessmentRecord {
   double gamma{0.98};
   std::string profile{"paper"};  ///< assessment profile in force (path_assessor `profile`)
   assessment::SideRule side_rule{assessment::SideRule::kPathSide};
+  /// Forecast (assessment/forecast.hpp): probability in [0, 1] that the human will have made room
+  /// by the crossing; nullopt = unknown (NaN on the wire).
+  std::optional<double> p_contributing;
 };
 
 path_assessment_t toLcm(const PathAssessmentRecord& r);
 /// Rejects unknown enum values, counts out of bounds, non-finite CA values, a gamma outside
 /// (0, 1], a CM that is NaN while samples are claimed, or a profile name that is empty, longer
-/// than MAX_PROFILE_LENGTH or not [A-Za-z0-9_-].
+/// than MAX_PROFILE_LENGTH or not [A-Za-z0-9_-], or a p_contributing that is neither NaN nor in
+/// [0, 1].
 PathAssessmentRecord fromLcm(const path_assessment_t& msg);
 /// What the decision logic reads from a path assessment (window since the last reset).
 dialogue::PathSnapshot pathSnapshotFromLcm(const path_assessment_t& msg);

@@ -372,7 +372,8 @@
     const g = c.getContext("2d");
     g.setTransform(dpr, 0, 0, dpr, 0, 0);
     g.clearRect(0, 0, w, h);
-    const pts = a.ca.concat(a.cm_history);
+    const pc = Array.isArray(a.p_contributing_history) ? a.p_contributing_history : [];
+    const pts = a.ca.concat(a.cm_history, pc);
     const ts = pts.map((p) => p[0]).concat(a.rounds.map((r) => r[0])).filter(fin);
     if (scene && fin(scene.t)) ts.push(scene.t);
     const vs = pts.map((p) => p[1]).filter(fin).concat([0, fin(tau) ? tau : 0.4]);
@@ -407,6 +408,16 @@
     g.beginPath();
     a.cm_history.forEach(([t, v], i) => (i ? g.lineTo(px(t), py(v)) : g.moveTo(px(t), py(v))));
     g.stroke();
+    // The forecast p_contributing (a probability, on the same axis as metres: 0..1).
+    const known = pc.filter(([t, v]) => fin(t) && fin(v));
+    if (known.length) {
+      g.strokeStyle = "#e67e22"; g.lineWidth = 1.5;
+      g.beginPath();
+      known.forEach(([t, v], i) => (i ? g.lineTo(px(t), py(v)) : g.moveTo(px(t), py(v))));
+      g.stroke();
+      const [tl, vl] = known[known.length - 1];
+      g.fillStyle = "#e67e22"; g.fillText("p", Math.min(px(tl) + 2, w - 10), py(vl) - 2);
+    }
   }
   function panel(d) {
     const sim = scene.sim;
@@ -449,7 +460,8 @@
         `<span>d_h</span><span>${s ? fmt(s.d_h_m) : "–"}</span><span>d_OH</span><span>${s ? fmt(s.d_oh_m) : "–"}</span>` +
         `<span>d_OR</span><span>${s ? fmt(s.d_or_m) : "–"}</span><span>d_HR</span><span>${s ? fmt(s.d_hr_m) : "–"}</span>` +
         `<span>CM</span><span>${a ? fmt(a.cm_m) : "–"}</span><span>τ</span><span>${a ? fmt(a.tau_m) : "–"}</span>` +
-        `<span>contrib.</span><span>${a ? esc(a.is_contributing) : "–"}</span><span>room</span><span>${s ? esc(s.room_plan) : "–"}</span></div>`;
+        `<span>contrib.</span><span>${a ? esc(a.is_contributing) : "–"}</span><span>room</span><span>${s ? esc(s.room_plan) : "–"}</span>` +
+        `<span>p_contrib.</span><span>${a ? fmt(a.p_contributing) : "–"}</span></div>`;
       if (a) {
         plot(card.querySelector("canvas"), a, a.tau_m);
         d.plots.push(id);

@@ -175,6 +175,25 @@ TEST(ConversionsAssessmentTest, PathAssessmentRoundTrip) {
   EXPECT_DOUBLE_EQ(*snap.cm_window_m, *r.snapshot.cm_window_m);
 }
 
+TEST(ConversionsAssessmentTest, PContributingTravelsAsAProbabilityOrNaN) {
+  auto r = pathRecord({0.1, 0.2});
+  EXPECT_TRUE(std::isnan(toLcm(r).p_contributing));  // unknown
+  EXPECT_FALSE(fromLcm(toLcm(r)).p_contributing.has_value());
+  for (const double p : {0.0, 0.37, 1.0}) {
+    r.p_contributing = p;
+    const path_assessment_t m = toLcm(r);
+    EXPECT_EQ(m.p_contributing, p);
+    ASSERT_TRUE(fromLcm(m).p_contributing.has_value());
+    EXPECT_EQ(*fromLcm(m).p_contributing, p);
+  }
+  path_assessment_t bad = toLcm(r);
+  for (const double p : {-1e-9, 1.0 + 1e-9, 2.0, -std::numeric_limits<double>::infinity(),
+                         std::numeric_limits<double>::infinity()}) {
+    bad.p_contributing = p;
+    EXPECT_THROW(fromLcm(bad), RejectedMessage) << p;
+  }
+}
+
 TEST(ConversionsAssessmentTest, NoSamplesIsNaNAndUnknown) {
   PathAssessmentRecord r;
   const path_assessment_t m = toLcm(r);

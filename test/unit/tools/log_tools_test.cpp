@@ -176,6 +176,8 @@ path_assessment_t assessmentAt(int k) {
   p.cm_interaction_m = *assessment::discountedMean(inter, p.gamma);
   p.is_contributing_interaction =
       p.cm_interaction_m > p.tau_m ? situation_t::PRED_TRUE : situation_t::PRED_FALSE;
+  // The forecast: unknown for the first 4 steps of the interaction, then 0.01 k.
+  p.p_contributing = k >= kStartStep + 4 ? 0.01 * k : std::nan("");
   return p;
 }
 
@@ -501,6 +503,21 @@ TEST(LogTools, SummaryReportsBothCmsOutcomeAndTranscript) {
   EXPECT_TRUE(entries[7].at("t_cross_s").is_null());
   EXPECT_TRUE(entries[7].at("lead_s").is_null());
   EXPECT_FALSE(entries[0].contains("delivery"));  // only utterances have one
+
+  // The forecast: the last, over time every 0.5 s from the first assessment (null while
+  // unknown) and the last one, and at each round's words (the latest assessment before them).
+  EXPECT_DOUBLE_EQ(h.at("p_contributing").get<double>(), 0.89);
+  const Json& series = h.at("p_contributing_over_time");
+  ASSERT_EQ(series.size(), 17u);  // 1.0, 1.5, .., 8.5 s and the last, 8.9 s
+  EXPECT_DOUBLE_EQ(series[0].at(0).get<double>(), 1.0);
+  EXPECT_TRUE(series[0].at(1).is_null());
+  EXPECT_DOUBLE_EQ(series[1].at(0).get<double>(), 1.5);
+  EXPECT_DOUBLE_EQ(series[1].at(1).get<double>(), 0.15);
+  EXPECT_DOUBLE_EQ(series[16].at(0).get<double>(), 8.9);
+  EXPECT_DOUBLE_EQ(series[16].at(1).get<double>(), 0.89);
+  EXPECT_TRUE(entries[1].at("p_contributing").is_null()) << "round 1: not known yet";
+  EXPECT_EQ(entries[2].at("round"), 2);
+  EXPECT_DOUBLE_EQ(entries[2].at("p_contributing").get<double>(), 0.40);
 }
 
 // Given a run whose dialogue manager decided three utterances, said the first after an earlier

@@ -3,9 +3,10 @@
 # stands in open.pgm's 2.25 m corridor, in the robot's way, and is not on the robot's map; only
 # world_sim's simulated laser (COOPNAV_SCAN) shows it to the band source.
 #  1. unmapped_box_corridor, the box alone: no collision, a clearance > 0 from the box; the robot
-#     passes it or stops short of it (measured: it stops 0.25 m short and the run ends in
-#     STANDSTILL: its global path is planned on the static map, through the box, and the band
-#     held to it does not leave it far enough; the guard holds the robot).
+#     stops 0.25 m short of it and the run ends in STANDSTILL (run.sh exit 3): its global path is
+#     planned on the static map, through the box, and the band held to it does not leave it far
+#     enough; the guard holds the robot. Safe, but no progress: when the robot learns to go round,
+#     this check must change to GOAL_REACHED.
 #  2. unmapped_box_encounter, the box where the robot meets a minimal human: no collision, no
 #     contact with the human, clearance > 0 from the box (it passes, or stops and waits).
 #  3. The control: the first scenario with the laser off (world_sim --set laser=off): the robot,
@@ -20,11 +21,17 @@ coopnav_trap 'rm -rf "$tmp"' EXIT
 scen="$src/test/data/scenarios"
 port=$COOPNAV_TEST_PORT_BASE
 
-run() {  # run NAME OUT [world_sim args]
-  local name=$1 out=$2
-  COOPNAV_RUN_PORT_BASE=$port COOPNAV_DAEMON_ARGS_world_sim="${3:-}" bash "$src/scripts/run.sh" \
-    --no-build --out "$out" "$scen/$name.yaml" >"$out.out" 2>&1 ||
-    { cat "$out.out"; echo "FAIL: run.sh $name"; exit 1; }
+run() {  # run NAME OUT EXPECTED_RC [world_sim args]
+  # run.sh exits 3 when a run ends in a contact, a standstill or the time limit: the box alone
+  # (a standstill short of it) and the blind control (a collision) expect it, the encounter 0.
+  local name=$1 out=$2 expected=$3 rc=0
+  COOPNAV_RUN_PORT_BASE=$port COOPNAV_DAEMON_ARGS_world_sim="${4:-}" bash "$src/scripts/run.sh" \
+    --no-build --out "$out" "$scen/$name.yaml" >"$out.out" 2>&1 || rc=$?
+  if [ "$rc" != "$expected" ]; then
+    cat "$out.out"
+    echo "FAIL: run.sh $name exited $rc, expected $expected"
+    exit 1
+  fi
   port=$((port + 20))
 }
 field() {  # field OUT NAME KEY: a top-level value of the run's scenario in summary.json
@@ -43,15 +50,15 @@ check() {  # check LABEL CONDITION...
 }
 positive() { awk -v x="$1" 'BEGIN { exit !(x != "" && x > 0) }'; }
 
-run unmapped_box_corridor "$tmp/box"
+run unmapped_box_corridor "$tmp/box" 3
 c1="$(box_clearance "$tmp/box" unmapped_box_corridor)"
 echo "box alone: $(ended "$tmp/box" unmapped_box_corridor); clearance to the box $c1 m"
 check "box alone: no collision" [ "$(field "$tmp/box" x collision)" = false ]
 check "box alone: clearance to the box > 0 ($c1 m)" positive "$c1"
-check "box alone: the robot passed it or stopped short of it (GOAL_REACHED or STANDSTILL)" \
-  grep -q "GOAL_REACHED\|STANDSTILL" <<<"$(field "$tmp/box" x final_state)"
+check "box alone: the robot stopped short of it (STANDSTILL)" \
+  grep -q "STANDSTILL" <<<"$(field "$tmp/box" x final_state)"
 
-run unmapped_box_encounter "$tmp/enc"
+run unmapped_box_encounter "$tmp/enc" 0
 c2="$(box_clearance "$tmp/enc" unmapped_box_encounter)"
 echo "box and human: $(ended "$tmp/enc" unmapped_box_encounter); clearance to the box $c2 m," \
   "to the human $(field "$tmp/enc" x min_clearance_m) m"
@@ -61,7 +68,7 @@ check "box and human: no contact with the human" \
   bash -c "! grep -q '\"contact\": *{' '$tmp/enc/summary.json'"
 check "box and human: clearance to the box > 0 ($c2 m)" positive "$c2"
 
-run unmapped_box_corridor "$tmp/blind" "--set laser=off"
+run unmapped_box_corridor "$tmp/blind" 3 "--set laser=off"
 c3="$(box_clearance "$tmp/blind" unmapped_box_corridor)"
 echo "control, laser off: $(ended "$tmp/blind" unmapped_box_corridor); clearance to the box $c3 m"
 check "control: without the scan the robot drives into the box" \

@@ -285,8 +285,9 @@ class DaemonDriver {
       if (left_ms <= 0)
         fail("no path assessment of human " + std::to_string(human_id_) + " for " + what +
              " within " + std::to_string(reply_timeout_s_) + " s");
-      const int r = rt_.lcm().handleTimeout(static_cast<int>(std::min<long long>(left_ms, 100)));
-      if (r < 0 && errno != EINTR) fail("LCM receive failed");
+      // Through the runtime (it queues what LCM receives and hands it to the subscriptions), in
+      // 1 ms slices: spinFor runs to its deadline, and a reply is waited for one at a time.
+      rt_.spinFor(1);
     }
   }
 
@@ -316,7 +317,7 @@ void waitReady(Runtime& rt, Child& child, const std::string& url, double timeout
     if (Clock::now() >= end)
       fail("no status from the path assessor (pid " + std::to_string(child.pid()) + ") within " +
            std::to_string(timeout_s) + " s on " + url);
-    rt.lcm().handleTimeout(100);
+    rt.spinFor(100);
   }
 }
 

@@ -1,8 +1,9 @@
 // coopnav_ctl's reading of a recorded run (an lcm-logger file): event framing, the decoding of
 // every type the log tools keep (agent states, situations, path assessments, utterances, robot
 // actions, recorder commands, sim_status_t, reference paths, daemon_status_t), then the analysis,
-// transcript and summary built from them. A log is untrusted input (daemons/common/logfile/log_reader.hpp):
-// nothing in it may crash the tools or make them throw anything but std::runtime_error.
+// transcript and summary built from them. A log is untrusted input
+// (daemons/common/logfile/log_reader.hpp): nothing in it may crash the tools or make them throw
+// anything but std::runtime_error.
 #include <stdexcept>
 
 #include "fuzz_util.hpp"

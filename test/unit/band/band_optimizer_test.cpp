@@ -148,15 +148,17 @@ TEST(BandOptimizerTest, EveryCeresConfigurationReachesOurLmsCost) {
     const OptimizeStats st = optimizeBands(w.agents, *w.map, w.cfg, 0, 0.0);
     // Then it runs (the ordering was accepted) within the same budget, and where it takes LM's
     // steps with exact solves it ends at our cost; dogleg, Jacobi-scaled damping and inexact
-    // iterative steps only have to lower the cost (they end 7-400 % above ours here: bench_band
-    // reports them, never as the best Ceres).
+    // iterative steps only have to lower the cost, and none may end meaningfully below exact LM
+    // (they end 0-400 % above ours: bench_band reports them, never as the best Ceres). Tight
+    // iterative solves (eta 1e-8) land within 0.01 % of ours, on either side depending on the
+    // machine's BLAS kernels, so "below" is judged with the same tolerance as "at".
     EXPECT_GT(st.iterations, 0) << o.name();
     EXPECT_LE(st.iterations, 32) << o.name();
     if (o.takesOurSteps()) {
       EXPECT_NEAR(st.final_cost, ref.final_cost, kSameCostRel * ref.final_cost) << o.name();
     } else {
       EXPECT_LT(st.final_cost, 0.5 * st.initial_cost) << o.name();
-      EXPECT_GT(st.final_cost, ref.final_cost) << o.name();
+      EXPECT_GT(st.final_cost, (1.0 - kSameCostRel) * ref.final_cost) << o.name();
     }
     if (std::getenv("COOPNAV_TEST_VERBOSE")) {
       std::printf("%-50s cost %.6g (ours %.6g), %d iterations\n", o.name().c_str(), st.final_cost,

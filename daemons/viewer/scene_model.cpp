@@ -219,28 +219,6 @@ std::int64_t SkipCounts::total() const {
   return n;
 }
 
-const char* predicateName(std::int8_t pred) {
-  switch (pred) {
-    case situation_t::PRED_TRUE:
-      return "true";
-    case situation_t::PRED_FALSE:
-      return "false";
-    default:
-      return "unknown";
-  }
-}
-
-const char* dirName(std::int8_t dir) {
-  switch (dir) {
-    case situation_t::DIR_LEFT:
-      return "left";
-    case situation_t::DIR_RIGHT:
-      return "right";
-    default:
-      return "undefined";
-  }
-}
-
 SceneModel::SceneModel(SceneOptions options)
     : options_(options),
       clock_(options_.limits.max_time_jump_s, options_.limits.time_resync_messages) {}

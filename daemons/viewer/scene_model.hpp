@@ -186,7 +186,5 @@ std::vector<T> decimated(std::vector<T> points, int max_points) {
 
 /// Names of the wire enums as the page shows them.
 const char* robotModeName(std::int8_t mode);
-const char* predicateName(std::int8_t pred);
-const char* dirName(std::int8_t dir);
 
 }  // namespace coopnav::viewer

@@ -70,8 +70,8 @@ int runMetricsCommand() {
       continue;
     }
     if (run.counts.anyCorruption())
-      std::cerr << "coopnav_ctl metrics: " << path << ": skipped broken data: "
-                << run.counts.describe() << "\n";
+      std::cerr << "coopnav_ctl metrics: " << path
+                << ": skipped broken data: " << run.counts.describe() << "\n";
     if (run.agent_states.empty()) {
       std::cerr << "coopnav_ctl metrics: " << path << ": no agent states, no tracks\n";
       status = 1;
@@ -85,8 +85,8 @@ int runMetricsCommand() {
                 << ": no robot goal in the log: no distance-to-goal metrics\n";
     const auto input = metricsInput(run, analysis, goal, field.get());
     const auto m = metrics::computeRunMetrics(input);
-    entries.push_back(metricsEntry(run, analysis, m,
-                                   std::filesystem::path(path).filename().string(), field != nullptr));
+    entries.push_back(metricsEntry(
+        run, analysis, m, std::filesystem::path(path).filename().string(), field != nullptr));
   }
   const std::string json = dumpJson(metricsDocument(entries));
   if (o.json_out.empty())

@@ -93,9 +93,10 @@ metrics::RunInput metricsInput(const RunLog& run, const RunAnalysis& analysis,
   }
   if (analysis.final_status) {
     const sim_status_t& st = run.sim_status[*analysis.final_status];
-    in.outcome = st.state >= sim_status_t::STATE_RUNNING && st.state <= sim_status_t::STATE_STANDSTILL
-                     ? static_cast<metrics::Outcome>(st.state)
-                     : metrics::Outcome::kUnknown;
+    in.outcome =
+        st.state >= sim_status_t::STATE_RUNNING && st.state <= sim_status_t::STATE_STANDSTILL
+            ? static_cast<metrics::Outcome>(st.state)
+            : metrics::Outcome::kUnknown;
     if (std::isfinite(st.robot_time_to_goal_s)) in.goal_time_s = st.robot_time_to_goal_s;
   }
   if (map && !in.frames.empty()) {
@@ -109,8 +110,8 @@ metrics::RunInput metricsInput(const RunLog& run, const RunAnalysis& analysis,
       GridPathPlanner::Options po;
       po.resolution_m = std::max(0.05, map->resolution_m());
       po.clearance_weight = 0.0;
-      const GridPathPlanner planner(std::shared_ptr<const DistanceMap>(map, [](const DistanceMap*) {}),
-                                    po);
+      const GridPathPlanner planner(
+          std::shared_ptr<const DistanceMap>(map, [](const DistanceMap*) {}), po);
       const PathResult p =
           planner.plan(in.frames.front().robot.p_m, *robot_goal, in.frames.front().robot.radius_m);
       if (p.status == PathStatus::kOk) in.shortest_path_m = p.length_m;
@@ -183,8 +184,9 @@ Json metricsEntry(const RunLog& run, const RunAnalysis& analysis, const metrics:
                                                   ? metrics::kNaN
                                                   : 1.0 - p.conflict.robot_responsibility);
     q["robot_engagement"] = numberOrNull(p.conflict.robot_engagement);
-    q["person_engagement"] = numberOrNull(
-        std::isnan(p.conflict.robot_engagement) ? metrics::kNaN : 1.0 - p.conflict.robot_engagement);
+    q["person_engagement"] =
+        numberOrNull(std::isnan(p.conflict.robot_engagement) ? metrics::kNaN
+                                                             : 1.0 - p.conflict.robot_engagement);
     q["resolved_by_robot"] = numberOrNull(p.conflict.resolved_by_robot);
     q["resolved_by_person"] = numberOrNull(p.conflict.resolved_by_person);
     q["escalated_by_robot"] = numberOrNull(p.conflict.escalated_by_robot);

@@ -13,8 +13,7 @@ double wrapAngle(double a) { return std::remainder(a, 2.0 * M_PI); }
 /// the times of a run add up to its duration whatever the sampling.
 std::vector<double> holdTimes(const std::vector<Frame>& frames) {
   std::vector<double> dt(frames.size(), 0.0);
-  for (std::size_t k = 0; k + 1 < frames.size(); ++k)
-    dt[k] = frames[k + 1].t_s - frames[k].t_s;
+  for (std::size_t k = 0; k + 1 < frames.size(); ++k) dt[k] = frames[k + 1].t_s - frames[k].t_s;
   return dt;
 }
 
@@ -155,8 +154,7 @@ double conflictIntensity(const AgentSample& robot, const AgentSample& person,
   const Eigen::Vector2d dv = person.v_m_s - robot.v_m_s;
   const double vv = dv.squaredNorm();
   const double t_star = vv > 0.0 ? std::clamp(-dp.dot(dv) / vv, 0.0, o.conflict_horizon_s) : 0.0;
-  const double d_star =
-      std::max(0.0, (dp + dv * t_star).norm() - robot.radius_m - person.radius_m);
+  const double d_star = std::max(0.0, (dp + dv * t_star).norm() - robot.radius_m - person.radius_m);
   return std::exp(-d_star * d_star / (2.0 * o.conflict_sigma_m * o.conflict_sigma_m)) *
          std::exp(-t_star / o.conflict_tau_s);
 }
@@ -303,7 +301,8 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
       nearest = std::min(nearest, gap);
       pm.min_distance_m = std::isnan(pm.min_distance_m) ? gap : std::min(pm.min_distance_m, gap);
       const double ttc = timeToCollision(f.robot, h, o.ttc_horizon_s);
-      if (std::isfinite(ttc)) pm.min_ttc_s = std::isnan(pm.min_ttc_s) ? ttc : std::min(pm.min_ttc_s, ttc);
+      if (std::isfinite(ttc))
+        pm.min_ttc_s = std::isnan(pm.min_ttc_s) ? ttc : std::min(pm.min_ttc_s, ttc);
       const int zone = zoneOf(gap, o);
       if (zone == 0) pm.intimate_s += dt[k];
       if (zone == 1) pm.personal_s += dt[k];
@@ -340,8 +339,7 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
   }
   if (frames_with_people > 0.0) {
     m.min_distance_to_person_m = m.closest_person_distance_m.min;
-    m.closest_person_distance_m.avg =
-        w_sum > 0.0 ? x_sum / w_sum : m.closest_person_distance_m.min;
+    m.closest_person_distance_m.avg = w_sum > 0.0 ? x_sum / w_sum : m.closest_person_distance_m.min;
     m.discomfort_frequency = discomfort_frames / frames_with_people;
   }
   if (m.duration_s > 0.0) {
@@ -361,16 +359,15 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
   }
 
   // Outcome.
-  m.collision = m.person_collisions > 0 || m.wall_collisions > 0 ||
-                in.outcome == Outcome::kCollision;
+  m.collision =
+      m.person_collisions > 0 || m.wall_collisions > 0 || in.outcome == Outcome::kCollision;
   const bool reached = in.outcome == Outcome::kGoalReached ||
                        (in.outcome == Outcome::kUnknown && std::isfinite(goal_time));
   m.success = reached && !m.collision;
   m.timeout = in.outcome == Outcome::kTimeLimit;
-  m.failure_to_progress =
-      !m.success && (in.outcome == Outcome::kStandstill ||
-                     (std::isfinite(m.longest_no_progress_s) &&
-                      m.longest_no_progress_s >= o.failure_to_progress_s));
+  m.failure_to_progress = !m.success && (in.outcome == Outcome::kStandstill ||
+                                         (std::isfinite(m.longest_no_progress_s) &&
+                                          m.longest_no_progress_s >= o.failure_to_progress_s));
   if (std::isfinite(m.shortest_path_m) && m.success)
     m.spl = m.shortest_path_m / std::max(m.path_length_m, m.shortest_path_m);
   return m;

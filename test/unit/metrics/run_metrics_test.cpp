@@ -35,8 +35,8 @@ TEST(RunMetrics, TimeToCollisionIsTheFirstTouchAtConstantVelocity) {
   EXPECT_NEAR(timeToCollision(robot, agent(1, 5, 0, -1, 0, 0.2)), 4.5, 1e-12);
   // Head-on both at 1 m/s: half the time.
   EXPECT_NEAR(timeToCollision(agent(0, 0, 0, 1, 0, 0.3), agent(1, 5, 0, -1, 0, 0.2)), 2.25, 1e-12);
-  EXPECT_TRUE(std::isnan(timeToCollision(robot, agent(1, 5, 1, -1, 0, 0.2))));  // passes wide
-  EXPECT_TRUE(std::isnan(timeToCollision(robot, agent(1, 5, 0, 1, 0, 0.2))));   // moving away
+  EXPECT_TRUE(std::isnan(timeToCollision(robot, agent(1, 5, 1, -1, 0, 0.2))));       // passes wide
+  EXPECT_TRUE(std::isnan(timeToCollision(robot, agent(1, 5, 0, 1, 0, 0.2))));        // moving away
   EXPECT_TRUE(std::isnan(timeToCollision(robot, agent(1, 5, 0, -1, 0, 0.2), 4.0)));  // horizon
   EXPECT_EQ(timeToCollision(robot, agent(1, 0.4, 0, 0, 0, 0.2)), 0.0);  // already touching
 }
@@ -232,8 +232,8 @@ TEST(RunMetrics, CollisionsSayWhoRanIntoWhom) {
 
   RunInput walked;  // a person walks into the robot at rest
   for (int k = 0; k < 4; ++k)
-    walked.frames.push_back(frame(0.3 * k, agent(0, 0, 0, 0, 0, 0.3),
-                                  {agent(1, 1.4 - 0.3 * k, 0, -1, 0, 0.3)}));
+    walked.frames.push_back(
+        frame(0.3 * k, agent(0, 0, 0, 0, 0, 0.3), {agent(1, 1.4 - 0.3 * k, 0, -1, 0, 0.3)}));
   m = computeRunMetrics(walked);
   EXPECT_EQ(m.robot_on_person_collisions, 0);
   EXPECT_EQ(m.person_on_robot_collisions, 1);
@@ -270,8 +270,8 @@ TEST(RunMetrics, FailureToProgressIsAStandstillOrTenSecondsWithoutProgress) {
   EXPECT_DOUBLE_EQ(m.longest_no_progress_s, 12.0);
   EXPECT_TRUE(m.failure_to_progress);
   EXPECT_DOUBLE_EQ(m.stalled_s, 12.0);  // 0.01 m/s is stalled
-  in.frames.resize(6);                   // 5 s only: not yet a failure
-  in.outcome = Outcome::kStandstill;     // ... unless the simulator called a standstill
+  in.frames.resize(6);                  // 5 s only: not yet a failure
+  in.outcome = Outcome::kStandstill;    // ... unless the simulator called a standstill
   m = computeRunMetrics(in);
   EXPECT_TRUE(m.failure_to_progress);
   in.outcome = Outcome::kUnknown;

@@ -60,19 +60,19 @@ struct MetricsOptions {
   double intimate_m{0.45};             ///< Hall / HuNavSim zones
   double personal_m{1.2};
   double social_m{3.6};
-  double discomfort_m{0.2};            ///< CrowdNav discomfort distance
-  double contact_m{0.0};               ///< a gap at or below this is a collision
-  double ran_into_speed_m_s{0.05};     ///< closing faster than this at contact = ran into
+  double discomfort_m{0.2};         ///< CrowdNav discomfort distance
+  double contact_m{0.0};            ///< a gap at or below this is a collision
+  double ran_into_speed_m_s{0.05};  ///< closing faster than this at contact = ran into
   double ttc_horizon_s{std::numeric_limits<double>::infinity()};  ///< TTC beyond: none
-  double sfm_a_m_s2{2.1};              ///< social-force strength (Helbing & Molnár)
-  double sfm_b_m{0.3};                 ///< social-force range
-  double sfm_wall_a_m_s2{10.0};        ///< obstacle-force strength
-  double sfm_wall_b_m{0.2};            ///< obstacle-force range
+  double sfm_a_m_s2{2.1};               ///< social-force strength (Helbing & Molnár)
+  double sfm_b_m{0.3};                  ///< social-force range
+  double sfm_wall_a_m_s2{10.0};         ///< obstacle-force strength
+  double sfm_wall_b_m{0.2};             ///< obstacle-force range
   double personal_space_sigma_m{0.45};  ///< personal-space cost Gaussian width
-  double conflict_sigma_m{0.5};        ///< conflict intensity: width over the predicted gap
-  double conflict_tau_s{2.0};          ///< conflict intensity: decay over the time to it
-  double conflict_horizon_s{8.0};      ///< conflict intensity: closest approach looked for within
-  double min_motion_m{0.01};           ///< a step shorter than this has no motion direction
+  double conflict_sigma_m{0.5};         ///< conflict intensity: width over the predicted gap
+  double conflict_tau_s{2.0};           ///< conflict intensity: decay over the time to it
+  double conflict_horizon_s{8.0};       ///< conflict intensity: closest approach looked for within
+  double min_motion_m{0.01};            ///< a step shorter than this has no motion direction
 };
 
 /// What the run's metrics are computed from besides the frames.
@@ -153,8 +153,8 @@ struct RunMetrics {
   Stat3 jerk_m_s3;
   double motion_energy_m2_s{0.0};  ///< ∫ |v|² dt
   // Clearance and people
-  Stat3 clearing_distance_m;       ///< to obstacles (needs wall clearance)
-  double space_compliance{kNaN};   ///< share of time with a person nearer than space_compliance_m
+  Stat3 clearing_distance_m;      ///< to obstacles (needs wall clearance)
+  double space_compliance{kNaN};  ///< share of time with a person nearer than space_compliance_m
   double min_distance_to_person_m{kNaN};
   Stat3 closest_person_distance_m;  ///< per frame, the nearest person's gap (HuNavSim)
   double min_ttc_s{kNaN};
@@ -164,9 +164,9 @@ struct RunMetrics {
   double intimate_share{kNaN};
   double personal_share{kNaN};
   double social_share{kNaN};
-  double discomfort_frequency{kNaN};  ///< share of frames with a gap below discomfort_m
-  double personal_space_cost_s{0.0};  ///< ∫ Σ_persons exp(-gap²/2σ²) dt
-  double social_work{0.0};            ///< ∫ social-force magnitudes dt [m/s]
+  double discomfort_frequency{kNaN};   ///< share of frames with a gap below discomfort_m
+  double personal_space_cost_s{0.0};   ///< ∫ Σ_persons exp(-gap²/2σ²) dt
+  double social_work{0.0};             ///< ∫ social-force magnitudes dt [m/s]
   std::vector<PersonMetrics> persons;  ///< ascending id
 };
 

@@ -166,6 +166,7 @@ Json metricsEntry(const RunLog& run, const RunAnalysis& analysis, const metrics:
   o["discomfort_frequency"] = numberOrNull(m.discomfort_frequency);
   o["personal_space_cost_s"] = numberOrNull(m.personal_space_cost_s);
   o["social_work"] = numberOrNull(m.social_work);
+  o["obstacle_work"] = with_map ? numberOrNull(m.obstacle_work) : Json(nullptr);
   Json persons = Json::array();
   for (const auto& p : m.persons) {
     Json q = Json::object();

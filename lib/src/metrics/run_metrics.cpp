@@ -273,7 +273,7 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
       const bool now = c <= o.contact_m;
       if (now && !touching) ++m.wall_collisions;
       touching = now;
-      m.social_work += o.sfm_wall_a_m_s2 * std::exp(-std::max(c, 0.0) / o.sfm_wall_b_m) * dt[k];
+      m.obstacle_work += o.sfm_wall_a_m_s2 * std::exp(-std::max(c, 0.0) / o.sfm_wall_b_m) * dt[k];
     }
     m.clearing_distance_m.avg =
         w_sum > 0.0 ? x_sum / w_sum : (run.size() == 1 ? in.wall_clearance_m[0] : kNaN);
@@ -357,6 +357,8 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
       m.min_ttc_s = std::isnan(m.min_ttc_s) ? pm.min_ttc_s : std::min(m.min_ttc_s, pm.min_ttc_s);
     m.persons.push_back(pm);
   }
+
+  m.social_work += m.obstacle_work;
 
   // Outcome.
   m.collision =

@@ -250,6 +250,9 @@ TEST(RunMetrics, WallClearanceGivesClearingDistanceAndWallCollisions) {
   EXPECT_DOUBLE_EQ(m.clearing_distance_m.max, 1.0);
   EXPECT_EQ(m.wall_collisions, 1);
   EXPECT_TRUE(m.collision);
+  // The wall force 10 exp(-c / 0.2) over the three seconds held (1, 0.5 and 0 m).
+  EXPECT_NEAR(m.obstacle_work, 10.0 * (std::exp(-5.0) + std::exp(-2.5) + 1.0), 1e-12);
+  EXPECT_DOUBLE_EQ(m.social_work, m.obstacle_work);  // nobody else there
 }
 
 TEST(RunMetrics, SocialWorkAndPersonalSpaceCost) {

@@ -66,6 +66,7 @@ RUN_METRICS: list[tuple[str, str, str]] = [
     ("discomfort_frequency", "mean", "discomfort frequency (< 0.2 m)"),
     ("personal_space_cost_s", "mean", "personal-space cost [s]"),
     ("social_work", "mean", "social work [m/s]"),
+    ("obstacle_work", "mean", "obstacle part of social work [m/s]"),
 ]
 
 PERSON_METRICS: list[tuple[str, str]] = [

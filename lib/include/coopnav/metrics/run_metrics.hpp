@@ -164,9 +164,12 @@ struct RunMetrics {
   double intimate_share{kNaN};
   double personal_share{kNaN};
   double social_share{kNaN};
-  double discomfort_frequency{kNaN};   ///< share of frames with a gap below discomfort_m
-  double personal_space_cost_s{0.0};   ///< ∫ Σ_persons exp(-gap²/2σ²) dt
-  double social_work{0.0};             ///< ∫ social-force magnitudes dt [m/s]
+  double discomfort_frequency{kNaN};  ///< share of frames with a gap below discomfort_m
+  double personal_space_cost_s{0.0};  ///< ∫ Σ_persons exp(-gap²/2σ²) dt
+  /// ∫ social-force magnitudes dt [m/s]: the people's on the robot, the robot's on each person
+  /// and (with wall clearance) the obstacles' on the robot, as HuNavSim's W_r + Σ W_p.
+  double social_work{0.0};
+  double obstacle_work{0.0};           ///< the obstacles' part of social_work
   std::vector<PersonMetrics> persons;  ///< ascending id
 };
 

@@ -102,3 +102,34 @@ def test_bad_files_are_refused(tmp_path, capsys):
     assert cli.main(["metrics", str(tmp_path)]) == 2
     assert "not a coopnav-metrics/1 file" in capsys.readouterr().err
     assert cli.main(["metrics", str(tmp_path / "missing")]) == 2
+
+
+def test_paired_variants_match_encounters_by_scenario(tmp_path, capsys):
+    ref = [run(f"pop_{i:04d}", True, 30.0 + i, [person(1, 0.4, 0.2, False)]) for i in range(6)]
+    # The variant: every encounter 2 s slower, two of six failed, the person's share higher.
+    var = [run(f"pop_{i:04d}", i >= 2, 32.0 + i, [person(1, 0.6, 0.3, True)]) for i in range(6)]
+    var.append(run("pop_0099", True, 1.0, []))  # not in the reference: not paired
+    rows = {r["key"]: r for r in metrics.paired_table({"paper": ref, "muted": var}, n_boot=200)}
+    ttg = rows["time_to_goal_s"]
+    assert ttg["n_pairs"] == 6 and ttg["difference"] == pytest.approx(2.0)
+    assert (ttg["lo"], ttg["hi"]) == (pytest.approx(2.0), pytest.approx(2.0))
+    assert ttg["test"] == "wilcoxon-normal"  # six tied differences
+    success = rows["success"]
+    assert success["test"] == "mcnemar-exact"
+    assert success["difference"] == pytest.approx(-2 / 6)
+    assert success["p_value"] == pytest.approx(0.5)  # 2 discordant pairs: 2 × 1/4
+    resp = rows["person_responsibility"]
+    assert resp["n_pairs"] == 6 and resp["difference"] == pytest.approx(0.2)
+
+    write(tmp_path / "paper" / "runs.metrics.json", ref)
+    write(tmp_path / "muted" / "runs.metrics.json", var)
+    assert cli.main(["metrics", "--paired", str(tmp_path / "paper"), str(tmp_path / "muted"),
+                     "--out", str(tmp_path / "cmp"), "--n-boot", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "## paired: muted - paper (same encounters)" in out
+    assert "# variant paper" in out and "# variant muted" in out
+    saved = json.loads((tmp_path / "cmp.json").read_text())
+    assert saved["variant"] == "paper" and saved["runs"] == 6
+    assert saved["variant_tables"]["muted"]["runs"] == 7
+    assert "paired:muted-paper,time_to_goal_s," in (tmp_path / "cmp.csv").read_text()
+    assert cli.main(["metrics", "--paired", str(tmp_path / "paper")]) == 2

@@ -10,6 +10,12 @@ means), then per person Responsibility and Engagement next to the path assessor'
 well they agree (Spearman's ρ of the person's responsibility share against CM, and the AUC of that
 share for the assessor's "contributing" verdict), each with a bootstrap interval.
 Robot-alone baseline runs (`base_*`) are left out unless --include-baselines.
+
+With --paired each DIR is a variant of the same encounters (an ablation: the same scenarios run
+with another profile or without assessment): the table gets, for every variant against the first
+DIR, per metric the mean difference over the encounters both ran (paired bootstrap interval) and
+its p-value (exact McNemar for rates, Wilcoxon signed-rank otherwise); runs are matched by
+scenario name, persons by scenario and id.
 """
 
 from __future__ import annotations
@@ -91,6 +97,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="score every log again, even where a metrics JSON exists")
     parser.add_argument("--include-baselines", action="store_true",
                         help="keep the robot-alone baseline runs (base_*) in the table")
+    parser.add_argument("--paired", action="store_true",
+                        help="each DIR is a variant of the same encounters: paired comparisons "
+                             "of every variant against the first")
     parser.add_argument("--seed", type=int, default=stats.DEFAULT_SEED,
                         help="bootstrap seed (default %(default)s)")
     parser.add_argument("--n-boot", type=int, default=stats.DEFAULT_N_BOOT,
@@ -207,6 +216,80 @@ def aggregate(runs: list[dict], *, seed: int = stats.DEFAULT_SEED,
     return table
 
 
+def _as_float(v) -> float:
+    return math.nan if v is None else float(v)
+
+
+def paired_table(variants: dict[str, list[dict]], *, seed: int = stats.DEFAULT_SEED,
+                 n_boot: int = stats.DEFAULT_N_BOOT) -> list[dict]:
+    """Every variant against the first (the reference) on the encounters both ran."""
+    names = list(variants)
+    reference = names[0]
+    by_name = {v: {r.get("scenario"): r for r in runs} for v, runs in variants.items()}
+
+    def persons_of(v: str) -> dict:
+        return {(r.get("scenario"), p.get("id")): p for r in variants[v]
+                for p in r.get("persons", [])}
+
+    rows: list[dict] = []
+    ref_persons = persons_of(reference)
+    for other in names[1:]:
+        common = [s for s in by_name[reference] if s in by_name[other]]
+        for key, kind, label in RUN_METRICS:
+            a, b = [], []
+            for scenario in common:
+                x, y = by_name[reference][scenario].get(key), by_name[other][scenario].get(key)
+                if x is None or y is None:
+                    continue
+                a.append(_as_float(x))
+                b.append(_as_float(y))
+            a, b = stats.finite_pairs(a, b)
+            rows.append(_paired_row(reference, other, key, label, kind == "rate", a, b, seed,
+                                    n_boot))
+        other_persons = persons_of(other)
+        both = [k for k in ref_persons if k in other_persons]
+        for key, label in PERSON_METRICS:
+            a, b = stats.finite_pairs([ref_persons[k].get(key) for k in both],
+                                      [other_persons[k].get(key) for k in both])
+            rows.append(_paired_row(reference, other, key, label, False, a, b, seed, n_boot))
+    return rows
+
+
+def _paired_row(reference: str, other: str, key: str, label: str, binary: bool, a: list,
+                b: list, seed: int, n_boot: int) -> dict:
+    row = {"reference": reference, "variant": other, "key": key, "label": label,
+           "n_pairs": len(a), "reference_mean": None, "variant_mean": None,
+           "difference": None, "lo": None, "hi": None, "p_value": None, "test": None}
+    if not a:
+        return row
+    r = stats.paired_compare(a, b, binary=binary, n_boot=n_boot, seed=seed)
+    row.update({"reference_mean": sum(a) / len(a), "variant_mean": sum(b) / len(b),
+                "difference": r.mean_difference.value, "lo": r.mean_difference.lo,
+                "hi": r.mean_difference.hi, "p_value": r.p_value, "test": r.test})
+    return row
+
+
+def format_paired(rows: list[dict]) -> str:
+    if not rows:
+        return ""
+    width = max(len(r["label"]) for r in rows)
+    lines = []
+    for variant in dict.fromkeys(r["variant"] for r in rows):
+        ref = rows[0]["reference"]
+        lines.append(f"\n## paired: {variant} - {ref} (same encounters)")
+        lines.append(f"{'metric':<{width}}  {ref[:9]:>9}  {variant[:9]:>9}  {'difference':>10}  "
+                     f"{'95 % interval':>19}  {'p':>7}  {'pairs':>5}")
+        for r in rows:
+            if r["variant"] != variant:
+                continue
+            interval = f"[{_fmt(r['lo'])}, {_fmt(r['hi'])}]"
+            p = "-" if r["p_value"] is None else f"{r['p_value']:.4f}"
+            lines.append(f"{r['label']:<{width}}  {_fmt(r['reference_mean']):>9}  "
+                         f"{_fmt(r['variant_mean']):>9}  {_fmt(r['difference']):>10}  "
+                         f"{interval:>19}  {p:>7}  {r['n_pairs']:>5}")
+    return "\n".join(lines) + "\n"
+
+
 def _fmt(v: float | None) -> str:
     if v is None:
         return "-"
@@ -240,6 +323,13 @@ def table_csv(table: dict) -> str:
                         "" if row["value"] is None else repr(row["value"]),
                         "" if row["lo"] is None else repr(row["lo"]),
                         "" if row["hi"] is None else repr(row["hi"]), row["n"]])
+    for row in table.get("paired", []):
+        # value: the mean difference variant - reference; method: the test and its p-value.
+        w.writerow([f"paired:{row['variant']}-{row['reference']}", row["key"], row["label"],
+                    "" if row["test"] is None else f"{row['test']} p={row['p_value']!r}",
+                    "" if row["difference"] is None else repr(row["difference"]),
+                    "" if row["lo"] is None else repr(row["lo"]),
+                    "" if row["hi"] is None else repr(row["hi"]), row["n_pairs"]])
     return out.getvalue()
 
 
@@ -256,10 +346,35 @@ def main(args: argparse.Namespace) -> int:
     if not runs:
         print("coopnav metrics: no runs found", file=sys.stderr)
         return 2
-    table = aggregate(runs, seed=args.seed, n_boot=args.n_boot)
+    if not args.paired:
+        table = aggregate(runs, seed=args.seed, n_boot=args.n_boot)
+        text = format_table(table)
+    else:
+        # One table per variant (the first DIR's is the table's own), then the paired rows.
+        if len(args.dirs) < 2:
+            print("coopnav metrics: --paired needs two or more variant directories",
+                  file=sys.stderr)
+            return 2
+        variants: dict[str, list[dict]] = {}
+        for d in args.dirs:
+            name = d.name if d.name not in variants else str(d)
+            vruns = load_runs(find_metrics([d], ctl))
+            variants[name] = [r for r in vruns if args.include_baselines
+                              or not str(r.get("scenario", "")).startswith("base_")]
+        tables = {name: aggregate(vruns, seed=args.seed, n_boot=args.n_boot)
+                  for name, vruns in variants.items() if vruns}
+        names = list(variants)
+        if names[0] not in tables:
+            print(f"coopnav metrics: no runs in {args.dirs[0]}", file=sys.stderr)
+            return 2
+        table = tables[names[0]]
+        table["variant"] = names[0]
+        table["variant_tables"] = {n: t for n, t in tables.items() if n != names[0]}
+        text = "".join(f"# variant {n}\n" + format_table(t) + "\n" for n, t in tables.items())
+        table["paired"] = paired_table(variants, seed=args.seed, n_boot=args.n_boot)
+        text += format_paired(table["paired"])
     first = args.dirs[0]
     prefix = args.out or ((first if first.is_dir() else first.parent) / "metrics_table")
-    text = format_table(table)
     Path(f"{prefix}.txt").write_text(text, encoding="utf-8")
     Path(f"{prefix}.csv").write_text(table_csv(table), encoding="utf-8")
     Path(f"{prefix}.json").write_text(json.dumps(table, indent=2) + "\n", encoding="utf-8")

@@ -257,8 +257,8 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
     if (m.shortest_path_m > 0.0) m.path_length_ratio = m.path_length_m / m.shortest_path_m;
     m.final_distance_to_goal_m = (goal - p.back()).norm();
     m.path_irregularity_rad = pathIrregularity(p, theta.front(), goal, o.min_motion_m);
-    std::vector<double> d;
-    for (const auto& x : p) d.push_back((goal - x).norm());
+    std::vector<double> d(p.size());
+    for (std::size_t k = 0; k < p.size(); ++k) d[k] = (goal - p[k]).norm();
     m.longest_no_progress_s = longestNoProgress(t, d, o.progress_m);
   }
 

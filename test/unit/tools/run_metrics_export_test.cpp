@@ -52,7 +52,7 @@ agent_state_t agentAt(std::int32_t id, double x, double y, double vx) {
 /// The robot drives 1 m/s along +x from 0 to its goal at x 5 (t 5 s); a person walks -x from
 /// x 10 at 1 m/s, 1 m to the side: at t 5 s they are abreast, 0.4 m apart surface to surface.
 std::string writeRun(const fs::path& dir) {
-  const std::string path = (dir / "run.lcm").string();
+  std::string path = (dir / "run.lcm").string();
   MetricsLog log(path);
   goals_t goals{};
   goal_t g{};

@@ -133,3 +133,23 @@ def test_paired_variants_match_encounters_by_scenario(tmp_path, capsys):
     assert saved["variant_tables"]["muted"]["runs"] == 7
     assert "paired:muted-paper,time_to_goal_s," in (tmp_path / "cmp.csv").read_text()
     assert cli.main(["metrics", "--paired", str(tmp_path / "paper")]) == 2
+
+
+def test_a_log_that_cannot_be_scored_is_reported_not_lost(tmp_path, monkeypatch, capsys):
+    write(tmp_path / "runs" / "a" / "a.metrics.json", RUNS[:2])
+    bad = tmp_path / "runs" / "b" / "b.lcm"
+    bad.parent.mkdir(parents=True)
+    bad.write_bytes(b"")
+
+    def failing(cmd, **kwargs):
+        return subprocess.CompletedProcess(cmd, 1, "", "b.lcm: no agent states, no tracks")
+
+    monkeypatch.setattr(metrics.subprocess, "run", failing)
+    with pytest.raises(RuntimeError):
+        metrics.find_metrics([tmp_path], Path("ctl"))
+    assert cli.main(["metrics", str(tmp_path), "--n-boot", "50"]) == 0
+    captured = capsys.readouterr()
+    assert "not scored" in captured.err and "no agent states" in captured.err
+    assert captured.out.startswith("# 1 logs could not be scored")
+    table = json.loads((tmp_path / "metrics_table.json").read_text())
+    assert table["runs"] == 2 and len(table["unscored"]) == 1

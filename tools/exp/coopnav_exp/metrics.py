@@ -130,12 +130,27 @@ def score_log(log: Path, ctl: Path) -> Path:
     return out
 
 
-def find_metrics(paths: Iterable[Path], ctl: Path, rescore: bool = False) -> list[Path]:
-    """Every metrics JSON under the paths, scoring logs that have none."""
+def find_metrics(paths: Iterable[Path], ctl: Path, rescore: bool = False,
+                 unscored: list[str] | None = None) -> list[Path]:
+    """Every metrics JSON under the paths, scoring logs that have none. A log that cannot be
+    scored (empty, no agent states) is reported in `unscored` ("log: why") when given, else
+    raises RuntimeError."""
     found: list[Path] = []
+
+    def score(log: Path) -> Path | None:
+        try:
+            return score_log(log, ctl)
+        except RuntimeError as e:
+            if unscored is None:
+                raise
+            unscored.append(str(e))
+            return None
+
     for root in paths:
         if root.is_file():
-            found.append(score_log(root, ctl) if root.suffix == ".lcm" else root)
+            scored = score(root) if root.suffix == ".lcm" else root
+            if scored is not None:
+                found.append(scored)
             continue
         if not root.is_dir():
             raise FileNotFoundError(f"{root}: no such file or directory")
@@ -143,8 +158,9 @@ def find_metrics(paths: Iterable[Path], ctl: Path, rescore: bool = False) -> lis
         for log in sorted(root.rglob("*.lcm")):
             beside = log.with_name(log.stem + ".metrics.json")
             if rescore or beside not in jsons:
-                score_log(log, ctl)
-                jsons.add(beside)
+                jsons.discard(beside)  # a stale file of a log that no longer scores is not kept
+                if score(log) is not None:
+                    jsons.add(beside)
         found.extend(sorted(jsons))
     return found
 
@@ -335,8 +351,9 @@ def table_csv(table: dict) -> str:
 
 def main(args: argparse.Namespace) -> int:
     ctl = args.ctl or default_ctl()
+    unscored: list[str] = []
     try:
-        files = find_metrics(args.dirs, ctl, rescore=args.rescore)
+        files = find_metrics(args.dirs, ctl, rescore=args.rescore, unscored=unscored)
         runs = load_runs(files)
     except (OSError, RuntimeError, ValueError, json.JSONDecodeError) as e:
         print(f"coopnav metrics: {e}", file=sys.stderr)
@@ -358,7 +375,7 @@ def main(args: argparse.Namespace) -> int:
         variants: dict[str, list[dict]] = {}
         for d in args.dirs:
             name = d.name if d.name not in variants else str(d)
-            vruns = load_runs(find_metrics([d], ctl))
+            vruns = load_runs(find_metrics([d], ctl, unscored=[]))  # reported above
             variants[name] = [r for r in vruns if args.include_baselines
                               or not str(r.get("scenario", "")).startswith("base_")]
         tables = {name: aggregate(vruns, seed=args.seed, n_boot=args.n_boot)
@@ -373,6 +390,11 @@ def main(args: argparse.Namespace) -> int:
         text = "".join(f"# variant {n}\n" + format_table(t) + "\n" for n, t in tables.items())
         table["paired"] = paired_table(variants, seed=args.seed, n_boot=args.n_boot)
         text += format_paired(table["paired"])
+    for why in unscored:
+        print(f"coopnav metrics: not scored: {why}", file=sys.stderr)
+    table["unscored"] = unscored
+    if unscored:
+        text = f"# {len(unscored)} logs could not be scored (stderr; the JSON's unscored)\n" + text
     first = args.dirs[0]
     prefix = args.out or ((first if first.is_dir() else first.parent) / "metrics_table")
     Path(f"{prefix}.txt").write_text(text, encoding="utf-8")

@@ -143,10 +143,12 @@ Json metricsEntry(const RunLog& run, const RunAnalysis& analysis, const metrics:
   o["path_length_m"] = numberOrNull(m.path_length_m);
   o["shortest_path_m"] = numberOrNull(m.shortest_path_m);
   o["path_length_ratio"] = numberOrNull(m.path_length_ratio);
+  o["goal_traversal_ratio"] = numberOrNull(m.goal_traversal_ratio);
   o["spl"] = numberOrNull(m.spl);
   o["final_distance_to_goal_m"] = numberOrNull(m.final_distance_to_goal_m);
   o["cumulative_heading_change_rad"] = numberOrNull(m.cumulative_heading_change_rad);
   o["path_irregularity_rad"] = numberOrNull(m.path_irregularity_rad);
+  o["path_irregularity_rad_per_m"] = numberOrNull(m.path_irregularity_rad_per_m);
   putStat(o, "speed", m.speed_m_s, "_m_s");
   putStat(o, "acceleration", m.acceleration_m_s2, "_m_s2");
   putStat(o, "jerk", m.jerk_m_s3, "_m_s3");

@@ -99,6 +99,25 @@ double pathIrregularity(const std::vector<Eigen::Vector2d>& points, double initi
   return std::max(0.0, turned - needed);
 }
 
+double personalSpaceCost(const AgentSample& robot, const AgentSample& person,
+                         const MetricsOptions& o) {
+  const double speed = person.v_m_s.norm();
+  // Still (below a creep of 1 cm/s): the person's heading gives the front.
+  const Eigen::Vector2d u =
+      speed > 0.01 ? Eigen::Vector2d(person.v_m_s / speed)
+                   : Eigen::Vector2d(std::cos(person.theta_rad), std::sin(person.theta_rad));
+  const Eigen::Vector2d n{-u.y(), u.x()};
+  const Eigen::Vector2d d = robot.p_m - person.p_m;
+  const double ahead = d.dot(u);
+  const double side = d.dot(n);
+  const double sigma_front =
+      std::max(o.personal_space_front_s * speed, o.personal_space_min_sigma_m);
+  const double sigma_along = ahead > 0.0 ? sigma_front : sigma_front / 3.0;
+  const double sigma_side = sigma_front / 4.0;
+  return std::exp(-ahead * ahead / (2.0 * sigma_along * sigma_along) -
+                  side * side / (2.0 * sigma_side * sigma_side));
+}
+
 double longestNoProgress(const std::vector<double>& t_s, const std::vector<double>& distance_m,
                          double progress_m) {
   const std::size_t n = std::min(t_s.size(), distance_m.size());
@@ -252,11 +271,14 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
 
   if (in.robot_goal) {
     const Eigen::Vector2d goal = *in.robot_goal;
-    m.shortest_path_m =
-        std::isfinite(in.shortest_path_m) ? in.shortest_path_m : (goal - p.front()).norm();
-    if (m.shortest_path_m > 0.0) m.path_length_ratio = m.path_length_m / m.shortest_path_m;
+    const double straight = (goal - p.front()).norm();
+    m.shortest_path_m = std::isfinite(in.shortest_path_m) ? in.shortest_path_m : straight;
+    if (straight > 0.0) m.path_length_ratio = m.path_length_m / straight;
     m.final_distance_to_goal_m = (goal - p.back()).norm();
+    if (straight > 0.0) m.goal_traversal_ratio = m.final_distance_to_goal_m / straight;
     m.path_irregularity_rad = pathIrregularity(p, theta.front(), goal, o.min_motion_m);
+    if (m.path_length_m > 0.0)
+      m.path_irregularity_rad_per_m = m.path_irregularity_rad / m.path_length_m;
     std::vector<double> d(p.size());
     for (std::size_t k = 0; k < p.size(); ++k) d[k] = (goal - p[k]).norm();
     m.longest_no_progress_s = longestNoProgress(t, d, o.progress_m);
@@ -321,9 +343,7 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
       const double force = o.sfm_a_m_s2 * std::exp(-std::max(gap, 0.0) / o.sfm_b_m);
       if (away.norm() > 0.0) force_on_robot += force * away.normalized();
       m.social_work += force * dt[k];  // the robot's on this person
-      m.personal_space_cost_s +=
-          std::exp(-gap * gap / (2.0 * o.personal_space_sigma_m * o.personal_space_sigma_m)) *
-          dt[k];
+      m.personal_space_cost_s += personalSpaceCost(f.robot, h, o) * dt[k];
       robot_with[h.id].push_back(f.robot);
       person_track[h.id].push_back(h);
     }

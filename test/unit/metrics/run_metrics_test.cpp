@@ -202,9 +202,14 @@ TEST(RunMetrics, PathRatioSplAndTimeToGoal) {
   EXPECT_DOUBLE_EQ(m.final_distance_to_goal_m, 0.0);
   EXPECT_DOUBLE_EQ(m.motion_energy_m2_s, 12.0);  // 2 m/s for 3 s: 4 × 3
   EXPECT_DOUBLE_EQ(m.speed_m_s.avg, 2.0);
-  in.shortest_path_m = 12.0;  // the map's geodesic, given
+  EXPECT_DOUBLE_EQ(m.goal_traversal_ratio, 0.0);
+  // Turned atan(4/3) left, twice that right, atan(4/3) left again, over 14 m.
+  EXPECT_NEAR(m.path_irregularity_rad_per_m, 4.0 * std::atan2(4.0, 3.0) / 14.0,
+              1e-12);         // 45° + 90° + 45° turned
+  in.shortest_path_m = 12.0;  // the map's geodesic, given: SPL's, not the ratio's (straight)
   m = computeRunMetrics(in);
   EXPECT_DOUBLE_EQ(m.spl, 12.0 / 14.0);
+  EXPECT_DOUBLE_EQ(m.path_length_ratio, 1.4);
   in.outcome = Outcome::kTimeLimit;  // not reached: no SPL, a timeout
   in.goal_time_s = kNaN;
   m = computeRunMetrics(in);
@@ -256,13 +261,28 @@ TEST(RunMetrics, WallClearanceGivesClearingDistanceAndWallCollisions) {
 }
 
 TEST(RunMetrics, SocialWorkAndPersonalSpaceCost) {
-  RunInput in;  // 0.5 m gap held for one second
+  RunInput in;  // 0.5 m gap held for one second, the person walking at the robot at 1 m/s
   for (int k = 0; k < 2; ++k)
-    in.frames.push_back(frame(k, agent(0, 0, 0, 0, 0, 0.5), {agent(1, 1.3, 0, 0, 0, 0.3)}));
+    in.frames.push_back(frame(k, agent(0, 0, 0, 0, 0, 0.5), {agent(1, 1.3, 0, -1, 0, 0.3)}));
   const RunMetrics m = computeRunMetrics(in);
   // The robot's force on the person and the person's on the robot: 2 × 2.1 exp(-0.5/0.3).
   EXPECT_NEAR(m.social_work, 4.2 * std::exp(-0.5 / 0.3), 1e-12);
-  EXPECT_NEAR(m.personal_space_cost_s, std::exp(-0.25 / (2 * 0.45 * 0.45)), 1e-12);
+  // 1.3 m ahead of a person at 1 m/s: σ = 2 m: exp(-1.3² / 8).
+  EXPECT_NEAR(m.personal_space_cost_s, std::exp(-1.69 / 8.0), 1e-12);
+}
+
+TEST(RunMetrics, PersonalSpaceIsLongerAheadThanBehindAndNarrowAside) {
+  const MetricsOptions o;
+  const AgentSample walker = agent(1, 0, 0, 1, 0, 0.3);  // 1 m/s along +x: σ 2, 2/3, 0.5 m
+  EXPECT_NEAR(personalSpaceCost(agent(0, 1, 0, 0, 0, 0.3), walker, o), std::exp(-1.0 / 8.0), 1e-12);
+  EXPECT_NEAR(personalSpaceCost(agent(0, -1, 0, 0, 0, 0.3), walker, o),
+              std::exp(-1.0 / (2.0 * 4.0 / 9.0)), 1e-12);
+  EXPECT_NEAR(personalSpaceCost(agent(0, 0, 1, 0, 0, 0.3), walker, o), std::exp(-2.0), 1e-12);
+  // Standing still facing +y: σ 0.5 m ahead (along +y), 0.125 m aside.
+  AgentSample still = agent(1, 0, 0, 0, 0, 0.3);
+  still.theta_rad = M_PI / 2;
+  EXPECT_NEAR(personalSpaceCost(agent(0, 0, 0.5, 0, 0, 0.3), still, o), std::exp(-0.5), 1e-12);
+  EXPECT_NEAR(personalSpaceCost(agent(0, 0.25, 0, 0, 0, 0.3), still, o), std::exp(-2.0), 1e-12);
 }
 
 TEST(RunMetrics, FailureToProgressIsAStandstillOrTenSecondsWithoutProgress) {

@@ -52,6 +52,8 @@ RUN_METRICS: list[tuple[str, str, str]] = [
     ("spl", "mean", "SPL"),
     ("cumulative_heading_change_rad", "mean", "cumulative heading change [rad]"),
     ("path_irregularity_rad", "mean", "path irregularity [rad]"),
+    ("path_irregularity_rad_per_m", "mean", "path irregularity [rad/m]"),
+    ("goal_traversal_ratio", "mean", "goal traversal ratio (final / initial distance)"),
     ("avg_speed_m_s", "mean", "avg speed [m/s]"),
     ("max_speed_m_s", "mean", "max speed [m/s]"),
     ("avg_acceleration_m_s2", "mean", "avg acceleration [m/s2]"),

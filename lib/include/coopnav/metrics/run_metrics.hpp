@@ -64,15 +64,18 @@ struct MetricsOptions {
   double contact_m{0.0};            ///< a gap at or below this is a collision
   double ran_into_speed_m_s{0.05};  ///< closing faster than this at contact = ran into
   double ttc_horizon_s{std::numeric_limits<double>::infinity()};  ///< TTC beyond: none
-  double sfm_a_m_s2{2.1};               ///< social-force strength (Helbing & Molnár)
-  double sfm_b_m{0.3};                  ///< social-force range
-  double sfm_wall_a_m_s2{10.0};         ///< obstacle-force strength
-  double sfm_wall_b_m{0.2};             ///< obstacle-force range
-  double personal_space_sigma_m{0.45};  ///< personal-space cost Gaussian width
-  double conflict_sigma_m{0.5};         ///< conflict intensity: width over the predicted gap
-  double conflict_tau_s{2.0};           ///< conflict intensity: decay over the time to it
-  double conflict_horizon_s{8.0};       ///< conflict intensity: closest approach looked for within
-  double min_motion_m{0.01};            ///< a step shorter than this has no motion direction
+  double sfm_a_m_s2{2.1};        ///< social-force strength (Helbing & Molnár)
+  double sfm_b_m{0.3};           ///< social-force range
+  double sfm_wall_a_m_s2{10.0};  ///< obstacle-force strength
+  double sfm_wall_b_m{0.2};      ///< obstacle-force range
+  /// Personal-space cost (Kirby 2009, SocNavBench): the Gaussian's width ahead of a person is
+  /// max(front_s × speed, min_sigma_m), behind it a third, to the sides a quarter.
+  double personal_space_front_s{2.0};
+  double personal_space_min_sigma_m{0.5};
+  double conflict_sigma_m{0.5};    ///< conflict intensity: width over the predicted gap
+  double conflict_tau_s{2.0};      ///< conflict intensity: decay over the time to it
+  double conflict_horizon_s{8.0};  ///< conflict intensity: closest approach looked for within
+  double min_motion_m{0.01};       ///< a step shorter than this has no motion direction
 };
 
 /// What the run's metrics are computed from besides the frames.
@@ -142,11 +145,13 @@ struct RunMetrics {
   // Path (Francis; SocNavBench; HuNavSim)
   double path_length_m{0.0};
   double shortest_path_m{kNaN};
-  double path_length_ratio{kNaN};  ///< path / shortest (SocNavBench)
-  double spl{0.0};                 ///< success × shortest / max(path, shortest)
+  double path_length_ratio{kNaN};     ///< path / straight start-goal distance (SocNavBench)
+  double goal_traversal_ratio{kNaN};  ///< final / initial distance to the goal (SocNavBench)
+  double spl{0.0};                    ///< success × shortest / max(path, shortest)
   double final_distance_to_goal_m{kNaN};
   double cumulative_heading_change_rad{0.0};
   double path_irregularity_rad{kNaN};
+  double path_irregularity_rad_per_m{kNaN};  ///< the same per metre of path (SocNavBench)
   // Motion
   Stat3 speed_m_s;
   Stat3 acceleration_m_s2;
@@ -165,7 +170,7 @@ struct RunMetrics {
   double personal_share{kNaN};
   double social_share{kNaN};
   double discomfort_frequency{kNaN};  ///< share of frames with a gap below discomfort_m
-  double personal_space_cost_s{0.0};  ///< ∫ Σ_persons exp(-gap²/2σ²) dt
+  double personal_space_cost_s{0.0};  ///< ∫ Σ_persons personalSpaceCost dt
   /// ∫ social-force magnitudes dt [m/s]: the people's on the robot, the robot's on each person
   /// and (with wall clearance) the obstacles' on the robot, as HuNavSim's W_r + Σ W_p.
   double social_work{0.0};
@@ -194,6 +199,13 @@ double cumulativeHeadingChange(const std::vector<double>& headings_rad);
 /// - initial heading)|, at least 0.
 double pathIrregularity(const std::vector<Eigen::Vector2d>& points, double initial_heading_rad,
                         const Eigen::Vector2d& goal, double min_motion_m);
+
+/// Personal-space cost of the robot's position to one person, 0..1 (Kirby 2009, as SocNavBench):
+/// an asymmetric Gaussian centred on the person, along its direction of motion (its heading when
+/// still) of width σ = max(front_s·speed, min_sigma) ahead and σ/3 behind, σ/4 to the sides,
+/// evaluated at the robot's centre.
+double personalSpaceCost(const AgentSample& robot, const AgentSample& person,
+                         const MetricsOptions& o);
 
 /// Longest span [s] in which the best distance to the goal so far did not fall by progress_m.
 double longestNoProgress(const std::vector<double>& t_s, const std::vector<double>& distance_m,

@@ -183,6 +183,31 @@ TEST(RunMetrics, ZonesComplianceAndDiscomfortFromTheNearestPerson) {
   EXPECT_EQ(m.person_collisions, 0);
 }
 
+TEST(RunMetrics, SeveralPeopleEachOnTheirOwnAndTheNearestForTheRun) {
+  // Robot (r 0.5) at rest. Person 1 (r 0.3) at a 1.0 m gap then 3.0 m; person 2 at 2.0 m then
+  // 0.3 m. The nearest gap: 1.0 m (person 1), then 0.3 m (person 2).
+  RunInput in;
+  in.frames.push_back(frame(0, agent(0, 0, 0, 0, 0, 0.5),
+                            {agent(2, 0, 2.8, 0, 0, 0.3), agent(1, 1.8, 0, 0, 0, 0.3)}));
+  in.frames.push_back(frame(1, agent(0, 0, 0, 0, 0, 0.5),
+                            {agent(1, 3.8, 0, 0, 0, 0.3), agent(2, 0, 1.1, 0, 0, 0.3)}));
+  in.frames.push_back(frame(2, agent(0, 0, 0, 0, 0, 0.5), {agent(1, 3.8, 0, 0, 0, 0.3)}));
+  const RunMetrics m = computeRunMetrics(in);
+  EXPECT_NEAR(m.min_distance_to_person_m, 0.3, 1e-12);
+  EXPECT_DOUBLE_EQ(m.personal_s, 1.0);  // 1.0 m for the first second
+  EXPECT_DOUBLE_EQ(m.intimate_s, 1.0);  // 0.3 m for the second
+  ASSERT_EQ(m.persons.size(), 2u);
+  EXPECT_EQ(m.persons[0].id, 1);  // ascending ids
+  EXPECT_NEAR(m.persons[0].min_distance_m, 1.0, 1e-12);
+  EXPECT_DOUBLE_EQ(m.persons[0].personal_s, 1.0);
+  EXPECT_DOUBLE_EQ(m.persons[0].social_s, 1.0);  // 3.0 m in the second second
+  EXPECT_EQ(m.persons[1].id, 2);
+  EXPECT_NEAR(m.persons[1].min_distance_m, 0.3, 1e-12);
+  EXPECT_DOUBLE_EQ(m.persons[1].social_s, 1.0);
+  EXPECT_DOUBLE_EQ(m.persons[1].intimate_s, 1.0);
+  EXPECT_NEAR(m.closest_person_distance_m.avg, 0.65, 1e-12);  // 1.0 and 0.3, a second each
+}
+
 TEST(RunMetrics, PathRatioSplAndTimeToGoal) {
   RunInput in;
   in.robot_goal = Eigen::Vector2d{10, 0};

@@ -291,6 +291,7 @@ RunMetrics computeRunMetrics(const RunInput& in, const MetricsOptions& o) {
     bool touching = false;
     for (std::size_t k = 0; k < run.size(); ++k) {
       const double c = in.wall_clearance_m[k];
+      if (!std::isfinite(c)) continue;  // off the map: unknown, not a collision nor a force
       accumulate(m.clearing_distance_m, c, dt[k], w_sum, x_sum);
       const bool now = c <= o.contact_m;
       if (now && !touching) ++m.wall_collisions;

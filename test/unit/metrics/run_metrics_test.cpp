@@ -283,6 +283,13 @@ TEST(RunMetrics, WallClearanceGivesClearingDistanceAndWallCollisions) {
   // The wall force 10 exp(-c / 0.2) over the three seconds held (1, 0.5 and 0 m).
   EXPECT_NEAR(m.obstacle_work, 10.0 * (std::exp(-5.0) + std::exp(-2.5) + 1.0), 1e-12);
   EXPECT_DOUBLE_EQ(m.social_work, m.obstacle_work);  // nobody else there
+
+  in.wall_clearance_m = {1.0, kNaN, 0.5, 0.5};  // off the map at t 1 s: left out
+  const RunMetrics unknown = computeRunMetrics(in);
+  EXPECT_DOUBLE_EQ(unknown.clearing_distance_m.min, 0.5);
+  EXPECT_DOUBLE_EQ(unknown.clearing_distance_m.avg, 0.75);
+  EXPECT_EQ(unknown.wall_collisions, 0);
+  EXPECT_NEAR(unknown.obstacle_work, 10.0 * (std::exp(-5.0) + std::exp(-2.5)), 1e-12);
 }
 
 TEST(RunMetrics, SocialWorkAndPersonalSpaceCost) {

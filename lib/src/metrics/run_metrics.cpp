@@ -207,6 +207,7 @@ ConflictShares conflictShares(const std::vector<AgentSample>& robot,
     (d_robot < 0.0 ? s.resolved_by_robot : s.escalated_by_robot) += std::abs(d_robot);
     (d_person < 0.0 ? s.resolved_by_person : s.escalated_by_person) += std::abs(d_person);
   }
+  if (s.max_intensity < o.conflict_min_intensity) return s;  // no conflict to share
   constexpr double kNothing = 1e-12;
   const double resolved = s.resolved_by_robot + s.resolved_by_person;
   if (resolved > kNothing) s.robot_responsibility = s.resolved_by_robot / resolved;

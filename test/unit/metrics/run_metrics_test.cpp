@@ -158,6 +158,27 @@ TEST(RunMetrics, EngagementGoesToWhoeverEscalatesTheConflict) {
   EXPECT_TRUE(std::isnan(s.robot_responsibility));  // nobody resolved anything
 }
 
+TEST(RunMetrics, NoConflictNoShares) {
+  // Passing 4 m apart laterally, the person drifting further away: the intensity stays far below
+  // 0.1, so the drift is nobody's share of resolving anything.
+  std::vector<AgentSample> r;
+  std::vector<AgentSample> h;
+  AgentSample rs = agent(0, -5, 0, 1, 0, 0.3);
+  AgentSample hs = agent(1, 5, 4, -1, 0.2, 0.3);
+  for (int k = 0; k <= 30; ++k) {
+    r.push_back(rs);
+    h.push_back(hs);
+    hs.v_m_s.y() += 0.01;
+    rs.p_m += 0.1 * rs.v_m_s;
+    hs.p_m += 0.1 * hs.v_m_s;
+  }
+  const ConflictShares s = conflictShares(r, h, MetricsOptions{});
+  EXPECT_LT(s.max_intensity, 0.1);
+  EXPECT_GT(s.resolved_by_person, 0.0);             // the drift is counted ...
+  EXPECT_TRUE(std::isnan(s.robot_responsibility));  // ... but shares nothing
+  EXPECT_TRUE(std::isnan(s.robot_engagement));
+}
+
 TEST(RunMetrics, ZonesComplianceAndDiscomfortFromTheNearestPerson) {
   // Robot (r 0.5) at rest; a person (r 0.3) at gaps 2.2, 1.2, 0.2, 0.1, 2.2 m, one second apart.
   RunInput in;

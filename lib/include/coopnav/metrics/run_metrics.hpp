@@ -75,7 +75,11 @@ struct MetricsOptions {
   double conflict_sigma_m{0.5};    ///< conflict intensity: width over the predicted gap
   double conflict_tau_s{2.0};      ///< conflict intensity: decay over the time to it
   double conflict_horizon_s{8.0};  ///< conflict intensity: closest approach looked for within
-  double min_motion_m{0.01};       ///< a step shorter than this has no motion direction
+  /// A pair whose conflict intensity never reached this had no conflict to share: no
+  /// Responsibility or Engagement (intensity 0.1: a surface gap of 1.07 m predicted now, or a
+  /// contact predicted 4.6 s ahead).
+  double conflict_min_intensity{0.1};
+  double min_motion_m{0.01};  ///< a step shorter than this has no motion direction
 };
 
 /// What the run's metrics are computed from besides the frames.
@@ -109,7 +113,8 @@ struct ConflictShares {
   double escalated_by_person{0.0};  ///< ... to the person's
   double by_time{0.0};              ///< Σ |change| with both keeping their velocity
   double max_intensity{0.0};        ///< highest conflict intensity of the encounter, 0..1
-  /// resolved_by_robot / (resolved_by_robot + resolved_by_person); NaN when nothing resolved.
+  /// resolved_by_robot / (resolved_by_robot + resolved_by_person); NaN when nothing resolved or
+  /// there was no conflict (max_intensity below conflict_min_intensity).
   double robot_responsibility{kNaN};
   /// escalated_by_robot / (escalated_by_robot + escalated_by_person); NaN when nothing escalated.
   double robot_engagement{kNaN};

@@ -127,12 +127,16 @@ def auc(scores: Sequence[float], labels: Sequence[bool]) -> float:
     (Mann-Whitney); NaN without both classes."""
     s = np.asarray(scores, dtype=float)
     y = np.asarray(labels, dtype=bool)
-    pos, neg = s[y], s[~y]
-    if len(pos) == 0 or len(neg) == 0:
+    return _auc_of(s[y], s[~y])
+
+
+def _auc_of(pos: np.ndarray, neg: np.ndarray) -> float:
+    # Mann-Whitney U from the average ranks of both together (ties count ½): O(n log n).
+    p, q = len(pos), len(neg)
+    if p == 0 or q == 0:
         return math.nan
-    greater = (pos[:, None] > neg[None, :]).sum()
-    ties = (pos[:, None] == neg[None, :]).sum()
-    return float((greater + 0.5 * ties) / (len(pos) * len(neg)))
+    r = ranks(np.concatenate([pos, neg]))
+    return float((r[:p].sum() - p * (p + 1) / 2.0) / (p * q))
 
 
 def bootstrap_auc(scores: Sequence[float], labels: Sequence[bool], *,
@@ -150,26 +154,19 @@ def bootstrap_auc(scores: Sequence[float], labels: Sequence[bool], *,
     rng = _rng(seed)
     reps = np.empty(n_boot)
     for b in range(n_boot):
-        p = pos[rng.integers(0, len(pos), len(pos))]
-        q = neg[rng.integers(0, len(neg), len(neg))]
-        reps[b] = ((p[:, None] > q[None, :]).sum() + 0.5 * (p[:, None] == q[None, :]).sum()) / (
-            len(p) * len(q))
+        reps[b] = _auc_of(pos[rng.integers(0, len(pos), len(pos))],
+                          neg[rng.integers(0, len(neg), len(neg))])
     return _percentile(estimate, reps, confidence, n)
 
 
 def ranks(values: Sequence[float]) -> np.ndarray:
     """Ranks 1..n, ties given their average rank."""
     x = np.asarray(values, dtype=float)
-    order = np.argsort(x, kind="mergesort")
-    r = np.empty(len(x))
-    i = 0
-    while i < len(x):
-        j = i
-        while j + 1 < len(x) and x[order[j + 1]] == x[order[i]]:
-            j += 1
-        r[order[i:j + 1]] = 0.5 * (i + j) + 1.0
-        i = j + 1
-    return r
+    if len(x) == 0:
+        return np.empty(0)
+    _, inverse, counts = np.unique(x, return_inverse=True, return_counts=True)
+    ends = np.cumsum(counts)  # a group of equal values holds ranks ends-counts+1 .. ends
+    return ((ends - counts + 1 + ends) / 2.0)[inverse]
 
 
 def spearman(x: Sequence[float], y: Sequence[float]) -> float:

@@ -17,6 +17,7 @@ COOPNAV_DEBS=(
   iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core chromium
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   cyclonedds-dev cyclonedds-tools  # the ROS 2 bridge (daemons/ros2_bridge): Cyclone DDS + idlc
+  python3-numpy python3-pytest  # the experiment layer's statistics and its tests (tools/exp)
 )
 
 coopnav_sudo() {

@@ -34,7 +34,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 TIDY_SET=(
   'daemons/.*\.cpp'
   'tools/.*\.cpp'
-  'lib/src/(geometry|distance|planning|assessment|dialogue|sim)/.*\.cpp'
+  'lib/src/(geometry|distance|planning|assessment|dialogue|sim|metrics)/.*\.cpp'
   'lib/src/band/(band_config|velocity_command|timed_elastic_band)\.cpp'
 )
 TIDY_EXCLUDE=(

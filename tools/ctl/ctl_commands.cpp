@@ -12,6 +12,7 @@
 #include "goals.hpp"
 #include "logfile/log_reader.hpp"
 #include "maps/map_loader.hpp"
+#include "metrics_command.hpp"
 #include "pedestrians.hpp"
 #include "pedestrians_daemon.hpp"
 #include "pedestrians_forecast.hpp"
@@ -352,6 +353,8 @@ void addCtlCommands(CLI::App& app) {
   o.goal_candidates->add_option("map", o.log, "map file (ROS map YAML, walls YAML, scenario)")
       ->required()
       ->check(CLI::ExistingFile);
+
+  ctl::addMetricsCommand(app);
 }
 
 int runCtlCommands(CLI::App&, const std::string&) {
@@ -367,6 +370,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.forecast) return forecastCommand();
   if (*o.goals) return goalsCommand();
   if (*o.goal_candidates) return goalCandidatesCommand();
+  if (ctl::metricsCommandChosen()) return ctl::runMetricsCommand();
   return 2;
 }
 

@@ -179,12 +179,21 @@ def worker_main(argv: Sequence[str]) -> int:
         raise SystemExit(128 + signum)
 
     signal.signal(signal.SIGTERM, on_term)
+    # Stamped as the daemons stamp their logs, to tell start-up and teardown from simulation.
+    print(f"[{_stamp()}] worker: {spec.name} on port {port}", flush=True)
     shutil.rmtree(spec.out_dir, ignore_errors=True)
     spec.out_dir.mkdir(parents=True)
     result = _run_one()(spec.scenario, spec.out_dir, port, profile=spec.profile,
                         daemon_args=spec.daemon_args, timeout_s=spec.timeout_s)
     (spec.out_dir / "world_sim.exit").write_text(f"{result.world_sim_exit}\n")
+    print(f"[{_stamp()}] worker: {spec.name} done, world_sim exit {result.world_sim_exit}",
+          flush=True)
     return 0
+
+
+def _stamp() -> str:
+    now = time.time()
+    return time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(now)) + f".{int(now % 1 * 1000):03d}"
 
 
 def summary_state(run_dir: Path) -> tuple[str, float | None]:

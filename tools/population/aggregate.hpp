@@ -18,7 +18,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -170,8 +169,10 @@ inline Json expectedContributing(const std::string& behaviour) {
 }
 
 /// Who touched whom in one run: cause is "none", "robot_at_fault", "human_walked_in",
-/// "robot_hit_wall", "unattributed" (a contact with a human whose cause the summary does not
-/// give) or "no_run" (no summary).
+/// "robot_hit_wall" (a COLLISION without a robot-human contact: summary.json's `contact` is null,
+/// so the robot hit a wall), "unattributed" (a COLLISION in a summary written before `contact`
+/// existed: whom or what it hit is not known) or "no_run" (no summary). Read from the summary's
+/// fields only, never from its `detail` sentence.
 inline Json contactOf(const Json* run) {
   using namespace detail;
   Json c;
@@ -183,8 +184,6 @@ inline Json contactOf(const Json* run) {
     c["cause"] = "no_run";
     return c;
   }
-  const bool collision = text(field(run, "final_state")) == "COLLISION";
-  const std::string why = text(field(run, "detail"));
   const Json* contact = field(run, "contact");
   if (contact != nullptr && contact->is_object()) {
     c["human_id"] = numberOrNull(field(contact, "human_id"));
@@ -195,17 +194,8 @@ inline Json contactOf(const Json* run) {
                                  : (fault.get<bool>() ? "robot_at_fault" : "human_walked_in");
     return c;
   }
-  if (!collision) return c;
-  // A COLLISION without a human contact, or a summary without `contact`: world_sim's final
-  // detail says "robot collided with a wall ..." or "... with human N ...".
-  if (why.find("with a wall") != std::string::npos) {
-    c["cause"] = "robot_hit_wall";
-    return c;
-  }
-  c["cause"] = "unattributed";
-  std::smatch m;
-  static const std::regex kHuman("human ([0-9]+)");
-  if (std::regex_search(why, m, kHuman)) c["human_id"] = std::stoi(m[1].str());
+  if (text(field(run, "final_state")) != "COLLISION") return c;
+  c["cause"] = contact != nullptr ? "robot_hit_wall" : "unattributed";
   return c;
 }
 

@@ -128,12 +128,15 @@ TEST(PopulationAggregate, SummariesWithoutTheNewFieldsAreReadAsUnknown) {
   };
   std::map<std::string, Json> s;
   s["a"] = old("COLLISION", "robot collided with human 1 at t = 20.3 s");
+  // b: a summary with `contact`, null: the collision was not with a person, so with a wall.
   s["b"] = old("COLLISION", "robot collided with a wall at t = 3.0 s");
+  s["b"]["contact"] = nullptr;
   s["c"] = old("TIME_LIMIT", "time limit of 90 s reached");
   // d: no summary at all (a run that did not start).
   const Json out = pop::aggregatePopulation(p, s);
+  // Without `contact` nothing says whom the robot hit (the detail sentence is for people).
   EXPECT_EQ(out["runs"][0]["contact"]["cause"], "unattributed");
-  EXPECT_EQ(out["runs"][0]["contact"]["human_id"], 1);
+  EXPECT_TRUE(out["runs"][0]["contact"]["human_id"].is_null());
   EXPECT_EQ(out["runs"][1]["contact"]["cause"], "robot_hit_wall");
   EXPECT_EQ(out["runs"][2]["contact"]["cause"], "none");
   EXPECT_EQ(out["runs"][3]["outcome"], "NO_SUMMARY");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "coopnav/agent_states_t.hpp"
@@ -161,6 +162,11 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     tracker_ = std::make_unique<sim::Tracker>(config_.tracker.apply(scenario_.tracker),
                                               scenario_.seed, ids, scenario_.time_limit_s);
     sensing_ = std::make_unique<world_sim::WorldSensing>(scenario_, config_.laser != "off");
+    if (!config_.cue_outcomes_file.empty()) {
+      cue_outcomes_.open(config_.cue_outcomes_file, std::ios::binary | std::ios::trunc);
+      if (!cue_outcomes_)
+        throw StartupError("cue_outcomes_file: cannot write " + config_.cue_outcomes_file);
+    }
   } catch (const world_sim::ScenarioError& e) {
     throw StartupError(e.what());
   } catch (const MapLoadError& e) {
@@ -485,7 +491,24 @@ bool WorldSimNode::advance() {
   return true;
 }
 
-void WorldSimNode::logCue(const sim::CueOutcome& o) const {
+void WorldSimNode::logCue(const sim::CueOutcome& o) {
+  if (cue_outcomes_.is_open()) {
+    // Flushed a line at a time: a run stopped half-way keeps the cues it had.
+    const nlohmann::ordered_json record{
+        {"t_s", o.cue.t_s},
+        {"human_id", o.cue.human_id},
+        {"cue", sim::toString(o.cue.kind)},
+        {"side", o.cue.side == Side::kLeft    ? "left"
+                 : o.cue.side == Side::kRight ? "right"
+                                              : "undefined"},
+        {"repeat", o.cue.repeat},
+        {"distance_m", o.distance_m},
+        {"responds", o.responds},
+        {"heard", o.heard},
+        {"complies", o.complies},
+        {"act_s", o.complies ? nlohmann::ordered_json(o.act_s) : nlohmann::ordered_json()}};
+    cue_outcomes_ << record.dump() << '\n' << std::flush;
+  }
   const std::string what = std::string(sim::toString(o.cue.kind)) +
                            (o.cue.side == Side::kLeft    ? " left"
                             : o.cue.side == Side::kRight ? " right"

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <fstream>
 #include <memory>
 #include <optional>
 #include <set>
@@ -104,6 +105,10 @@ struct WorldSimConfig {
   /// enabled); off: no scan whatever the scenario says (the planner and guard then see the map
   /// and the people only).
   std::string laser{"scenario"};
+  /// Empty: none. Else a file this run writes what became of every cue whose words ended, one
+  /// JSON object a line (docs/scenario-format.md "Cue outcomes"): what a population tabulates of
+  /// what the simulated humans heard. Relative to the working directory; created empty at start.
+  std::string cue_outcomes_file{""};
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -120,6 +125,7 @@ struct WorldSimConfig {
     v("tracker", tracker);
     v("publish_human_goals", publish_human_goals, OneOf{{"scenario", "true", "false"}});
     v("laser", laser, OneOf{{"scenario", "off"}});
+    v("cue_outcomes_file", cue_outcomes_file);
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
     v("limits", limits);
   }
@@ -156,8 +162,9 @@ class WorldSimNode {
     std::int64_t step{-1};
   };
 
-  /// One line per cue whose words ended: heard?, complies?, when it acts.
-  void logCue(const sim::CueOutcome& o) const;
+  /// One line per cue whose words ended: heard?, complies?, when it acts; and its record in
+  /// cue_outcomes_file.
+  void logCue(const sim::CueOutcome& o);
   void onStatus(const daemon_status_t& msg);
   void onCommand(const velocity_command_t& msg);
   void onUtterance(const utterance_t& msg);
@@ -224,6 +231,7 @@ class WorldSimNode {
   std::optional<std::int8_t> last_mode_;  ///< of the latest robot command (standstill detail)
   std::string last_said_;                 ///< latest utterance, "text" to human N (same)
   bool behind_logged_{false};
+  std::ofstream cue_outcomes_;  ///< config_.cue_outcomes_file, open when given
 };
 
 }  // namespace coopnav

@@ -29,8 +29,8 @@ expect_usage() {
   fi
 }
 
-for opt in --n --seed -j --out --profile; do
-  expect_usage "population.sh $opt without a value" "$opt needs a value" \
+for opt in --n --seed -j --out --profile; do  # population.sh: coopnav population's argparse
+  expect_usage "population.sh $opt without a value" "argument $opt: expected one argument" \
     bash "$src/scripts/population.sh" --no-build "$opt"
 done
 for opt in --out --profile; do

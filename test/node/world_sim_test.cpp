@@ -14,6 +14,7 @@
 #include <functional>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <thread>
@@ -518,11 +519,37 @@ TEST(WorldSimNode, AskToMoveMakesAResponsiveHumanYieldToTheAskedSide) {
         if (s.step == 5) hh.sendAskToMove(s.step, s.utime, 1, situation_t::DIR_LEFT, 0.5, delivery);
       };
     }
-    EXPECT_EQ(runWithParticipant(h, "tiny_responsive.yaml", p).exit_code, 0);
+    // What became of each cue, as JSON lines (cue_outcomes_file: the population reads them).
+    const std::string cues = (std::filesystem::temp_directory_path() /
+                              ("coopnav_world_sim_cues_" + std::to_string(::getpid()) + ".jsonl"))
+                                 .string();
+    EXPECT_EQ(
+        runWithParticipant(h, "tiny_responsive.yaml", p, {"--set", "cue_outcomes_file=" + cues})
+            .exit_code,
+        0);
     ASSERT_FALSE(h.states().empty());
     ASSERT_NE(h.final(), nullptr);
     EXPECT_EQ(h.final()->state, sim_status_t::STATE_TIME_LIMIT) << h.final()->detail;
     final_y[run] = h.states().back().humans[0].y_m;
+    std::ifstream in(cues);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    std::filesystem::remove(cues);
+    if (run == 1) {
+      ASSERT_EQ(lines.size(), 1U);
+      const auto o = nlohmann::json::parse(lines[0]);
+      EXPECT_EQ(o.at("human_id"), 1);
+      EXPECT_EQ(o.at("cue"), "move_to_side");
+      EXPECT_EQ(o.at("side"), "left");
+      EXPECT_EQ(o.at("repeat"), false);
+      EXPECT_EQ(o.at("responds"), true);
+      EXPECT_EQ(o.at("heard"), true);
+      EXPECT_EQ(o.at("complies"), true);
+      EXPECT_GE(o.at("act_s").get<double>(), o.at("t_s").get<double>()) << lines[0];
+      EXPECT_NEAR(o.at("t_s").get<double>(), 1.0, 0.11) << lines[0];  // words end 0.5 + 0.5 s
+    } else {
+      EXPECT_TRUE(lines.empty()) << lines.front();  // nothing said, or said muted: nothing heard
+    }
     if (run == 1) {
       // Nothing moves before the words have ended (0.5 s + 0.5 s) and a reaction time has
       // passed (log-normal, 5 % quantile 0.6 s).

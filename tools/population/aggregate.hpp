@@ -18,9 +18,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 #include <set>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -170,8 +169,10 @@ inline Json expectedContributing(const std::string& behaviour) {
 }
 
 /// Who touched whom in one run: cause is "none", "robot_at_fault", "human_walked_in",
-/// "robot_hit_wall", "unattributed" (a contact with a human whose cause the summary does not
-/// give) or "no_run" (no summary).
+/// "robot_hit_wall" (a COLLISION without a robot-human contact: summary.json's `contact` is null,
+/// so the robot hit a wall), "unattributed" (a COLLISION in a summary written before `contact`
+/// existed: whom or what it hit is not known) or "no_run" (no summary). Read from the summary's
+/// fields only, never from its `detail` sentence.
 inline Json contactOf(const Json* run) {
   using namespace detail;
   Json c;
@@ -183,8 +184,6 @@ inline Json contactOf(const Json* run) {
     c["cause"] = "no_run";
     return c;
   }
-  const bool collision = text(field(run, "final_state")) == "COLLISION";
-  const std::string why = text(field(run, "detail"));
   const Json* contact = field(run, "contact");
   if (contact != nullptr && contact->is_object()) {
     c["human_id"] = numberOrNull(field(contact, "human_id"));
@@ -195,17 +194,8 @@ inline Json contactOf(const Json* run) {
                                  : (fault.get<bool>() ? "robot_at_fault" : "human_walked_in");
     return c;
   }
-  if (!collision) return c;
-  // A COLLISION without a human contact, or a summary without `contact`: world_sim's final
-  // detail says "robot collided with a wall ..." or "... with human N ...".
-  if (why.find("with a wall") != std::string::npos) {
-    c["cause"] = "robot_hit_wall";
-    return c;
-  }
-  c["cause"] = "unattributed";
-  std::smatch m;
-  static const std::regex kHuman("human ([0-9]+)");
-  if (std::regex_search(why, m, kHuman)) c["human_id"] = std::stoi(m[1].str());
+  if (text(field(run, "final_state")) != "COLLISION") return c;
+  c["cause"] = contact != nullptr ? "robot_hit_wall" : "unattributed";
   return c;
 }
 
@@ -216,30 +206,45 @@ inline bool isSafetyFailure(const std::string& cause) {
 
 // ---- The spoken cue's effect: each encounter spoken to and with the dialogue manager muted.
 
-/// The world simulator's account of what each human heard (world_sim.log lines "human N heard
-/// <cue> at D m; acts at T s", "... and does not comply", "human N did not hear <cue>: ..."), for
-/// the cue-effect section: [{"id", "cues", "heard", "complied", "not_heard", "not_complied"}] in
-/// id order. Thanks are left out (nothing to comply with). coopnav_population adds it to a run's
-/// summary entry as "hearing"; summary.json itself does not have it.
-inline Json hearingFromWorldSimLog(const std::string& log_text) {
-  static const std::regex kCue("human ([0-9]+) (heard|did not hear) ([a-z_]+)");
+/// What each human heard, from world_sim's cue outcomes (its `cue_outcomes_file`, one JSON
+/// object a line: daemons/world_sim/README.md "Cue outcomes"), for the cue-effect section:
+/// [{"id", "cues", "heard", "complied", "not_heard", "not_complied"}] in id order. Cues to a
+/// human whose behaviour does not react to words, and thanks (nothing to comply with), are left
+/// out. coopnav_population adds it to a run's summary entry as "hearing"; summary.json itself
+/// does not have it. A last line without its newline (a run stopped while writing) is left out;
+/// any other line that is not a cue outcome throws std::runtime_error naming it.
+inline Json hearingFromCueOutcomes(const std::string& jsonl) {
   struct Counts {
     int complied = 0, not_complied = 0, not_heard = 0;
   };
-  std::map<int, Counts> counts;
-  std::istringstream lines(log_text);
-  std::string line;
-  std::smatch m;
-  while (std::getline(lines, line)) {
-    if (!std::regex_search(line, m, kCue) || m[3].str() == "thank") continue;
-    Counts& c = counts[std::stoi(m[1].str())];
-    if (m[2].str() == "did not hear")
+  std::map<std::int64_t, Counts> counts;
+  std::size_t at = 0;
+  for (int line = 1; at < jsonl.size(); ++line) {
+    const std::size_t end = jsonl.find('\n', at);
+    if (end == std::string::npos) break;
+    const std::string text = jsonl.substr(at, end - at);
+    at = end + 1;
+    if (text.empty()) continue;
+    const Json o = Json::parse(text, nullptr, false);
+    const auto flag = [&](const char* key) {
+      const auto it = o.is_object() ? o.find(key) : o.end();
+      if (it == o.end() || !it->is_boolean())
+        throw std::runtime_error("cue outcomes line " + std::to_string(line) + ": no boolean '" +
+                                 key + "'");
+      return it->get<bool>();
+    };
+    if (!o.is_object() || !o.contains("human_id") || !o.at("human_id").is_number_integer() ||
+        !o.contains("cue") || !o.at("cue").is_string())
+      throw std::runtime_error("cue outcomes line " + std::to_string(line) +
+                               ": not a cue outcome (human_id, cue)");
+    if (!flag("responds") || o.at("cue") == "thank") continue;
+    Counts& c = counts[o.at("human_id").get<std::int64_t>()];
+    if (!flag("heard"))
       ++c.not_heard;
-    else if (line.find("does not comply", static_cast<std::size_t>(m.position(0))) !=
-             std::string::npos)
-      ++c.not_complied;
-    else
+    else if (flag("complies"))
       ++c.complied;
+    else
+      ++c.not_complied;
   }
   Json out = Json::array();
   for (const auto& [id, c] : counts)
@@ -280,7 +285,7 @@ inline Json minOrNull(const std::vector<double>& v) {
 /// One half of a pair (speaking or muted) for the head-on human `head_id`: outcome, its
 /// interaction CM and verdict, whether the robot docked, time to goal, min clearance, the
 /// contact's cause, the cues decided for it (THANK aside: no cue to act on) by delivery, the said
-/// cues' lead before t_CROSS (summary `lead_s`), and what it heard (null without world_sim.log).
+/// cues' lead before t_CROSS (summary `lead_s`), and what it heard (null without cue outcomes).
 inline Json cueSide(const Json* run, double head_id) {
   using namespace detail;
   Json s;

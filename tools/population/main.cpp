@@ -9,8 +9,9 @@
 //     --crowd: crowd encounters instead (flows, a group abreast, people standing talking, a
 //     junction: generator.hpp generateCrowdPopulation).
 //   coopnav_population aggregate --dir DIR
-//     reads DIR/plan.json and DIR/runs/<name>/summary.json (and world_sim.log beside it: what the
-//     humans heard), writes DIR/population.json and DIR/population.txt, prints the totals.
+//     reads DIR/plan.json and DIR/runs/<name>/summary.json (and cue_outcomes.jsonl beside it,
+//     world_sim's cue_outcomes_file: what the humans heard), writes DIR/population.json and
+//     DIR/population.txt, prints the totals.
 //   coopnav_population check --dir DIR
 //     reads population.json back and checks it against plan.json and population.txt.
 // Exit codes: 0 fine; 1 a contact with the robot at fault (or one the summaries cannot clear);
@@ -112,10 +113,16 @@ int aggregate(const fs::path& dir) {
       const pop::Json& list = doc.at("scenarios");
       if (list.empty()) continue;
       summaries[name] = list.at(0);
-      // What the simulated humans heard is in world_sim's log only (one line per cue).
-      const fs::path sim_log = dir / "runs" / name / "world_sim.log";
-      if (fs::exists(sim_log))
-        summaries[name]["hearing"] = pop::hearingFromWorldSimLog(readFile(sim_log));
+      // What the simulated humans heard: world_sim's cue outcomes (its cue_outcomes_file).
+      const fs::path cues = dir / "runs" / name / "cue_outcomes.jsonl";
+      if (fs::exists(cues)) {
+        try {
+          summaries[name]["hearing"] = pop::hearingFromCueOutcomes(readFile(cues));
+        } catch (const std::exception& ex) {
+          std::cerr << "coopnav_population: " << cues.string() << ": " << ex.what()
+                    << " (what its humans heard is unknown)\n";
+        }
+      }
     } catch (const std::exception& ex) {
       std::cerr << "coopnav_population: " << ex.what() << " (counted as a run without summary)\n";
     }

@@ -128,12 +128,15 @@ TEST(PopulationAggregate, SummariesWithoutTheNewFieldsAreReadAsUnknown) {
   };
   std::map<std::string, Json> s;
   s["a"] = old("COLLISION", "robot collided with human 1 at t = 20.3 s");
+  // b: a summary with `contact`, null: the collision was not with a person, so with a wall.
   s["b"] = old("COLLISION", "robot collided with a wall at t = 3.0 s");
+  s["b"]["contact"] = nullptr;
   s["c"] = old("TIME_LIMIT", "time limit of 90 s reached");
   // d: no summary at all (a run that did not start).
   const Json out = pop::aggregatePopulation(p, s);
+  // Without `contact` nothing says whom the robot hit (the detail sentence is for people).
   EXPECT_EQ(out["runs"][0]["contact"]["cause"], "unattributed");
-  EXPECT_EQ(out["runs"][0]["contact"]["human_id"], 1);
+  EXPECT_TRUE(out["runs"][0]["contact"]["human_id"].is_null());
   EXPECT_EQ(out["runs"][1]["contact"]["cause"], "robot_hit_wall");
   EXPECT_EQ(out["runs"][2]["contact"]["cause"], "none");
   EXPECT_EQ(out["runs"][3]["outcome"], "NO_SUMMARY");
@@ -292,7 +295,7 @@ TEST(PopulationCueEffect, PairsSpeakingAgainstMuted) {
   EXPECT_EQ(e[0]["speaking"]["cues_too_late"], 1);
   EXPECT_EQ(e[0]["speaking"]["lead_s"], Json::array({4.0}));
   EXPECT_EQ(e[0]["speaking"]["heard"], 1);
-  EXPECT_TRUE(e[1]["speaking"]["heard"].is_null());  // no world_sim.log read
+  EXPECT_TRUE(e[1]["speaking"]["heard"].is_null());  // no cue outcomes read
   EXPECT_EQ(e[0]["muted"]["cues_muted"], 1);
   EXPECT_EQ(e[0]["muted"]["cues_said"], 0);
 
@@ -372,19 +375,28 @@ TEST(PopulationCueEffect, PlanRecordsTheOptionsOnlyWhenSet) {
   EXPECT_EQ(twins["encounters"][2]["muted_twin"], "pop_0003_muted");
 }
 
-TEST(PopulationCueEffect, HearingIsReadFromWorldSimLog) {
-  const std::string log =
-      "[2026-01-01 00:00:00.000] [world_sim:42] [info] world_sim: t = 12.40 s: human 1 heard "
-      "keep_side left at 6.1 m; acts at 13.30 s\n"
-      "[2026-01-01 00:00:00.100] [world_sim:42] [info] world_sim: t = 15.00 s: human 1 heard "
-      "move_to_side right (repeat) at 3.0 m and does not comply\n"
-      "[2026-01-01 00:00:00.200] [world_sim:42] [info] world_sim: t = 16.00 s: human 2 did not "
-      "hear keep_side left: 12.3 m from the robot\n"
-      "[2026-01-01 00:00:00.300] [world_sim:42] [info] world_sim: t = 20.00 s: human 1 heard "
-      "thank at 1.0 m; acts at 20.90 s\n"
-      "[2026-01-01 00:00:00.400] [world_sim:42] [info] world_sim: step 3: utterance of step 2 "
-      "to human 1\n";
-  const Json h = pop::hearingFromWorldSimLog(log);
+TEST(PopulationCueEffect, HearingIsReadFromCueOutcomes) {
+  // world_sim's cue_outcomes_file: a heard and complied cue, a heard one not complied with, one
+  // not heard, a thank (left out), a cue to someone who does not react to words (left out) and a
+  // last line cut short by a stopped run (left out).
+  const std::string jsonl =
+      R"({"t_s":12.4,"human_id":1,"cue":"keep_side","side":"left","repeat":false,)"
+      R"("distance_m":6.1,"responds":true,"heard":true,"complies":true,"act_s":13.3})"
+      "\n"
+      R"({"t_s":15.0,"human_id":1,"cue":"move_to_side","side":"right","repeat":true,)"
+      R"("distance_m":3.0,"responds":true,"heard":true,"complies":false,"act_s":null})"
+      "\n"
+      R"({"t_s":16.0,"human_id":2,"cue":"keep_side","side":"left","repeat":false,)"
+      R"("distance_m":12.3,"responds":true,"heard":false,"complies":false,"act_s":null})"
+      "\n"
+      R"({"t_s":20.0,"human_id":1,"cue":"thank","side":"undefined","repeat":false,)"
+      R"("distance_m":1.0,"responds":true,"heard":true,"complies":true,"act_s":20.9})"
+      "\n"
+      R"({"t_s":21.0,"human_id":3,"cue":"keep_side","side":"left","repeat":false,)"
+      R"("distance_m":4.0,"responds":false,"heard":false,"complies":false,"act_s":null})"
+      "\n"
+      R"({"t_s":22.0,"human_id":2,"cue":"keep_)";
+  const Json h = pop::hearingFromCueOutcomes(jsonl);
   ASSERT_EQ(h.size(), 2u);
   EXPECT_EQ(h[0], (Json{{"id", 1},
                         {"cues", 2},
@@ -395,7 +407,15 @@ TEST(PopulationCueEffect, HearingIsReadFromWorldSimLog) {
   EXPECT_EQ(h[1]["id"], 2);
   EXPECT_EQ(h[1]["not_heard"], 1);
   EXPECT_EQ(h[1]["heard"], 0);
-  EXPECT_TRUE(pop::hearingFromWorldSimLog("").empty());
+  EXPECT_TRUE(pop::hearingFromCueOutcomes("").empty());
+  // A whole line that is not a cue outcome is an error that names its line.
+  try {
+    pop::hearingFromCueOutcomes("\n{\"human_id\":1,\"cue\":\"keep_side\"}\n");
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(pop::hearingFromCueOutcomes("human 1 heard keep_side\n"), std::runtime_error);
 }
 
 TEST(PopulationStats, SignTestMeanAndBootstrap) {

@@ -11,10 +11,11 @@ import argparse
 import sys
 from typing import Callable, Sequence
 
-from . import metrics
+from . import metrics, population
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "metrics": metrics.main,
+    "population": population.main,
 }
 
 

@@ -53,11 +53,31 @@ _cn_host() {  # NAME
   if [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then _cn_on=(ip netns exec "$COOPNAV_NETNS_PREFIX-$1"); fi
 }
 
+# true when SCENARIO's robot.kinematics is holonomic, else false (docs/scenario-format.md: the
+# default is differential). Reads the top-level `robot` mapping, block or flow style, comments
+# aside; world_sim loads the file fully and reports its errors.
+coopnav_scenario_holonomic() {  # SCENARIO
+  awk '
+    { sub(/[ \t]*#.*/, "") }
+    /^robot:/ { in_robot = 1 }
+    /^[^ \t]/ && !/^robot:/ { in_robot = 0 }
+    in_robot && match($0, /kinematics:[ \t]*[a-z]+/) {
+      k = substr($0, RSTART, RLENGTH); sub(/kinematics:[ \t]*/, "", k); found = k
+    }
+    END { print (found == "holonomic") ? "true" : "false" }' "$1"
+}
+
 coopnav_start_daemon() {  # NAME
   local d="$1" args=()
   case "$d" in
-    obstacle_distance_server | band_source)
+    obstacle_distance_server)
       args=(-c "$_cn_cfg/$d.yaml" --set "map_file=$_cn_scenario") ;;
+    band_source)
+      # One kinematics: the band source plans, guards and makes room for the robot the scenario
+      # declares (robot.kinematics, default differential); COOPNAV_DAEMON_ARGS_band_source still
+      # overrides it, and world_sim refuses a run whose band source plans another one.
+      args=(-c "$_cn_cfg/$d.yaml" --set "map_file=$_cn_scenario"
+        --set "planner.robot.holonomic=$(coopnav_scenario_holonomic "$_cn_scenario")") ;;
     path_assessor)
       if [ "${COOPNAV_PROFILE:-paper}" = paper ]; then
         args=(-c "$_cn_cfg/$d.yaml")

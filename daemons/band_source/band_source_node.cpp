@@ -7,6 +7,7 @@
 
 #include "coopnav/bands_t.hpp"
 #include "coopnav/geometry/geometry.hpp"
+#include "coopnav/planning/global_planner.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "maps/map_loader.hpp"
@@ -302,7 +303,9 @@ void BandSourceNode::onRobotAction(const robot_action_t& msg) {
   steps_->input(kDialogueParticipant, channels::kRobotAction, msg.step,
                 std::to_string(msg.action) + "/" + std::to_string(msg.human_id), [&] {
                   log().info("band_source: robot action {} for human {} at step {} ({})",
-                             a.action == dialogue::RobotAction::kDock ? "DOCK" : "RESUME",
+                             a.action == dialogue::RobotAction::kDock     ? "DOCK"
+                             : a.action == dialogue::RobotAction::kResume ? "RESUME"
+                                                                          : "GO_FIRST",
                              a.stamp.human_id, a.stamp.step, a.reason);
                   action_ = std::move(a);
                 });
@@ -355,6 +358,10 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
     dock_req = action_->action == dialogue::RobotAction::kDock;
     resume_req = action_->action == dialogue::RobotAction::kResume;
     if (dock_req) dock_for = action_->stamp.human_id;
+    // Any newer action ends going first; GO_FIRST starts it.
+    go_first_.reset();
+    if (action_->action == dialogue::RobotAction::kGoFirst)
+      go_first_ = GoingFirst{action_->stamp.human_id, stamp_s};
   }
   action_.reset();
 
@@ -507,7 +514,9 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   c.utime = s.utime;
   c.step = s.step;
   c.mode = cmd_mode;
-  const GuardOutput g = guard(s, modeCommand(s, mode_out, r, hold, idle));
+  Velocity2 command = modeCommand(s, mode_out, r, hold, idle);
+  if (go_first_ && mode == RobotMode::kNavigate && !idle) command = goFirstCommand(s, r, command);
+  const GuardOutput g = guard(s, command);
   c.body = g.command_body;
   c.guard = static_cast<std::int8_t>(g.action);
   step.publish(channels::kRobotCmd, toLcm(c));
@@ -561,6 +570,53 @@ Velocity2 BandSourceNode::modeCommand(const AgentStatesSnapshot& s, const ModeOu
                       limits_);
   }
   return r.status == PlanStatus::kOk ? r.command_body : Velocity2{};
+}
+
+// Issue 44: the person made room and waits; the robot's band still bends round them and the
+// relative-velocity and safety terms hold it back (a mutual wait). Going first, the robot
+// drives its own global path past them, shifted to the side away from them by what clears
+// their body where the walls allow, at a modest speed; the guard scales or stops it near them as
+// it does every command, so going first never drives into anyone.
+Velocity2 BandSourceNode::goFirstCommand(const AgentStatesSnapshot& s, const PlanResult& r,
+                                         const Velocity2& planned) {
+  const GoFirstYaml& gf = config_.go_first;
+  const double stamp_s = utimeToSeconds(s.utime);
+  const AgentState* h = s.human(go_first_->human_id);
+  const char* end = nullptr;
+  if (h == nullptr) {
+    end = "the person is not tracked";
+  } else if (DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h),
+                                             modes_.options().human_passed_margin_m)) {
+    end = "the person is passed";
+  } else if (stamp_s - go_first_->since_s > gf.max_s) {
+    end = "go_first.max_s is over";
+  } else if (r.status != PlanStatus::kOk || r.agent_path.size() < 2) {
+    end = "no path to the goal";
+  }
+  if (end != nullptr) {
+    log().info("band_source: going first for human {} ends at step {}: {}", go_first_->human_id,
+               s.step, end);
+    go_first_.reset();
+    return planned;
+  }
+  if (std::hypot(planned.vx_m_s, planned.vy_m_s) >= gf.speed_m_s) return planned;
+  const Eigen::Vector2d pos = s.robot.pose.position();
+  const auto foot = projectOntoPath(r.agent_path, pos);
+  const Path2 ahead = subPath(r.agent_path, foot ? foot->arc_length_m : 0.0, gf.lookahead_m);
+  if (ahead.size() < 2 || (ahead.back() - ahead.front()).norm() < 1e-3) return planned;
+  const Eigen::Vector2d dir = (ahead.back() - ahead.front()).normalized();
+  const Eigen::Vector2d left(-dir.y(), dir.x());
+  const Eigen::Vector2d person = h->pose.position();
+  const double person_lat = left.dot(person - ahead.front());
+  const double side = person_lat > 0.0 ? -1.0 : 1.0;  // away from the person
+  // Lateral place of the robot's centre: beside the person by both radii and the clearance,
+  // no nearer the wall on that side than its radius and the guard's clearance.
+  const double wanted = side * person_lat + h->radius_m + s.robot.radius_m + gf.clearance_m;
+  const double room = map_->ray(ahead.back(), side * left, 5.0).distance_m - s.robot.radius_m -
+                      config_.guard.options.min_clearance_m;
+  const double lateral = side * std::max(0.0, std::min(wanted, room));
+  const Path2 route{pos, ahead.back() + lateral * left};
+  return followRoute(s.robot.pose, route, gf.speed_m_s, limits_);
 }
 
 GuardOutput BandSourceNode::guard(const AgentStatesSnapshot& s, const Velocity2& command) {

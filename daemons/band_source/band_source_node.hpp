@@ -83,6 +83,26 @@ struct GoalInferenceYaml {
   }
 };
 
+/// Going first (robot_action_t.ACTION_GO_FIRST, README "Going first").
+struct GoFirstYaml {
+  /// [m/s] The robot drives past the person at this speed while the planner's command is slower.
+  double speed_m_s{0.3};
+  /// [m] Along its global path, the point it heads for is this far ahead.
+  double lookahead_m{1.5};
+  /// [m] Body to body, the lateral gap to the person it keeps where the walls allow.
+  double clearance_m{0.2};
+  /// [s] Going first ends after this long even if the person is not passed yet.
+  double max_s{20.0};
+
+  template <class V>
+  void visit(V& v) {
+    v("speed_m_s", speed_m_s, Range{0.05, 2.0});
+    v("lookahead_m", lookahead_m, Range{0.3, 10.0});
+    v("clearance_m", clearance_m, Range{0.0, 2.0});
+    v("max_s", max_s, Range{1.0, 600.0});
+  }
+};
+
 struct BandSourceConfig {
   /// The known map: the same file as the other map-loading daemons of a run.
   MapSource map;
@@ -104,6 +124,8 @@ struct BandSourceConfig {
   ModeMachineOptionsYaml dock;
   /// The last safety layer under the planner (lib/planning/safety_guard.hpp).
   GuardOptionsYaml guard;
+  /// Going first past a person who made room (robot action GO_FIRST).
+  GoFirstYaml go_first;
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
   /// Goals of humans the goals message does not give.
@@ -124,6 +146,7 @@ struct BandSourceConfig {
     v("reference_paths_republish_s", reference_paths_republish_s, Range{0.0, 3600.0});
     v("dock", dock);
     v("guard", guard);
+    v("go_first", go_first);
     v("planner", planner);
     v("goal_inference", goal_inference);
     v("scan", scan);
@@ -181,6 +204,10 @@ class BandSourceNode {
   /// The command of a mode the robot drives itself (docking, retreating), else the planner's.
   Velocity2 modeCommand(const AgentStatesSnapshot& states, const ModeOutput& mode,
                         const PlanResult& result, bool hold, bool idle) const;
+  /// While going first (GO_FIRST): the command past the person when the planner's is slower,
+  /// else `planned`; ends going first once the person is passed, gone or the time is up.
+  Velocity2 goFirstCommand(const AgentStatesSnapshot& states, const PlanResult& result,
+                           const Velocity2& planned);
   /// The safety guard applied to `command`, logged when its action changes.
   GuardOutput guard(const AgentStatesSnapshot& states, const Velocity2& command);
   void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
@@ -218,6 +245,12 @@ class BandSourceNode {
   /// latest wins.
   std::optional<RobotActionMsg> action_;
   std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
+  /// Going first (GO_FIRST) past this human since this time [s of message time].
+  struct GoingFirst {
+    std::int32_t human_id{0};
+    double since_s{0.0};
+  };
+  std::optional<GoingFirst> go_first_;
   std::optional<std::int64_t> last_cycle_utime_;          ///< free-running throttle
   std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
   std::map<std::int32_t, RefPath> refs_;                  ///< published reference path per human id

@@ -52,6 +52,7 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.crossing_range_m = crossing_range_m;
   c.templates = templates;
   c.resolve_stand_offs = stand_off.resolve;
+  c.go_first_when_not_docked = stand_off.go_first;
   c.stand_off = stand_off;
   return c;
 }
@@ -636,8 +637,20 @@ void DialogueManagerNode::emit(
     durations_s.reserve(wordings.size());
     for (const auto& w : wordings) durations_s.push_back(speechDuration(w));
     const double free_in_s = std::max(0.0, voice_.freeAt() - t_s);
-    const auto choice = voice_.planFirstFitting(t_s, durations_s, deadline_s, config_.muted);
+    // Words announcing that the robot makes room, or goes first, change what the person was
+    // told: they cut the words being said rather than be lost behind them (issue 44).
+    const bool changes_action =
+        config_.interrupt_for_change &&
+        (dialogue::announcesMakingRoom(u.act) || dialogue::endsStandOff(u.act));
+    const auto choice =
+        voice_.planFirstFitting(t_s, durations_s, deadline_s, config_.muted, changes_action);
     const dialogue::SpeechSlot slot = choice.slot;
+    if (slot.interrupts_s > 0.0) {
+      log().info(
+          "dialogue_manager: to human {}: \"{}\" interrupts the words being said ({:.2f} s "
+          "before their end)",
+          stamp.human_id, wordings[choice.index], slot.interrupts_s);
+    }
     if (choice.index > 0) {
       log().info(
           "dialogue_manager: to human {}: \"{}\" ({:.2f} s) would end {:.2f} s after the "

@@ -82,9 +82,11 @@ struct CrowdConfigYaml : dialogue::CrowdConfig {
 /// Stand-offs resolved (lib/dialogue/stand_off.hpp); the defaults are lib/dialogue's.
 struct StandOffConfigYaml : dialogue::StandOffConfig {
   bool resolve{dialogue::DecisionConfig{}.resolve_stand_offs};
+  bool go_first{dialogue::DecisionConfig{}.go_first_when_not_docked};
   template <class V>
   void visit(V& v) {
     v("resolve", resolve);
+    v("go_first", go_first);
     v("robot_still_m_s", robot_still_m_s, Range{0.0, 1.0});
     v("human_still_m_s", human_still_m_s, Range{0.0, 2.0});
     v("near_gap_m", near_gap_m, Range{0.0, 20.0});
@@ -122,6 +124,9 @@ struct DialogueManagerConfig {
   /// log keeps what would have been said) and none is spoken or heard. The twin of a speaking
   /// run, to measure what the words change (docs/population.md "Speaking and muted").
   bool muted{false};
+  /// Words announcing a change of what the robot does (it makes room, or goes first) cut the
+  /// words being said when they would otherwise be too late (SpeechTimeline::planFirstFitting).
+  bool interrupt_for_change{true};
   TemplatesConfig templates;
   SpeechConfig speech;
 
@@ -145,6 +150,7 @@ struct DialogueManagerConfig {
     v("gate_wait_for_unseen", gate_wait_for_unseen);
     v("assessment_profile", assessment_profile, OneOf{{"paper", "calibrated", "custom"}});
     v("muted", muted);
+    v("interrupt_for_change", interrupt_for_change);
     v("templates", templates);
     v("speech", speech);
     v.require(round2_t_cross_s < round1_t_cross_s, "round2_t_cross_s",

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # One kinematics (issue 44), end to end as a user runs it: the paper's narrow_minimal with a
 # differential-drive robot (config/scenarios/narrow_minimal.yaml with robot.kinematics:
-# differential). Run as it comes, the band source plans holonomic bands (its default
-# planner.robot.holonomic: true): world_sim refuses the run before the first step and
-# scripts/run.sh exits non-zero naming both settings. With the band source told the same
-# kinematics (--set planner.robot.holonomic=false) the robot passes the minimal person by turning
-# and docking: the goal is reached without contact, and run.sh exits 0.
+# differential). With the band source forced to plan holonomic bands (--set
+# planner.robot.holonomic=true after what the launch derives from the scenario), world_sim refuses
+# the run before the first step and scripts/run.sh exits non-zero naming both settings. Run as it
+# comes, the launch (scripts/scenario.sh) gives the band source the scenario's kinematics and the
+# robot passes the minimal person by turning and docking: the goal is reached without contact,
+# and run.sh exits 0.
 set -euo pipefail
 src="${COOPNAV_SOURCE_DIR:?}"
 source "$src/scripts/lib.sh"  # coopnav_trap
@@ -21,7 +22,8 @@ grep -q '^  kinematics: differential' "$scenario" || { echo "FAIL: scenario not 
 fail=0
 
 rc=0
-COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build \
+COOPNAV_DAEMON_ARGS_band_source="--set planner.robot.holonomic=true" \
+  COOPNAV_RUN_PORT_BASE=$COOPNAV_TEST_PORT_BASE bash "$src/scripts/run.sh" --no-build \
   --out "$tmp/mismatch" "$scenario" >"$tmp/mismatch.out" 2>&1 || rc=$?
 if [ "$rc" -eq 0 ]; then
   cat "$tmp/mismatch.out"
@@ -36,8 +38,7 @@ else
 fi
 
 rc=0
-COOPNAV_DAEMON_ARGS_band_source="--set planner.robot.holonomic=false" \
-  COOPNAV_RUN_PORT_BASE=$((COOPNAV_TEST_PORT_BASE + 10)) bash "$src/scripts/run.sh" --no-build \
+COOPNAV_RUN_PORT_BASE=$((COOPNAV_TEST_PORT_BASE + 10)) bash "$src/scripts/run.sh" --no-build \
   --out "$tmp/diff" "$scenario" >"$tmp/diff.out" 2>&1 || rc=$?
 cat "$tmp/diff/narrow_minimal_differential/transcript.txt" 2>/dev/null || cat "$tmp/diff.out"
 python3 - "$tmp/diff/summary.json" <<'PY' || fail=1

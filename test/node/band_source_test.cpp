@@ -308,6 +308,47 @@ TEST_F(BandSourceNodeTest, DockActionSendsTheRobotToTheWallAndResumeBringsItBack
   EXPECT_EQ(probe_.cmds[3].mode, velocity_command_t::MODE_NAVIGATING);
 }
 
+// Going first (GO_FIRST, a stand-off's end): the robot stands, and a person who made room stands
+// 1.6 m ahead, 0.4 m to the left of its line, in open.pgm's 6 m corridor. Told to go first, the
+// robot drives
+// on while the planner's own command is slower: forward, moving to its right (away from them),
+// at most go_first.speed_m_s; once they are behind it, the planner's command is back.
+TEST_F(BandSourceNodeTest, GoFirstDrivesOnPastAPersonStandingAside) {
+  const auto at = [](std::int64_t k, double human_x) {
+    agent_states_t m = headOnStates(k);
+    m.robot = agent(0, agent_state_t::KIND_ROBOT, 12.0, 6.5, 0.0, 0.0, kRobotRadius_m);
+    m.humans[0] =
+        agent(kHumanId, agent_state_t::KIND_HUMAN, human_x, 6.9, M_PI, 0.0, kHumanRadius_m);
+    return m;
+  };
+  ASSERT_TRUE(step(at(0, 13.6)));
+  ASSERT_TRUE(step(at(1, 13.6)));
+  const double planned_m_s = std::hypot(probe_.cmds[1].vx_m_s, probe_.cmds[1].vy_m_s);
+  robot_action_t go{};
+  go.utime = at(1, 13.6).utime;
+  go.step = 1;
+  go.action = robot_action_t::ACTION_GO_FIRST;
+  go.human_id = kHumanId;
+  go.reason = "test";
+  probe_.rt.publish(channels::kRobotAction, go);
+  probe_.rt.spinFor(20);
+  ASSERT_TRUE(step(at(2, 13.6)));
+  const velocity_command_t& c = probe_.cmds[2];
+  EXPECT_EQ(c.mode, velocity_command_t::MODE_NAVIGATING);
+  const double speed = std::hypot(c.vx_m_s, c.vy_m_s);
+  // From rest the planner's band starts slower than going first (acceleration-limited).
+  ASSERT_LT(planned_m_s, 0.3);
+  EXPECT_GT(speed, planned_m_s);
+  // To the right, away from the person on the left: sideways or turning.
+  EXPECT_TRUE(c.vy_m_s < 0.0 || c.omega_rad_s < 0.0) << c.vy_m_s << " " << c.omega_rad_s;
+  EXPECT_GT(c.vx_m_s, 0.0);
+  EXPECT_LE(speed, 0.3 + 1e-6);
+  // The person is passed (behind the robot): going first ends.
+  ASSERT_TRUE(step(at(3, 10.0)));
+  ASSERT_TRUE(step(at(4, 10.0)));
+  EXPECT_EQ(probe_.cmds[4].mode, velocity_command_t::MODE_NAVIGATING);
+}
+
 TEST_F(BandSourceNodeTest, SigtermStopsWithinOneSecondExitZero) {
   ASSERT_TRUE(step(headOnStates(0)));
   dut_->signal(SIGTERM);

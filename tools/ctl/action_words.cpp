@@ -38,19 +38,29 @@ ActionWordsCheck checkActionWords(const RunLog& run) {
   ActionWordsCheck out;
   const auto window_us = static_cast<std::int64_t>(kActionWordsWindow_s * 1e6);
   for (const auto& a : run.actions) {
-    if (a.action != robot_action_t::ACTION_DOCK) continue;
-    // What the robot last said to this human about its own plan before the dock.
+    // A dock makes room; going first passes the person (a RESUME ends a dock the person heard
+    // announced, with its own words, and is not checked here).
+    const bool makes_room = a.action == robot_action_t::ACTION_DOCK;
+    if (!makes_room && a.action != robot_action_t::ACTION_GO_FIRST) continue;
+    const auto sayingSo = [&](std::int8_t act) {
+      return makes_room ? tellsRobotMakesRoom(act) : tellsRobotPasses(act);
+    };
+    // What the robot last said to this human about its own plan before the action.
     const utterance_t* told = nullptr;
     for (const auto& u : run.utterances) {
       if (u.utime > a.utime || !wasSaid(u.delivery) || !reaches(u, a.human_id)) continue;
       if (tellsRobotPasses(u.speech_act) || tellsRobotMakesRoom(u.speech_act)) told = &u;
     }
-    if (told == nullptr || tellsRobotMakesRoom(told->speech_act)) continue;
-    // Words of making room decided with the dock.
+    // Going first needs words even if nothing was said before: the person waits for the robot.
+    if (makes_room && (told == nullptr || sayingSo(told->speech_act))) continue;
+    if (!makes_room && told != nullptr && sayingSo(told->speech_act) &&
+        told->speech_act == utterance_t::ACT_INFORM_GOING_FIRST)
+      continue;
+    // Words saying so decided with the action.
     const utterance_t* with = nullptr;
     for (const auto& u : run.utterances) {
       if (u.utime < a.utime || u.utime > a.utime + window_us || !reaches(u, a.human_id) ||
-          !tellsRobotMakesRoom(u.speech_act))
+          !sayingSo(u.speech_act))
         continue;
       if (wasSaid(u.delivery)) {
         with = &u;
@@ -60,10 +70,13 @@ ActionWordsCheck checkActionWords(const RunLog& run) {
     }
     const std::string what =
         at(a.utime) + " human " + std::to_string(a.human_id) + " " + robotActionName(a.action) +
-        ": told " + speechActName(told->speech_act) + " round " + std::to_string(told->round) +
-        " at " + at(told->utime) + " (\"" + told->text + "\")";
+        (told == nullptr ? std::string(": told nothing")
+                         : ": told " + speechActName(told->speech_act) + " round " +
+                               std::to_string(told->round) + " at " + at(told->utime) + " (\"" +
+                               told->text + "\")");
     if (with == nullptr) {
-      out.contradictions.push_back(what + ", no words of making room");
+      out.contradictions.push_back(
+          what + (makes_room ? ", no words of making room" : ", no words of going"));
     } else if (!wasSaid(with->delivery)) {
       out.unsaid_too_late.push_back(what + ", " + speechActName(with->speech_act) +
                                     " not said: too late (\"" + with->text + "\")");

@@ -6,7 +6,9 @@
 /// making room ("I will wait here ...", "I will back up ...", "... at the side if needed.") is a
 /// contradiction unless words of making room for h are decided with it (within
 /// kActionWordsWindow_s): said, or logged as not said because too late (the transcript then says
-/// what was not said and why; listed apart, not a failure).
+/// what was not said and why; listed apart, not a failure). Going first (GO_FIRST, a stand-off's
+/// end: the person waits for the robot) comes with words of going ("Thank you, I will go
+/// first.") decided with it, unless those were the last words said to h.
 
 #include <string>
 #include <vector>

@@ -61,10 +61,15 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
     Json j;
     j["name"] = e.name;
     j["scenario"] = "scenarios/" + e.name + ".yaml";
-    j["baseline"] = baselineName(e.layout);
+    j["baseline"] = baselineName(e);
     j["layout"] = e.layout.key;
     j["width_m"] = e.layout.width_m;
     if (!e.kind.empty()) j["kind"] = e.kind;
+    if (e.kind.empty()) {
+      j["robot_kinematics"] = e.differential ? "differential" : "holonomic";
+      j["tracker_noise"] = e.tracker_noise;
+      j["variant"] = e.variant;
+    }
     if (options.muted_twins) j["muted_twin"] = mutedTwinName(e.name);
     Json humans = Json::array();
     for (const auto& h : e.humans) {
@@ -82,10 +87,10 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
     }
     j["humans"] = std::move(humans);
     list.push_back(std::move(j));
-    if (baselines.insert(baselineName(e.layout)).second) {
+    if (baselines.insert(baselineName(e)).second) {
       Json b;
-      b["name"] = baselineName(e.layout);
-      b["scenario"] = "scenarios/" + baselineName(e.layout) + ".yaml";
+      b["name"] = baselineName(e);
+      b["scenario"] = "scenarios/" + baselineName(e) + ".yaml";
       b["layout"] = e.layout.key;
       base_list.push_back(std::move(b));
     }
@@ -603,6 +608,8 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       ++causes_by_behaviour[contact_behaviour.empty() ? "(none)" : contact_behaviour][cause];
     }
     r["contact"] = std::move(contact);
+    for (const char* k : {"robot_kinematics", "tracker_noise", "variant"})
+      if (e.contains(k)) r[k] = e.at(k);
     r["min_clearance_m"] = numberOrNull(field(run, "min_clearance_m"));
     r["min_clearance_t_s"] = numberOrNull(field(run, "min_clearance_t_s"));
     for (auto& [key, sum] : sums) {

@@ -236,6 +236,13 @@ struct Encounter {
   Layout layout;
   std::vector<HumanSpec> humans;
   std::string kind;  ///< crowd kind (crowdKindNames()); empty for a head-on encounter
+  /// The robot drives differentially (turns to swerve) instead of holonomically; the band source
+  /// must plan with the same kinematics (scripts/scenario.sh passes it from the scenario).
+  bool differential{false};
+  /// The humans are published as a people tracker sees them (trackerYaml()).
+  bool tracker_noise{false};
+  /// Head-on encounters: what the widened draw added ("abreast", "slower_ahead" or empty).
+  std::string variant;
 };
 
 /// Ranges the generator draws from (docs/population.md lists them). All lie inside the
@@ -248,6 +255,15 @@ struct Ranges {
   double follower_gap_min_m{2.0}, follower_gap_max_m{2.8};      ///< behind the head-on human
   double same_way_ahead_min_m{2.5}, same_way_ahead_max_m{4.5};  ///< ahead of the robot
   double two_humans_p{0.3}, three_humans_p{0.2};
+  // Widened encounters (issue 44: what found the stalemates), drawn from each encounter's own
+  // stream after the draws above, which they leave as they were.
+  double differential_p{0.25};   ///< a differential-drive robot
+  double tracker_noise_p{0.25};  ///< the humans through a people tracker (trackerYaml())
+  double abreast_p{0.15};        ///< a second person abreast of the head-on one (a pair)
+  double slower_ahead_p{0.15};   ///< a slower person ahead of the robot walking its way
+  double abreast_spacing_min_m{0.7}, abreast_spacing_max_m{0.9};  ///< centre to centre
+  double slower_speed_min_m_s{0.4}, slower_speed_max_m_s{0.6};    ///< below the robot's 0.7
+  double slower_ahead_min_m{3.0}, slower_ahead_max_m{6.0};        ///< ahead of the robot
 };
 
 /// Draws a behaviour's params (2 decimals).
@@ -289,6 +305,67 @@ inline std::string encounterName(std::size_t index) {
 inline bool isBehaviourName(const std::string& name) {
   const auto& names = behaviourNames();
   return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// The draws that widen a head-on encounter to what found the freezing robot (issue 44): a
+/// differential-drive robot, a people tracker's noise, and either a second person abreast of
+/// the head-on one (a pair walking together: same behaviour, speed and params, group 1) or a
+/// person ahead of the robot walking its way slower than it (the robot follows, and passes
+/// where the corridor allows). From a stream of the encounter's own (seeded by its seed), after
+/// every other draw: the rest of the encounter, and every other encounter, stay as drawn.
+inline void widen(Encounter& e, const Ranges& r) {
+  Rng w(e.seed ^ 0x3D1DE11ULL);
+  const Layout& l = e.layout;
+  e.differential = w.unit() < r.differential_p;
+  e.tracker_noise = w.unit() < r.tracker_noise_p;
+  const double v = w.unit();
+  HumanSpec& h = e.humans.front();
+  if (v < r.abreast_p) {
+    const double spacing =
+        quantize(w.uniform(r.abreast_spacing_min_m, r.abreast_spacing_max_m), 0.005);
+    // Beside the head-on person on the side with room (the lanes round the pillar of open_wide
+    // are narrower than a pair: its partner walks in the head-on person's own lane range).
+    const double lo = l.lateral_min_y_m, hi = l.lateral_max_y_m;
+    if (hi - lo < spacing) return;
+    double y = h.start_y_m + (w.unit() < 0.5 ? spacing : -spacing);
+    if (y > hi || y < lo) y = h.start_y_m - (y - h.start_y_m);
+    if (y > hi || y < lo) {
+      // Neither side fits as placed: the pair is centred on the head-on person's offset.
+      const double mid = std::clamp(h.start_y_m, lo + spacing / 2.0, hi - spacing / 2.0);
+      h.start_y_m = quantize(mid - spacing / 2.0, 0.005);
+      h.goal_y_m = h.start_y_m;
+      y = h.start_y_m + spacing;
+    }
+    HumanSpec x = h;
+    x.id = static_cast<int>(e.humans.size()) + 1;
+    x.start_y_m = quantize(y, 0.005);
+    x.goal_y_m = x.start_y_m;
+    x.start_x_m = quantize(h.start_x_m + w.uniform(0.0, 0.3), 0.005);
+    h.group = 1;
+    x.group = 1;
+    e.humans.push_back(x);
+    e.variant = "abreast";
+  } else if (v < r.abreast_p + r.slower_ahead_p) {
+    HumanSpec x;
+    x.id = static_cast<int>(e.humans.size()) + 1;
+    x.role = "same_way";
+    x.behaviour = behaviourNames()[w.index(behaviourNames().size())];
+    x.start_x_m =
+        quantize(l.robot_start_x_m + w.uniform(r.slower_ahead_min_m, r.slower_ahead_max_m), 0.005);
+    const auto& lane = l.extra_lanes_y_m.empty()
+                           ? std::pair<double, double>{l.lateral_min_y_m, l.lateral_max_y_m}
+                           : l.extra_lanes_y_m[w.index(l.extra_lanes_y_m.size())];
+    x.start_y_m = quantize(std::clamp(l.centre_y_m + w.uniform(-r.extra_offset_m, r.extra_offset_m),
+                                      lane.first, lane.second),
+                           0.005);
+    x.goal_x_m = l.same_way_goal_x_m;
+    x.goal_y_m = x.start_y_m;
+    x.speed_m_s = quantize(w.uniform(r.slower_speed_min_m_s, r.slower_speed_max_m_s), 0.01);
+    x.velocity_noise_m_s = quantize(w.uniform(0.0, r.noise_max_m_s), 0.01);
+    x.params = drawParams(x.behaviour, w);
+    e.humans.push_back(x);
+    e.variant = "slower_ahead";
+  }
 }
 
 /// The n encounters of `seed`. The head-on human's behaviour runs through the six in a seeded
@@ -379,6 +456,7 @@ inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t se
       x.params = drawParams(x.behaviour, rng);
       e.humans.push_back(x);
     }
+    widen(e, r);
     out.push_back(std::move(e));
   }
   return out;
@@ -863,8 +941,12 @@ inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
   y += "robot:\n";
   y += "  start: " + pose(l.robot_start_x_m, l.centre_y_m, "0.0") + "\n";
   y += "  goal: " + pose(l.robot_goal_x_m, l.centre_y_m, "0.0") + "\n";
-  y += "  kinematics: holonomic\n";
+  y += std::string("  kinematics: ") + (e.differential ? "differential" : "holonomic") + "\n";
   y += "  limits: {max_forward_m_s: 0.7, max_lateral_m_s: 0.7}\n";
+  if (with_humans && e.tracker_noise) {
+    // scripts/population.sh --tracker-noise's model, for this encounter only.
+    y += "tracker: {position_sigma_m: 0.05, miss_probability: 0.05, id_switches: 1}\n";
+  }
   if (!with_humans || e.humans.empty()) {
     y += "humans: []\n";
     return y;
@@ -896,6 +978,12 @@ inline std::string baselineName(const Layout& l) {
   std::string s = "base_" + l.key;
   std::replace(s.begin(), s.end(), '.', '_');
   return s;
+}
+
+/// Name of the run without humans of an encounter: its layout's, and a differential robot's
+/// own (it turns where a holonomic one slides: another time to goal).
+inline std::string baselineName(const Encounter& e) {
+  return baselineName(e.layout) + (e.differential ? "_differential" : "");
 }
 
 }  // namespace coopnav::population

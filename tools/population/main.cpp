@@ -61,7 +61,7 @@ int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::p
   std::string jobs;
   for (const auto& e : encounters) {
     if (!e.layout.map_file.empty()) maps.insert(e.layout.map_file);
-    const std::string base = pop::baselineName(e.layout);
+    const std::string base = pop::baselineName(e);
     if (baselines.insert(base).second) {
       writeFile(out / "scenarios" / (base + ".yaml"), pop::scenarioYaml(e, false, base));
       jobs += base + "\tscenarios/" + base + ".yaml\n";

@@ -143,7 +143,8 @@ RobotActionMsg fromLcm(const robot_action_t& msg) {
   requireStep(msg.step);
   RobotActionMsg out;
   out.stamp = {msg.utime, msg.step, msg.human_id};
-  if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME)
+  if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME &&
+      msg.action != robot_action_t::ACTION_GO_FIRST)
     reject("unknown action " + std::to_string(msg.action));
   out.action = static_cast<dialogue::RobotAction>(msg.action);
   out.reason = msg.reason;

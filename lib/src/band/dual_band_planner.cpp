@@ -171,7 +171,46 @@ void DualBandPlanner::reset() {
   paths_.clear();
 }
 
+// A warm band is the last cycle's solution moved on: it keeps whatever shape LM found then,
+// including a local minimum in which the robot waits and the anticipated person walks round it
+// (a narrow corridor with a person stepping aside: the robot band slows, then runs backwards,
+// and each cycle's few iterations only deepen it). So the warm bands are one candidate beside
+// the fresh ones laid on the paths, both optimised, and the cheaper joint solution is kept: the
+// previous solution goes on while it is no worse than a fresh start, and a minimum the fresh
+// start does not fall into is left as soon as it costs more. TEB's homotopy-class planner keeps its
+// previous best trajectory beside new candidates in the same way (Rösmann et al. 2017).
 PlanResult DualBandPlanner::plan(const PlanRequest& req) {
+  if (!config_.warm_start) return planOnce(req, false, nullptr);
+  // With a budget, each candidate gets half of it.
+  PlanRequest half = req;
+  if (half.time_budget_s > 0.0) half.time_budget_s *= 0.5;
+  bool used_warm = false;
+  PlanResult warm = planOnce(half, true, &used_warm);
+  if (!used_warm || warm.status != PlanStatus::kOk) return warm;
+  const auto warm_memory = bands_;
+  PlanResult cold = planOnce(half, false, nullptr);
+  PlanResult* kept = &warm;
+  PlanResult* other = &cold;
+  if (cold.status == PlanStatus::kOk && cold.final_cost < warm.final_cost) {
+    std::swap(kept, other);
+    // The reference paths were (re)planned by the first call: it alone saw them change.
+    for (auto& o : cold.others) {
+      for (const auto& w : warm.others) {
+        if (w.id == o.id) o.reference_changed = o.reference_changed || w.reference_changed;
+      }
+    }
+  } else {
+    bands_ = warm_memory;
+  }
+  kept->warm_candidate = true;
+  kept->iterations += other->iterations;
+  kept->accepted_steps += other->accepted_steps;
+  kept->solver_time_s += other->solver_time_s;
+  kept->budget_exhausted = kept->budget_exhausted || other->budget_exhausted;
+  return std::move(*kept);
+}
+
+PlanResult DualBandPlanner::planOnce(const PlanRequest& req, bool allow_warm, bool* used_warm) {
   PlanResult out;
   const BandPlannerConfig& cfg = config_;
   if (!config_errors_.empty() || !map_ || !global_) {
@@ -233,7 +272,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
             : pathHeadingAtEnd(local, me.pose.theta_rad);
     const Pose2 end{local.back().x(), local.back().y(), end_th};
     auto mem = bands_.find(me.id);
-    if (cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2) {
+    if (allow_warm && mem != bands_.end() && mem->second.band.size() >= 2) {
       TimedElasticBand warm = mem->second.band;
       warm.pruneToStart(me.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
       const bool near = warm.size() >= 2 &&
@@ -244,6 +283,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
         warm.setEnd(end);
         my_band = std::move(warm);
         cold_start = false;
+        if (used_warm != nullptr) *used_warm = true;
       }
     }
     if (cold_start) {
@@ -355,7 +395,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
     TimedElasticBand band;
     bool have = false;
     auto mem = bands_.find(st.id);
-    if (!predicted_only && cfg.warm_start && mem != bands_.end() && mem->second.band.size() >= 2 &&
+    if (!predicted_only && allow_warm && mem != bands_.end() && mem->second.band.size() >= 2 &&
         !res.reference_changed) {
       TimedElasticBand warm = mem->second.band;
       warm.pruneToStart(st.pose, std::max(0.0, req.stamp_s - mem->second.stamp_s));
@@ -366,6 +406,7 @@ PlanResult DualBandPlanner::plan(const PlanRequest& req) {
         warm.setEnd(end);
         band = std::move(warm);
         have = true;
+        if (used_warm != nullptr) *used_warm = true;
       }
     }
     if (!have) {

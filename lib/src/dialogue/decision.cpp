@@ -82,6 +82,8 @@ const char* toString(RobotAction a) {
       return "dock";
     case RobotAction::kResume:
       return "resume";
+    case RobotAction::kGoFirst:
+      return "go_first";
   }
   return "?";
 }
@@ -242,14 +244,23 @@ void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, Deci
       r.branch = head + " & docked & !made room -> resume";
       say(SpeechAct::kInformResuming, Side::kUndefined, 2, out);
     }
-  } else if (made_room) {
+  } else if (made_room && !config_.go_first_when_not_docked) {
     r.branch = head + " & made room -> silent";
-    r.reason = "the robot is not docked: no action makes its planner go first";
+    r.reason = "the robot is not docked and does not go first (stand_off.go_first false)";
+  } else if (made_room && !went_first_) {
+    // The planner's bands still bend round the person who stands aside and stall the robot:
+    // the band source drives past them on its side, guarded (robot_action_t.ACTION_GO_FIRST).
+    r.branch = head + " & made room -> go first";
+    went_first_ = true;
+    out.robot_actions.push_back(RobotAction::kGoFirst);
+    say(SpeechAct::kInformGoingFirst, Side::kUndefined, 2, out);
   } else if (!docked_ever_) {
-    r.branch = head + " & !made room -> dock";
+    // Not made room, or going first did not end the wait (the guard kept the robot back):
+    // the robot makes room instead, once, and says so.
+    r.branch = head + (made_room ? " & made room & went first -> dock" : " & !made room -> dock");
     dock(out, false, s.room_plan);
   } else {
-    r.branch = head + " & !made room -> silent";
+    r.branch = head + " & docked once -> silent";
     r.reason = "the robot made room once in this interaction and went on";
   }
   out.rounds.push_back(r);

@@ -96,7 +96,7 @@ SpeechSlot SpeechTimeline::plan(double t_s, double duration_s, std::optional<dou
 SpeechTimeline::Choice SpeechTimeline::planFirstFitting(double t_s,
                                                         const std::vector<double>& durations_s,
                                                         std::optional<double> deadline_s,
-                                                        bool muted) {
+                                                        bool muted, bool may_interrupt) {
   if (durations_s.empty()) {
     Choice none;
     none.slot.delivery = muted ? Delivery::kMuted : Delivery::kTooLate;
@@ -108,6 +108,16 @@ SpeechTimeline::Choice SpeechTimeline::planFirstFitting(double t_s,
       // plan() occupies the voice only for a slot that is said: trying does not change it.
       const SpeechSlot slot = plan(t_s, durations_s[i], deadline_s, false);
       if (slot.delivery == Delivery::kSaid) return {i, slot};
+    }
+    const double busy_s = free_at_s_ - t_s;
+    if (may_interrupt && busy_s > 0.0) {
+      for (std::size_t i = 0; i < durations_s.size(); ++i) {
+        if (deadline_s && t_s + std::max(durations_s[i], 0.0) > *deadline_s) continue;
+        free_at_s_ = t_s;  // what is being said stops here
+        SpeechSlot slot = plan(t_s, durations_s[i], deadline_s, false);
+        slot.interrupts_s = busy_s;
+        return {i, slot};
+      }
     }
   }
   return {0, plan(t_s, durations_s[0], deadline_s, muted)};

@@ -151,8 +151,11 @@ TEST(ConversionsDialogue, RobotActionRoundTripAndRejection) {
   EXPECT_EQ(back.action, RobotAction::kDock);
   EXPECT_EQ(back.stamp.utime, 4'000'000);
   EXPECT_EQ(back.reason, "round 2: dock");
+  const robot_action_t go = toLcm({4'000'000, 40, 2}, RobotAction::kGoFirst, "stand-off");
+  EXPECT_EQ(go.action, robot_action_t::ACTION_GO_FIRST);
+  EXPECT_EQ(fromLcm(go).action, RobotAction::kGoFirst);
   robot_action_t bad = m;
-  bad.action = 3;
+  bad.action = 4;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
   bad = m;
   bad.step = -7;

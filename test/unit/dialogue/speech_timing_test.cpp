@@ -101,6 +101,33 @@ TEST(SpeechTimeline, ShortOfTimeTheShorterWordingIsSaidRatherThanNothing) {
   EXPECT_EQ(voice.planFirstFitting(50.0, {}, 60.0, false).slot.delivery, Delivery::kTooLate);
 }
 
+// Words announcing a change of what the robot does ("I will wait here." after "I am passing on
+// your right.") interrupt what is being said when they fit only from now; other words wait, or
+// are too late, as before.
+TEST(SpeechTimeline, WordsOfAChangeOfActionInterruptTheVoice) {
+  SpeechTimeline voice;
+  ASSERT_EQ(voice.plan(10.0, 2.0, 20.0, false).delivery, Delivery::kSaid);  // busy until 12 s
+  // Decided at 10.5 s, crossing at 12.0 s: neither wording fits after 12 s.
+  const auto waits = voice.planFirstFitting(10.5, {3.0, 1.0}, 12.0, false);
+  EXPECT_EQ(waits.slot.delivery, Delivery::kTooLate);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 12.0);
+  // Interrupting: the short wording fits from 10.5 s; the voice stops 1.5 s before its end.
+  const auto cut = voice.planFirstFitting(10.5, {3.0, 1.0}, 12.0, false, true);
+  EXPECT_EQ(cut.index, 1U);
+  EXPECT_EQ(cut.slot.delivery, Delivery::kSaid);
+  EXPECT_DOUBLE_EQ(cut.slot.start_s, 0.0);
+  EXPECT_DOUBLE_EQ(cut.slot.interrupts_s, 1.5);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 11.5);
+  // A wording that fits after the voice is free does not interrupt it.
+  const auto after = voice.planFirstFitting(11.0, {0.5}, 20.0, false, true);
+  EXPECT_DOUBLE_EQ(after.slot.start_s, 0.5);
+  EXPECT_DOUBLE_EQ(after.slot.interrupts_s, 0.0);
+  // Nothing fits even from now: too late, the voice as it was.
+  const auto none = voice.planFirstFitting(11.5, {3.0}, 12.0, false, true);
+  EXPECT_EQ(none.slot.delivery, Delivery::kTooLate);
+  EXPECT_DOUBLE_EQ(voice.freeAt(), 12.0);
+}
+
 std::string le32(std::uint32_t v) {
   std::string s(4, '\0');
   for (int i = 0; i < 4; ++i)

@@ -254,18 +254,42 @@ TEST(StandOffDecision, NotDockedAPersonWhoDidNotMakeRoomIsGivenWayOnceAndToldSo)
   }
 }
 
-TEST(StandOffDecision, NotDockedAPersonWhoMadeRoomIsNotToldWhatTheRobotCannotDo) {
+// Not docked, a person who made room waits for the robot, which waits too: the robot goes
+// first, said and done in the same step (GO_FIRST with "Thank you, I will go first."), once; if
+// the wait goes on (the guard kept the robot back), it makes room instead, with its words.
+TEST(StandOffDecision, NotDockedAPersonWhoMadeRoomIsPassedWithWords) {
   HumanDecision dut;
   dut.step(narrow(0.0, 6.5));
-  const auto outs = steps(dut, 1.0, 6.0, [](double u) {
+  const auto outs = steps(dut, 1.0, 12.0, [](double u) {
     DecisionInput in = withMotion(narrow(u, 3.5));
     in.path.cm_window_m = 0.9;  // made room: round 2 silent, no dock
     return in;
   });
-  ASSERT_EQ(outs.size(), 2u);  // round 2, then the stand-off
+  ASSERT_GE(outs.size(), 3u);  // round 2, the stand-off, the stand-off again
+  EXPECT_TRUE(outs[0].robot_actions.empty());
+  EXPECT_EQ(outs[1].robot_actions, std::vector<RobotAction>{RobotAction::kGoFirst});
+  ASSERT_EQ(outs[1].utterances.size(), 1u);
+  EXPECT_EQ(outs[1].utterances[0].act, SpeechAct::kInformGoingFirst);
+  EXPECT_NE(outs[1].rounds.at(0).branch.find("made room -> go first"), std::string::npos);
+  EXPECT_EQ(outs[2].robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+  ASSERT_EQ(outs[2].utterances.size(), 1u);
+  EXPECT_EQ(outs[2].utterances[0].act, SpeechAct::kInformDocking);
+  EXPECT_NE(outs[2].rounds.at(0).branch.find("went first -> dock"), std::string::npos);
+}
+
+TEST(StandOffDecision, GoingFirstOffLeavesTheWaitToTheRoundsReason) {
+  DecisionConfig c;
+  c.go_first_when_not_docked = false;
+  HumanDecision dut(c);
+  dut.step(narrow(0.0, 6.5));
+  const auto outs = steps(dut, 1.0, 6.0, [](double u) {
+    DecisionInput in = withMotion(narrow(u, 3.5));
+    in.path.cm_window_m = 0.9;
+    return in;
+  });
+  ASSERT_EQ(outs.size(), 2u);
   EXPECT_TRUE(outs[1].utterances.empty());
   EXPECT_TRUE(outs[1].robot_actions.empty());
-  EXPECT_NE(outs[1].rounds.at(0).branch.find("made room"), std::string::npos);
   EXPECT_FALSE(outs[1].rounds.at(0).reason.empty());
 }
 

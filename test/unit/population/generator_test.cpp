@@ -57,16 +57,20 @@ TEST(PopulationGenerator, DrawsStayInTheirRanges) {
     layouts.insert(e.layout.key);
     ++counts[e.humans.size()];
     ASSERT_GE(e.humans.size(), 1u);
-    ASSERT_LE(e.humans.size(), 3u);
+    ASSERT_LE(e.humans.size(), 4u);
     EXPECT_LE(e.seed, 1ULL << 53);
     const pop::HumanSpec& h = e.humans.at(0);
     EXPECT_EQ(h.role, "head_on");
-    EXPECT_LE(std::abs(h.start_y_m - e.layout.centre_y_m), 0.3 + 1e-9);
+    // A pair abreast may be centred where the head-on person alone would not fit beside it.
+    if (e.variant != "abreast") {
+      EXPECT_LE(std::abs(h.start_y_m - e.layout.centre_y_m), 0.3 + 1e-9);
+    }
     EXPECT_GT(h.start_x_m, e.layout.robot_goal_x_m);
     EXPECT_LT(h.goal_x_m, e.layout.robot_start_x_m);
     for (const auto& x : e.humans) {
-      EXPECT_GE(x.speed_m_s, 0.8);
-      EXPECT_LE(x.speed_m_s, 1.3);
+      const bool slower = e.variant == "slower_ahead" && &x == &e.humans.back();
+      EXPECT_GE(x.speed_m_s, slower ? 0.4 : 0.8);
+      EXPECT_LE(x.speed_m_s, slower ? 0.6 : 1.3);
       EXPECT_GE(x.velocity_noise_m_s, 0.0);
       EXPECT_LE(x.velocity_noise_m_s, 0.05);
       if (e.layout.extra_lanes_y_m.empty()) {
@@ -98,6 +102,85 @@ TEST(PopulationGenerator, DrawsStayInTheirRanges) {
   EXPECT_GT(counts[1], counts[2]);
   EXPECT_GT(counts[2], counts[3]);
   EXPECT_GT(counts[3], 60);
+}
+
+// The widened encounters (issue 44): a differential robot, a tracker's noise, a pair abreast or
+// a slower person ahead, each at about its share, drawn from the encounter's own stream so that
+// the rest of every encounter is what the seed drew without them.
+TEST(PopulationGenerator, WidenedEncountersKeepTheOtherDraws) {
+  pop::Ranges none;
+  none.differential_p = none.tracker_noise_p = none.abreast_p = none.slower_ahead_p = 0.0;
+  const auto plain = pop::generatePopulation(600, 13, none);
+  const auto wide = pop::generatePopulation(600, 13);
+  ASSERT_EQ(plain.size(), wide.size());
+  int differential = 0, tracker = 0, abreast = 0, slower = 0;
+  for (std::size_t i = 0; i < wide.size(); ++i) {
+    const pop::Encounter& p = plain[i];
+    const pop::Encounter& w = wide[i];
+    EXPECT_FALSE(p.differential || p.tracker_noise || !p.variant.empty());
+    EXPECT_EQ(p.seed, w.seed);
+    EXPECT_EQ(p.layout.key, w.layout.key);
+    differential += w.differential;
+    tracker += w.tracker_noise;
+    const std::string y = pop::scenarioYaml(w);
+    EXPECT_EQ(y.find("kinematics: differential") != std::string::npos, w.differential);
+    EXPECT_EQ(y.find("tracker: {position_sigma_m: 0.05") != std::string::npos, w.tracker_noise);
+    EXPECT_EQ(pop::scenarioYaml(w, false, "b").find("tracker:"), std::string::npos);
+    EXPECT_EQ(pop::baselineName(w),
+              pop::baselineName(w.layout) + (w.differential ? "_differential" : ""));
+    const std::size_t base_n = p.humans.size();
+    if (w.variant.empty()) {
+      EXPECT_EQ(w.humans.size(), base_n);
+    } else {
+      ASSERT_EQ(w.humans.size(), base_n + 1) << w.name;
+      const pop::HumanSpec& x = w.humans.back();
+      EXPECT_EQ(x.id, static_cast<int>(base_n) + 1);
+      if (w.layout.extra_lanes_y_m.empty()) {  // else in the lanes round open_wide's pillar
+        EXPECT_GE(x.start_y_m, w.layout.lateral_min_y_m - 1e-9) << w.name;
+        EXPECT_LE(x.start_y_m, w.layout.lateral_max_y_m + 1e-9) << w.name;
+      }
+      if (w.variant == "abreast") {
+        ++abreast;
+        const pop::HumanSpec& h = w.humans.front();
+        EXPECT_EQ(x.role, "head_on");
+        EXPECT_EQ(x.behaviour, h.behaviour);
+        EXPECT_EQ(x.speed_m_s, h.speed_m_s);
+        EXPECT_EQ(h.group, 1);
+        EXPECT_EQ(x.group, 1);
+        const double spacing = std::abs(x.start_y_m - h.start_y_m);
+        EXPECT_GE(spacing, 0.7 - 1e-9);
+        EXPECT_LE(spacing, 0.9 + 1e-9);
+        EXPECT_GE(h.start_y_m, w.layout.lateral_min_y_m - 1e-9) << w.name;
+        EXPECT_LE(h.start_y_m, w.layout.lateral_max_y_m + 1e-9) << w.name;
+      } else {
+        ++slower;
+        EXPECT_EQ(w.variant, "slower_ahead");
+        EXPECT_EQ(x.role, "same_way");
+        EXPECT_LT(x.speed_m_s, 0.7);  // slower than the robot
+        EXPECT_GE(x.start_x_m, w.layout.robot_start_x_m + 3.0 - 1e-9);
+        EXPECT_LE(x.start_x_m, w.layout.robot_start_x_m + 6.0 + 1e-9);
+        EXPECT_GT(x.goal_x_m, w.layout.robot_goal_x_m);
+      }
+    }
+    // Everyone the seed drew without the widening is unchanged but for a pair's centring.
+    for (std::size_t k = 0; k < base_n; ++k) {
+      EXPECT_EQ(p.humans[k].behaviour, w.humans[k].behaviour);
+      EXPECT_EQ(p.humans[k].start_x_m, w.humans[k].start_x_m);
+      EXPECT_EQ(p.humans[k].speed_m_s, w.humans[k].speed_m_s);
+      if (k > 0 || w.variant != "abreast") {
+        EXPECT_EQ(p.humans[k].start_y_m, w.humans[k].start_y_m);
+      }
+    }
+  }
+  // 600 draws each: p 0.25, 0.25, 0.15 (pairs need 0.7 m of lanes: not in open_wide), 0.15.
+  EXPECT_GT(differential, 110);
+  EXPECT_LT(differential, 190);
+  EXPECT_GT(tracker, 110);
+  EXPECT_LT(tracker, 190);
+  EXPECT_GT(abreast, 50);
+  EXPECT_LT(abreast, 110);
+  EXPECT_GT(slower, 60);
+  EXPECT_LT(slower, 120);
 }
 
 TEST(PopulationGenerator, NarrowestCorridorStillFitsARobotAndAHuman) {
@@ -170,7 +253,11 @@ TEST(PopulationGenerator, HeadOnBehaviourOptionKeepsEveryOtherDraw) {
       EXPECT_EQ(x.goal_x_m, y.goal_x_m);
       EXPECT_EQ(x.speed_m_s, y.speed_m_s);
       EXPECT_EQ(x.velocity_noise_m_s, y.velocity_noise_m_s);
-      if (k > 0) {
+      if (x.role == "head_on") {
+        // The head-on person, and the one abreast of them (its pair: same behaviour and params).
+        EXPECT_EQ(y.behaviour, "responsive");
+        EXPECT_EQ(y.params, b.humans.at(0).params);
+      } else {
         EXPECT_EQ(x.behaviour, y.behaviour);
         EXPECT_EQ(x.params, y.params);
       }

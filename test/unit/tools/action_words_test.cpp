@@ -47,6 +47,30 @@ TEST(ActionWords, ADockAfterSayingThePassWithoutWordsContradictsThem) {
   EXPECT_TRUE(c.unsaid_too_late.empty());
 }
 
+// Going first (a stand-off's end, the person waiting for the robot) comes with its words:
+// "Thank you, I will go first." decided with it; silent, or after "I will wait here" with
+// nothing new, it contradicts what the person was told or leaves them guessing.
+TEST(ActionWords, GoingFirstComesWithWordsOfGoing) {
+  robot_action_t go = dock(20.0, 1);
+  go.action = robot_action_t::ACTION_GO_FIRST;
+  RunLog said;
+  said.utterances.push_back(say(10.0, 1, utterance_t::ACT_INFORM_DOCK_IF_NEEDED));
+  said.actions.push_back(go);
+  said.utterances.push_back(say(20.0, 1, utterance_t::ACT_INFORM_GOING_FIRST));
+  EXPECT_TRUE(checkActionWords(said).contradictions.empty());
+  RunLog silent;
+  silent.utterances.push_back(say(10.0, 1, utterance_t::ACT_INFORM_DOCK_IF_NEEDED));
+  silent.actions.push_back(go);
+  const ActionWordsCheck c = checkActionWords(silent);
+  ASSERT_EQ(c.contradictions.size(), 1U);
+  EXPECT_NE(c.contradictions[0].find("GO_FIRST: told INFORM_DOCK_IF_NEEDED"), std::string::npos)
+      << c.contradictions[0];
+  EXPECT_NE(c.contradictions[0].find("no words of going"), std::string::npos);
+  RunLog nothing_before;
+  nothing_before.actions.push_back(go);
+  EXPECT_EQ(checkActionWords(nothing_before).contradictions.size(), 1U);
+}
+
 TEST(ActionWords, ToldToTheGroupCountsForEveryMember) {
   RunLog run;
   // Said to human 1 addressed to the pair {1, 2}; the dock is for human 2.

@@ -112,7 +112,9 @@ struct BandPlannerConfig {
   /// to move the paper's round-2 decision there.
   double initial_damping_scale{0.0};
   double penalty_epsilon{0.01};
-  bool warm_start{true};  ///< CoHAN 2.0 disables it and pays with full re-initialisation
+  /// Last cycle's bands as a second candidate beside fresh ones, the cheaper kept (twice the
+  /// solves; DualBandPlanner::plan says why). CoHAN 2.0 disables warm starts.
+  bool warm_start{true};
   /// Least-squares solver: "sparse_lm" (ours, sparse_lm.hpp: single-threaded, deterministic)
   /// or "ceres" (Ceres' sparse normal Cholesky LM, tuned as band_optimizer.cpp says). Same
   /// residual blocks; bench_band compares the two.

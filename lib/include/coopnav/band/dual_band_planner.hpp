@@ -95,7 +95,9 @@ struct PlanResult {
   double final_cost{0.0};
   double solver_time_s{0.0};
   bool budget_exhausted{false};
-  bool warm_started{false};
+  bool warm_started{false};  ///< the bands kept are the warm candidate's
+  /// A warm candidate (last cycle's bands) was optimised beside the fresh one this cycle.
+  bool warm_candidate{false};
   std::vector<TermCost> term_costs;  ///< per cost term after the last iteration
 };
 
@@ -114,6 +116,10 @@ class DualBandPlanner {
   const std::vector<BandPlannerConfig::Error>& configErrors() const { return config_errors_; }
 
  private:
+  /// One candidate: bands laid on the paths, or (allow_warm) last cycle's where still usable;
+  /// *used_warm set when any band was warm. Stores its bands as the warm-start memory.
+  PlanResult planOnce(const PlanRequest& request, bool allow_warm, bool* used_warm);
+
   struct Memory {
     TimedElasticBand band;
     double stamp_s{0.0};

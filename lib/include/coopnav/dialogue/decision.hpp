@@ -58,7 +58,8 @@ enum class RoomPlan : std::int8_t {
 const char* toString(RoomPlan p);
 
 /// Robot actions; values mirror coopnav_robot_action_t.ACTION_*.
-enum class RobotAction : std::int8_t { kDock = 1, kResume = 2 };
+/// kGoFirst: not docked, the person made room: the robot passes them now (a stand-off's end).
+enum class RobotAction : std::int8_t { kDock = 1, kResume = 2, kGoFirst = 3 };
 const char* toString(RobotAction a);
 
 /// English text templates; "{dir}" is replaced by left_word / right_word.
@@ -131,6 +132,9 @@ struct DecisionConfig {
   /// robot waits for as long as the person does (issue 44: a silent standstill is a failure).
   /// false: the paper's reading, a dock ends only when the person has passed or left.
   bool resolve_stand_offs{true};
+  /// A mutual wait with a person who made room, the robot not docked: the robot goes first
+  /// (RobotAction::kGoFirst, said). false: nothing is done then (the round's reason says why).
+  bool go_first_when_not_docked{true};
   StandOffConfig stand_off;
 };
 
@@ -257,6 +261,7 @@ class HumanDecision {
   bool retreat_said_{false};
   bool ended_{false};
   bool docked_ever_{false};  ///< a dock was requested in this interaction
+  bool went_first_{false};   ///< a stand-off ended in GO_FIRST in this interaction
   StandOffWatch watch_;
 };
 

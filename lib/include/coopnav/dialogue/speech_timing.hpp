@@ -45,6 +45,8 @@ struct SpeechSlot {
   Delivery delivery{Delivery::kSaid};
   double start_s{0.0};     ///< [s] after the decision: > 0 while an earlier one is being spoken
   double duration_s{0.0};  ///< [s] how long saying it takes
+  /// [s] Said by cutting the utterance being spoken this long before its end (0: none cut).
+  double interrupts_s{0.0};
   /// [s] end of the speech after the decision (start + duration); for kTooLate, how far past the
   /// crossing it would have ended is end_s − the deadline given.
   double end_s() const { return start_s + duration_s; }
@@ -66,8 +68,12 @@ class SpeechTimeline {
     std::size_t index{0};  ///< which wording was planned
     SpeechSlot slot;
   };
+  /// `may_interrupt`: words that announce a change of what the robot does (it makes room where it
+  /// said it passes) must not be lost to the words before them. When no wording fits after what
+  /// is being said but one fits from now, the voice stops what it says and says it now
+  /// (SpeechSlot::interrupts_s > 0).
   Choice planFirstFitting(double t_s, const std::vector<double>& durations_s,
-                          std::optional<double> deadline_s, bool muted);
+                          std::optional<double> deadline_s, bool muted, bool may_interrupt = false);
   /// Absolute time at which the voice is free again.
   double freeAt() const { return free_at_s_; }
 

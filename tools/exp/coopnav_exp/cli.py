@@ -11,7 +11,10 @@ import argparse
 import sys
 from typing import Callable, Sequence
 
+from . import figures
+
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "figures": figures.main,
 }
 
 

@@ -145,3 +145,21 @@ def test_a_file_that_is_not_a_trace_is_refused(tmp_path):
     (d / "trace.json").write_text('{"scenarios": []}')
     with pytest.raises(figures.TraceError):
         figures.trace_of_run(d)
+
+
+def test_a_name_from_the_log_never_leaves_the_directory(tmp_path, monkeypatch):
+    # The scenario name in a trace comes from the log, i.e. from any peer on the bus.
+    for name in ("../../escaped", "/tmp/absolute", "..", ".hidden", "-rf", "a/b\\c\nd\x1bé",
+                 "n" * 500, ""):
+        stem = figures._safe_stem(name)
+        assert stem and len(stem) <= 100 and stem[0] not in ".-"
+        assert set(stem) <= set("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-")
+    assert figures._safe_stem("open_facilitating") == "open_facilitating"
+    assert figures._safe_stem("../../escaped") == "_.._escaped"
+    assert figures._safe_stem("..") == "run"
+    monkeypatch.setattr(figures, "FORMATS", ("svg",))
+    tr = figures.trace_from_doc(corridor_trace("../../escaped"))
+    out = tmp_path / "out"
+    paths = figures.write_run_figures(tr, out)
+    assert paths and all(p.parent == out for p in paths)
+    assert not (tmp_path / "escaped_trajectories.png").exists()

@@ -28,6 +28,7 @@ import argparse
 import json
 import math
 import os
+import string
 import subprocess
 import sys
 from dataclasses import dataclass, field
@@ -708,7 +709,11 @@ def save(fig: Figure, stem: Path) -> list[Path]:
 
 
 def _safe_stem(name: str) -> str:
-    s = "".join(c if c.isalnum() or c in "._-" else "_" for c in name)[:100].lstrip(".-")
+    """A file name made of a name from the log (any peer's bytes): every character but
+    [A-Za-z0-9._-] becomes '_', leading '.' and '-' are dropped, at most 100 characters; "run"
+    when nothing is left. The figures never leave their directory."""
+    plain = string.ascii_letters + string.digits + "._-"
+    s = "".join(c if c in plain else "_" for c in name)[:100].lstrip(".-")
     return s or "run"
 
 

@@ -315,6 +315,7 @@ def _view(trace: Trace, margin_m: float = 1.2) -> tuple[float, float, float, flo
     if not len(x):
         return (-1.0, 1.0, -1.0, 1.0)
     x0, x1, y0, y1 = x.min(), x.max(), y.min(), y.max()
+    tracks_y = (y0, y1)
     m = trace.map
     if m and m.get("walls"):
         # A synthetic corridor: show its walls whole across the tracks' span.
@@ -324,7 +325,37 @@ def _view(trace: Trace, margin_m: float = 1.2) -> tuple[float, float, float, flo
             wx0, wy0, wx1, wy1 = w
             if max(wx0, wx1) >= x0 - margin_m and min(wx0, wx1) <= x1 + margin_m:
                 y0, y1 = min(y0, wy0, wy1), max(y1, wy0, wy1)
-    return (x0 - margin_m, x1 + margin_m, y0 - margin_m, y1 + margin_m)
+    elif m:
+        grid = obstacle_grid(m)
+        if grid is not None:
+            y0, y1 = _walls_beside(grid, x0, x1, y0, y1)
+    # Beyond a wall little is worth showing; beyond a track without a wall, its surroundings.
+    below = 0.4 if y0 < tracks_y[0] else margin_m
+    above = 0.4 if y1 > tracks_y[1] else margin_m
+    return (x0 - margin_m, x1 + margin_m, y0 - below, y1 + above)
+
+
+def _walls_beside(grid: tuple[np.ndarray, float, float, float], x0: float, x1: float,
+                  y0: float, y1: float, reach_m: float = 4.0) -> tuple[float, float]:
+    """y0, y1 widened to the nearest wall below and above the tracks (a row of the grid that
+    is obstacle over most of the tracks' x span), at most reach_m away: a corridor shows whole."""
+    occ, res, ox, oy = grid
+    i0 = max(0, int((x0 - ox) / res))
+    i1 = min(occ.shape[1], int((x1 - ox) / res) + 1)
+    if i1 <= i0:
+        return y0, y1
+    walls = occ[:, i0:i1].mean(axis=1) > 0.5
+    reach = int(reach_m / res)
+    j0, j1 = int((y0 - oy) / res), int((y1 - oy) / res)
+    for j in range(j0, max(j0 - reach, -1), -1):
+        if 0 <= j < occ.shape[0] and walls[j]:
+            y0 = min(y0, oy + j * res)
+            break
+    for j in range(j1, min(j1 + reach, occ.shape[0])):
+        if j >= 0 and walls[j]:
+            y1 = max(y1, oy + (j + 1) * res)
+            break
+    return y0, y1
 
 
 def obstacle_grid(m: dict) -> tuple[np.ndarray, float, float, float] | None:

@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
   q->add_option("--range-m", range_m);
 
   coopnav::addCtlCommands(app);
-  const coopnav::ctl::TraceCommand trace(app);
+  coopnav::ctl::TraceCommand trace(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -32,7 +32,7 @@ Json traceMap(const std::string& map_path);
 class TraceCommand {
  public:
   explicit TraceCommand(CLI::App& app);
-  explicit operator bool() const { return *sub_; }
+  explicit operator bool() const { return static_cast<bool>(*sub_); }
   int run() const;
 
  private:

@@ -1090,7 +1090,7 @@ TEST(LogTools, TraceMapIsTheScenarioMapWithItsWallsAndGrid) {
 
   // A scenario naming a ROS map: the file it names, resolved against the scenario's folder.
   const Json ros = traceMap(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml");
-  EXPECT_EQ(fs::path(ros.at("file").get<std::string>()).filename(), "open.yaml");
+  EXPECT_EQ(fs::path(ros.at("file").get<std::string>()).filename().string(), "open.yaml");
   EXPECT_TRUE(fs::exists(ros.at("file").get<std::string>()));
   EXPECT_DOUBLE_EQ(ros.at("resolution_m").get<double>(), 0.05);
   EXPECT_EQ(ros.at("origin_m"), Json::parse("[-5, -10]"));

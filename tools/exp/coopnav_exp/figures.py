@@ -53,6 +53,8 @@ GUIDE_COLOR = "#7f7f7f"
 MAKING_ROOM_MODES = {"docking": "#fdd0a2", "holding": "#fdae6b", "retreating": "#c6dbef",
                      "stopped": "#d9d9d9"}
 FORMATS = ("png", "svg")
+STILL_M = 0.1  # [m] a time mark this close to the agent's previous one is not labelled
+MIN_WALL_M = 0.5  # [m] a wall outline smaller than this is not drawn as a line
 
 
 class TraceError(Exception):
@@ -371,6 +373,17 @@ def obstacle_grid(m: dict) -> tuple[np.ndarray, float, float, float] | None:
     return occ, float(res), float(ox), float(oy)
 
 
+def _is_wall_outline(v: np.ndarray) -> bool:
+    """A contour of the obstacle grid worth a line: not a speck (under MIN_WALL_M each way) and
+    not a small closed pocket (a free hole inside a wall, under MIN_WALL_M² of area)."""
+    if len(v) < 2 or np.ptp(v, axis=0).max() < MIN_WALL_M:
+        return False
+    if np.allclose(v[0], v[-1]):
+        area = 0.5 * abs(np.dot(v[:, 0], np.roll(v[:, 1], 1)) - np.dot(v[:, 1], np.roll(v[:, 0], 1)))
+        return area >= MIN_WALL_M ** 2
+    return True
+
+
 def draw_map(ax: Axes, m: dict | None, view: tuple[float, float, float, float]) -> int:
     """Walls and boxes of the map within view; returns the number of wall artists drawn."""
     if not m:
@@ -397,6 +410,8 @@ def draw_map(ax: Axes, m: dict | None, view: tuple[float, float, float, float]) 
                 cs = ax.contour(xs, ys, crop.astype(float), levels=[0.5], colors=WALL_COLOR,
                                 linewidths=1.2, zorder=1)
                 for c in cs.collections:
+                    # Specks (a free pocket inside a wall, a scanned map's noise) are no walls.
+                    c.set_paths([p for p in c.get_paths() if _is_wall_outline(p.vertices)])
                     c.set_gid("walls")
                     drawn += 1
     for w in m.get("walls") or []:
@@ -509,8 +524,12 @@ def draw_trajectories(ax: Axes, trace: Trace, *, mark_step_s: float | None = Non
     for label, x, y, color in cps:
         placer.place(label, x, y, fontsize=7.5, color=color)
     for _, color, tr in tracks:
+        last = (math.inf, math.inf)
         for t in marks:
             x, y = tr.at(t)
+            if math.hypot(x - last[0], y - last[1]) < STILL_M:
+                continue  # standing still: the earlier mark says since when
+            last = (x, y)
             placer.place(f"{t:g} s", x, y, offset_pt=3.0, fontsize=6.5, color=color)
 
 
@@ -529,8 +548,10 @@ def trajectories_figure(trace: Trace) -> Figure:
     bottom = (0.55 + cap_h) / fig.get_figheight()
     ax = fig.add_axes([0.07, bottom, 0.78, 1.0 - bottom - 0.35 / fig.get_figheight()])
     draw_trajectories(ax, trace)
-    fig.text(0.07, 0.1 / fig.get_figheight(), _caption_text(lines), fontsize=7.5, va="bottom",
-             ha="left", family="DejaVu Sans")
+    # The words right under the axes (as drawn, with their equal aspect): saved tight.
+    box = ax.get_tightbbox(fig.canvas.get_renderer()).transformed(fig.transFigure.inverted())
+    fig.text(box.x0, box.y0 - 0.08 / fig.get_figheight(), _caption_text(lines), fontsize=7.5,
+             va="top", ha="left")
     return fig
 
 
@@ -621,8 +642,9 @@ def ca_cm_figure(trace: Trace) -> Figure:
             ax.axvline(t, color="#e6550d", lw=1.4, zorder=1)
     if trace.start_s() < t_end:
         ax_cm.set_xlim(trace.start_s(), t_end)
-    ax_ca.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    ax_cm.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    for ax in (ax_ca, ax_cm):
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     # Event labels along the top of the CA axes (x in data, y in axes fraction).
     placer = LabelPlacer(ax_ca)
     blend = matplotlib.transforms.blended_transform_factory(ax_ca.transData, ax_ca.transAxes)
@@ -670,7 +692,8 @@ def draw_cm_gamma(ax: Axes, traces: Sequence[Trace]) -> None:
     ax.set_ylabel("CM [m]")
     prof = ", ".join(sorted(profiles)) or "-"
     ax.set_title(f"CM as a function of γ (profile {prof})", fontsize=10)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     placer = LabelPlacer(ax)
     for line in ax.get_lines():
         if line.get_label() and not line.get_label().startswith("_"):
@@ -733,7 +756,8 @@ def save(fig: Figure, stem: Path) -> list[Path]:
     for fmt in FORMATS:
         path = stem.with_name(f"{stem.name}.{fmt}")
         meta = {"Date": None} if fmt == "svg" else {"Software": None}
-        fig.savefig(path, format=fmt, dpi=150, metadata=meta)
+        fig.savefig(path, format=fmt, dpi=150, metadata=meta, bbox_inches="tight",
+                    pad_inches=0.1)
         out.append(path)
     plt.close(fig)
     return out

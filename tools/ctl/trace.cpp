@@ -74,7 +74,8 @@ std::vector<double> sampleTimes(const RunLog& run, std::int32_t human_id, std::s
       t[k] = hi->second;
     } else if (hi != at.end() && hi != at.begin()) {
       const auto lo = std::prev(hi);
-      const double f = static_cast<double>(key - lo->first) / static_cast<double>(hi->first - lo->first);
+      const double f =
+          static_cast<double>(key - lo->first) / static_cast<double>(hi->first - lo->first);
       t[k] = lo->second + f * (hi->second - lo->second);
     }
   }
@@ -122,9 +123,8 @@ Json humanAssessment(const RunLog& run, const HumanAnalysis& h) {
   } else if (h.last_assessment) {
     const auto& last = run.assessments[*h.last_assessment];
     ca = last.ca_m;
-    offset = static_cast<std::size_t>(
-        std::max<std::int64_t>(0, std::int64_t{last.interaction_samples} -
-                                      static_cast<std::int64_t>(ca.size())));
+    offset = static_cast<std::size_t>(std::max<std::int64_t>(
+        0, std::int64_t{last.interaction_samples} - static_cast<std::int64_t>(ca.size())));
   }
   const auto times = sampleTimes(run, h.id, offset + ca.size());
   Json ca_t = Json::array(), ca_m = Json::array(), starts = Json::array();
@@ -153,12 +153,11 @@ Json humanAssessment(const RunLog& run, const HumanAnalysis& h) {
 
   if (h.first_round_situation) {
     const auto& s = run.situations[*h.first_round_situation];
-    o["first_round"] = Json::object({{"t_s", numberOrNull(utimeToS(s.utime))},
-                                     {"t_cross_s", numberOrNull(s.t_cross_s)},
-                                     {"cp_h_m", Json::array({numberOrNull(s.cp_h_x_m),
-                                                             numberOrNull(s.cp_h_y_m)})},
-                                     {"cp_r_m", Json::array({numberOrNull(s.cp_r_x_m),
-                                                             numberOrNull(s.cp_r_y_m)})}});
+    o["first_round"] = Json::object(
+        {{"t_s", numberOrNull(utimeToS(s.utime))},
+         {"t_cross_s", numberOrNull(s.t_cross_s)},
+         {"cp_h_m", Json::array({numberOrNull(s.cp_h_x_m), numberOrNull(s.cp_h_y_m)})},
+         {"cp_r_m", Json::array({numberOrNull(s.cp_r_x_m), numberOrNull(s.cp_r_y_m)})}});
   } else {
     o["first_round"] = nullptr;
   }
@@ -192,8 +191,7 @@ Json traceMap(const std::string& map_path) {
   const YAML::Node section = doc["map"] ? doc["map"] : doc;
   if (section["file"]) {
     const auto base = std::filesystem::path(map_path).parent_path();
-    o["file"] =
-        (base / section["file"].as<std::string>()).lexically_normal().string();
+    o["file"] = (base / section["file"].as<std::string>()).lexically_normal().string();
   } else {
     o["file"] = nullptr;
   }
@@ -251,7 +249,8 @@ Json traceDocument(const RunLog& run, const RunAnalysis& analysis, const std::st
 
   Json assessments = Json::array();
   for (const auto& h : analysis.humans)
-    if (h.last_assessment || h.first_round_situation) assessments.push_back(humanAssessment(run, h));
+    if (h.last_assessment || h.first_round_situation)
+      assessments.push_back(humanAssessment(run, h));
   doc["assessments"] = std::move(assessments);
 
   Json utterances = Json::array();

@@ -1011,11 +1011,15 @@ TEST(LogTools, TraceHoldsStatesAssessmentsWordsAndWhenEachCaSampleWasTaken) {
   ASSERT_EQ(ca.at("ca_m").size(), a.humans.at(0).interaction_ca_m.size());
   ASSERT_EQ(ca.at("t_s").size(), ca.at("ca_m").size());
   // Sample k was taken when the interaction count reached k + 1: the assessments' own times.
-  for (const auto& p : run.assessments)
-    if (p.interaction_samples >= 1 &&
-        static_cast<std::size_t>(p.interaction_samples) <= ca.at("t_s").size())
-      EXPECT_DOUBLE_EQ(ca.at("t_s").at(p.interaction_samples - 1).get<double>(),
-                       utimeToS(p.utime));
+  std::size_t checked = 0;
+  for (const auto& p : run.assessments) {
+    if (p.interaction_samples < 1 ||
+        static_cast<std::size_t>(p.interaction_samples) > ca.at("t_s").size())
+      continue;
+    EXPECT_DOUBLE_EQ(ca.at("t_s").at(p.interaction_samples - 1).get<double>(), utimeToS(p.utime));
+    ++checked;
+  }
+  EXPECT_GT(checked, 40u);
   EXPECT_EQ(ca.at("window_start_t_s").size(), a.humans.at(0).window_starts.size());
   // CM against γ by the path assessor's formula, at 0.98 among others.
   const Json& cg = h.at("cm_by_gamma");
@@ -1089,7 +1093,8 @@ TEST(LogTools, TraceMapIsTheScenarioMapWithItsWallsAndGrid) {
   EXPECT_GT(cells, 0u);
 
   // A scenario naming a ROS map: the file it names, resolved against the scenario's folder.
-  const Json ros = traceMap(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml");
+  const Json ros =
+      traceMap(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml");
   EXPECT_EQ(fs::path(ros.at("file").get<std::string>()).filename().string(), "open.yaml");
   EXPECT_TRUE(fs::exists(ros.at("file").get<std::string>()));
   EXPECT_DOUBLE_EQ(ros.at("resolution_m").get<double>(), 0.05);
@@ -1150,7 +1155,7 @@ TEST(LogTools, BrokenLogIsSkippedAndCountedNotFatal) {
             "t=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"I will pass on your left.\" "
             "(round 1, direction left)\n");
   EXPECT_NO_THROW(summarizeRun(run, a, "broken.lcm").dump());
-  EXPECT_NO_THROW(writeFigures(run, a, dir.file("fig"), "broken"));
+  EXPECT_NO_THROW(dumpJson(traceDocument(run, a, dir.file("broken.lcm"), "")));
 }
 
 TEST(LogTools, MissingOrEmptyLog) {

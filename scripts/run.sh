@@ -105,7 +105,8 @@ done
 if [ "${#summaries[@]}" -gt 0 ]; then
   "$ctl" merge-summaries "$out/summary.json" "${summaries[@]}"
   "$ctl" cm-table "$out/summary.json" | tee "$out/cm_table.txt"
-  "$COOPNAV_ROOT/scripts/coopnav" figures "${summaries[@]%/summary.json}" >/dev/null
+  # COOPNAV_FIGURES=0: no figures (matplotlib, ~1.5 s of CPU a scenario), e.g. in tests.
+  [ "${COOPNAV_FIGURES:-1}" = 0 ] || "$COOPNAV_ROOT/scripts/coopnav" figures "${summaries[@]%/summary.json}" >/dev/null
   echo "run directory: $out (logs, transcripts, summary.json, trace.json, figures *.png *.svg)"
 fi
 # Exit status: 0 every run reached every goal without contact; 1 a run failed (no log, a daemon

@@ -15,6 +15,7 @@ COOPNAV_DEBS=(
   libeigen3-dev liboctomap-dev libdynamicedt3d-dev libspdlog-dev libyaml-cpp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev libceres-dev nlohmann-json3-dev libcpp-httplib-dev
   iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core chromium
+  python3-yaml python3-numpy python3-matplotlib python3-pytest  # tools/exp (figures: matplotlib)
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   cyclonedds-dev cyclonedds-tools  # the ROS 2 bridge (daemons/ros2_bridge): Cyclone DDS + idlc
   python3-numpy python3-pytest  # the experiment layer's statistics and its tests (tools/exp)

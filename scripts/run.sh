@@ -93,7 +93,6 @@ for scenario in "${scenarios[@]}"; do
   coopnav_progress_end "$dir/transcript.txt"
   cat "$dir/transcript.txt"
   "$ctl" summarize "$dir/$name.lcm" --scenario "$name" --out "$dir/summary.json"
-  "$ctl" figures "$dir/$name.lcm" --scenario "$name" --out-dir "$dir"
   echo "   view this run: $(coopnav_bin viewer) --log $dir/$name.lcm  then open http://127.0.0.1:8088/"
   summaries+=("$dir/summary.json")
   if ! reason="$(coopnav_run_outcome_failure "$dir/summary.json")"; then
@@ -106,8 +105,9 @@ done
 if [ "${#summaries[@]}" -gt 0 ]; then
   "$ctl" merge-summaries "$out/summary.json" "${summaries[@]}"
   "$ctl" cm-table "$out/summary.json" | tee "$out/cm_table.txt"
-  "$ctl" summary-figures "$out/summary.json" --out-dir "$out"
-  echo "run directory: $out (logs, transcripts, summary.json, figures *.svg)"
+  # COOPNAV_FIGURES=0: no figures (matplotlib, ~1.5 s of CPU a scenario), e.g. in tests.
+  [ "${COOPNAV_FIGURES:-1}" = 0 ] || "$COOPNAV_ROOT/scripts/coopnav" figures "${summaries[@]%/summary.json}" >/dev/null
+  echo "run directory: $out (logs, transcripts, summary.json, trace.json, figures *.png *.svg)"
 fi
 # Exit status: 0 every run reached every goal without contact; 1 a run failed (no log, a daemon
 # died); 3 a run ended in a contact, a standstill or the time limit (each reason on stderr, read

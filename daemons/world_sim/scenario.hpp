@@ -131,7 +131,7 @@ struct RatesSpec {
   }
 };
 
-/// A disc of the world that is not on the robot's map (issue 45).
+/// A disc of the world that is not on the robot's map.
 struct CircleObstacle {
   double x_m{0.0}, y_m{0.0}, radius_m{0.0};
   template <class V>

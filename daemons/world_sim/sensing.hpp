@@ -1,6 +1,6 @@
 #pragma once
-/// @file What the world holds beyond the robot's map, and the robot's laser that sees it
-/// (issue 45): the scenario's unmapped obstacles (in the world's distance field, so collisions
+/// @file What the world holds beyond the robot's map, and the robot's laser that sees it:
+/// the scenario's unmapped obstacles (in the world's distance field, so collisions
 /// and rays see them as walls) and its `laser` section, one scan per step on COOPNAV_SCAN.
 
 #include <cstdint>

@@ -111,7 +111,7 @@ inline void situation(const ChannelInput& in) {
   }
 }
 
-// path_assessment_t (dialogue_manager; the figures' gamma sweep reads it too).
+// path_assessment_t (dialogue_manager; the trace's gamma sweep reads it too).
 inline void pathAssessment(const ChannelInput& in) {
   path_assessment_t msg;
   if (!decodeLikeDaemon(in, &msg)) return;

@@ -18,7 +18,6 @@
 #include "pedestrians_forecast.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
-#include "svg_figures.hpp"
 #include "transcript.hpp"
 
 namespace coopnav {
@@ -29,9 +28,7 @@ struct LogCommandOptions {
   CLI::App* transcript{nullptr};
   CLI::App* summarize{nullptr};
   CLI::App* merge{nullptr};
-  CLI::App* figures{nullptr};
   CLI::App* cm_table{nullptr};
-  CLI::App* summary_figures{nullptr};
   CLI::App* pedestrians{nullptr};
   CLI::App* calibrate{nullptr};
   CLI::App* forecast{nullptr};
@@ -43,13 +40,11 @@ struct LogCommandOptions {
   std::string log;
   std::string scenario;
   std::string out;
-  std::string out_dir;
   bool merge_into_out{false};
   bool no_sim_status{false};
   bool no_unknown{false};
   bool no_final_cm{false};
   bool with_status{false};
-  double sample_period_s{0.1};
   std::vector<std::string> inputs;
   // pedestrians: the paper profile unless given (γ 0.98 per 0.1 s sample, τ 0.4 m, path side).
   std::optional<double> gamma_per_s;
@@ -126,27 +121,6 @@ int mergeCommand() {
   std::vector<ctl::Json> docs;
   for (const auto& in : o.inputs) docs.push_back(ctl::readSummaryFile(in));
   ctl::writeTextFile(o.out, ctl::dumpJson(ctl::mergeSummaries(docs)));
-  return 0;
-}
-
-int figuresCommand() {
-  const auto& o = opts();
-  ctl::RunLog run;
-  if (!loadRun(o.log, run)) return 1;
-  const auto analysis = ctl::analyseRun(run, o.scenario);
-  ctl::FigureOptions fopt;
-  fopt.sample_period_s = o.sample_period_s;
-  const auto paths = ctl::writeFigures(run, analysis, o.out_dir, runName(analysis, o.log), fopt);
-  std::cout << paths.trajectories << "\n" << paths.ca << "\n" << paths.cm_gamma << "\n";
-  return 0;
-}
-
-int summaryFiguresCommand() {
-  const auto& o = opts();
-  ctl::FigureOptions fopt;
-  fopt.sample_period_s = o.sample_period_s;
-  const auto paths = ctl::writeSummaryFigures(ctl::readSummaryFile(o.out), o.out_dir, fopt);
-  std::cout << paths.ca << "\n" << paths.cm_gamma << "\n";
   return 0;
 }
 
@@ -268,24 +242,6 @@ void addCtlCommands(CLI::App& app) {
   o.merge->add_option("out", o.out, "summary file to write")->required();
   o.merge->add_option("inputs", o.inputs, "summary files, later ones win per scenario")->required();
 
-  o.figures = app.add_subcommand("figures", "write SVG figures of a recorded run");
-  o.figures->add_option("log", o.log, "LCM log of one run")->required();
-  o.figures->add_option("--out-dir", o.out_dir, "directory for <name>_*.svg")->required();
-  o.figures->add_option("--scenario", o.scenario, "name of the files (default: from the log)");
-  o.figures
-      ->add_option("--sample-period-s", o.sample_period_s,
-                   "path assessor CA sampling period [s] (its sample_period_s)")
-      ->check(CLI::PositiveNumber);
-
-  o.summary_figures = app.add_subcommand(
-      "summary-figures", "write SVG figures across the scenarios of a summary.json");
-  o.summary_figures->add_option("summary", o.out, "summary.json")->required();
-  o.summary_figures->add_option("--out-dir", o.out_dir, "directory for summary_*.svg")->required();
-  o.summary_figures
-      ->add_option("--sample-period-s", o.sample_period_s,
-                   "path assessor CA sampling period [s] (its sample_period_s)")
-      ->check(CLI::PositiveNumber);
-
   o.cm_table = app.add_subcommand("cm-table", "print the CM table beside the paper's Table I");
   o.cm_table->add_option("summary", o.out, "summary.json")->required();
 
@@ -362,9 +318,7 @@ int runCtlCommands(CLI::App&, const std::string&) {
   if (*o.transcript) return transcriptCommand();
   if (*o.summarize) return summarizeCommand();
   if (*o.merge) return mergeCommand();
-  if (*o.figures) return figuresCommand();
   if (*o.cm_table) return cmTableCommand();
-  if (*o.summary_figures) return summaryFiguresCommand();
   if (*o.pedestrians) return pedestriansCommand();
   if (*o.calibrate) return calibrateCommand();
   if (*o.forecast) return forecastCommand();

@@ -17,6 +17,7 @@
 #include "logfile/log_reader.hpp"
 #include "runtime/log.hpp"
 #include "runtime/runtime.hpp"
+#include "trace.hpp"
 
 namespace coopnav {
 namespace {
@@ -139,6 +140,7 @@ int main(int argc, char** argv) {
   q->add_option("--range-m", range_m);
 
   coopnav::addCtlCommands(app);
+  coopnav::ctl::TraceCommand trace(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -150,6 +152,7 @@ int main(int argc, char** argv) {
     if (*wait) return coopnav::waitReady(url, names, timeout_s);
     if (*wait_step) return coopnav::waitStep(url, step_name, step_log, step_number, step_timeout_s);
     if (*q) return coopnav::query(url, nearest, side, ray, range_m);
+    if (trace) return trace.run();
     return coopnav::runCtlCommands(app, url);
   } catch (const std::exception& e) {
     std::cerr << "coopnav_ctl: " << e.what() << "\n";

@@ -12,7 +12,7 @@
 
 namespace coopnav::ctl {
 
-/// The robot is stalled below this speed [m/s] (issue 44's definition).
+/// The robot is stalled below this speed [m/s].
 inline constexpr double kStalledSpeed_m_s = 0.05;
 /// A person waits below this speed [m/s]: well under a walk (≥ 0.5 m/s), above the velocity
 /// noise of a tracked person standing still.

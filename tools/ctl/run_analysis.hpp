@@ -1,6 +1,6 @@
 #pragma once
 /// @file What the log tools derive from one recorded run, shared by the transcript, the summary
-/// and the figures: per-human interaction CA, round-1 crossing points, docking, and the wire
+/// and the trace: per-human interaction CA, round-1 crossing points, docking, and the wire
 /// codes spelled as words.
 
 #include <cstdint>

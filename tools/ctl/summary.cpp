@@ -204,7 +204,7 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
   o["p_contributing_over_time"] = pContributingSeries(run, h.id);
   o["cm_interaction_by_gamma"] = h.interaction_ca_complete ? cmByGamma(h.interaction_ca_m) : Json();
   o["interaction_ca_complete"] = h.interaction_ca_complete;
-  // The CA itself, so that figures across scenarios (paper's γ-vs-CM plot) need only this file.
+  // The CA itself, so that a γ sweep across scenarios (paper Fig. 7) needs only this file.
   const std::vector<double>* ca = h.interaction_ca_complete ? &h.interaction_ca_m
                                   : p                       ? &p->ca_m
                                                             : nullptr;

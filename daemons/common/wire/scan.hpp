@@ -1,5 +1,5 @@
 #pragma once
-/// @file laser_scan_t (COOPNAV_SCAN) <-> lib's LaserScan: the obstacles of the moment (issue 45).
+/// @file laser_scan_t (COOPNAV_SCAN) <-> lib's LaserScan: the obstacles of the moment.
 /// Same rules as conversions.hpp: `fromLcm` validates and throws RejectedMessage with the reason;
 /// `toLcm` sets every count.
 

@@ -1,5 +1,6 @@
 // coopnav_ctl's log tools on a synthetic scripted run written with lcm::LogFile: transcript text,
-// summary.json fields, cm_by_gamma against discountedMean, SVG figures, broken logs.
+// summary.json fields, cm_by_gamma against discountedMean, the trace the figures draw, broken
+// logs.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -19,9 +20,10 @@
 #include "coopnav/daemon_status_t.hpp"
 #include "json.hpp"
 #include "logfile/log_reader.hpp"
+#include "maps/map_loader.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
-#include "svg_figures.hpp"
+#include "trace.hpp"
 #include "transcript.hpp"
 
 namespace coopnav::ctl {
@@ -977,90 +979,128 @@ TEST(LogTools, CmTableSitsBesideTableI) {
   EXPECT_TRUE(std::isnan(paperTableCm("walls_oblivious")));
 }
 
-TEST(LogTools, FiguresAreSvgWithOnePolylinePerSeries) {
+// coopnav_ctl trace: what the figures are drawn from (tools/exp/coopnav_exp/figures.py).
+TEST(LogTools, TraceHoldsStatesAssessmentsWordsAndWhenEachCaSampleWasTaken) {
   TempDir dir;
   writeScriptedRun(dir.file("run.lcm"));
   const RunLog run = readRunLog(dir.file("run.lcm"));
   const RunAnalysis a = analyseRun(run);
-  const FigurePaths paths = writeFigures(run, a, dir.file("fig"), "open_facilitating");
-  EXPECT_EQ(paths.trajectories, dir.file("fig") + "/open_facilitating_trajectories.svg");
-  auto slurp = [](const std::string& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  };
-  const std::string traj = slurp(paths.trajectories);
-  const std::string ca = slurp(paths.ca);
-  const std::string cm = slurp(paths.cm_gamma);
-  for (const auto* svg : {&traj, &ca, &cm}) {
-    EXPECT_EQ(svg->rfind("<?xml", 0), 0u);
-    EXPECT_EQ(countOf(*svg, "<svg "), 1);
-    EXPECT_EQ(countOf(*svg, "</svg>"), 1);
-    EXPECT_EQ(countOf(*svg, "<g "), countOf(*svg, "</g>"));
-    EXPECT_EQ(countOf(*svg, "nan"), 0);
+  const Json doc = traceDocument(run, a, dir.file("run.lcm"), "");
+  EXPECT_EQ(doc.at("format"), "coopnav-trace");
+  EXPECT_EQ(doc.at("scenario"), "open_facilitating");
+  EXPECT_EQ(doc.at("robot").at("t_s").size(), static_cast<std::size_t>(kSteps));
+  EXPECT_EQ(doc.at("robot").at("x_m").size(), static_cast<std::size_t>(kSteps));
+  ASSERT_EQ(doc.at("humans").size(), 1u);
+  EXPECT_EQ(doc.at("humans").at(0).at("id"), 1);
+  ASSERT_EQ(doc.at("utterances").size(), 3u);
+  EXPECT_EQ(doc.at("utterances").at(0).at("act"), "INFORM_DIRECTION");
+  EXPECT_DOUBLE_EQ(doc.at("utterances").at(0).at("t_s").get<double>(), 1.0);
+  EXPECT_EQ(doc.at("utterances").at(1).at("text"), "I will wait here for you to pass.");
+  ASSERT_EQ(doc.at("actions").size(), 2u);
+  EXPECT_EQ(doc.at("actions").at(0).at("action"), "DOCK");
+  EXPECT_DOUBLE_EQ(doc.at("actions").at(0).at("t_s").get<double>(), 4.0);
+  EXPECT_TRUE(doc.at("map").is_null());
+  EXPECT_EQ(doc.at("outcome").at("state"), "GOAL_REACHED");
+
+  ASSERT_EQ(doc.at("assessments").size(), 1u);
+  const Json& h = doc.at("assessments").at(0);
+  EXPECT_EQ(h.at("profile"), "paper");
+  EXPECT_EQ(h.at("t_s").size(), static_cast<std::size_t>(kSteps - kStartStep));
+  const Json& ca = h.at("ca");
+  EXPECT_TRUE(ca.at("whole_interaction").get<bool>());
+  ASSERT_EQ(ca.at("ca_m").size(), a.humans.at(0).interaction_ca_m.size());
+  ASSERT_EQ(ca.at("t_s").size(), ca.at("ca_m").size());
+  // Sample k was taken when the interaction count reached k + 1: the assessments' own times.
+  std::size_t checked = 0;
+  for (const auto& p : run.assessments) {
+    if (p.interaction_samples < 1 ||
+        static_cast<std::size_t>(p.interaction_samples) > ca.at("t_s").size())
+      continue;
+    EXPECT_DOUBLE_EQ(ca.at("t_s").at(p.interaction_samples - 1).get<double>(), utimeToS(p.utime));
+    ++checked;
   }
-  EXPECT_EQ(countOf(traj, "<polyline"), 3);  // robot, human, human's reference path
-  EXPECT_NE(traj.find(">CP_h</text>"), std::string::npos);
-  EXPECT_NE(traj.find(">CP_r</text>"), std::string::npos);
-  EXPECT_NE(traj.find("x [m]"), std::string::npos);
-  EXPECT_EQ(countOf(ca, "<polyline"), 1);
-  EXPECT_NE(ca.find("reset (human 1)"), std::string::npos);
-  EXPECT_EQ(countOf(cm, "<polyline"), 1);
-  EXPECT_NE(cm.find("gamma 0.98"), std::string::npos);
-  // Same log, same bytes.
-  EXPECT_EQ(trajectoriesSvg(run, a, "open_facilitating"), traj);
+  EXPECT_GT(checked, 40u);
+  EXPECT_EQ(ca.at("window_start_t_s").size(), a.humans.at(0).window_starts.size());
+  // CM against γ by the path assessor's formula, at 0.98 among others.
+  const Json& cg = h.at("cm_by_gamma");
+  ASSERT_EQ(cg.at("gamma").size(), 51u);
+  EXPECT_NEAR(cg.at("gamma").at(48).get<double>(), 0.98, 1e-12);
+  EXPECT_DOUBLE_EQ(cg.at("cm_m").at(48).get<double>(),
+                   *assessment::discountedMean(a.humans.at(0).interaction_ca_m,
+                                               cg.at("gamma").at(48).get<double>()));
+  EXPECT_FALSE(h.at("first_round").is_null());
+
+  // Same messages, same bytes, whatever the wall clock and the interleaving across daemons.
+  WriteOptions other;
+  other.shuffle = true;
+  other.timestamp0 = 42;
+  writeScriptedRun(dir.file("b.lcm"), other);
+  const RunLog run_b = readRunLog(dir.file("b.lcm"));
+  Json doc_b = traceDocument(run_b, analyseRun(run_b), dir.file("b.lcm"), "");
+  doc_b["log"] = doc.at("log");
+  EXPECT_EQ(dumpJson(doc_b), dumpJson(doc));
 }
 
-// The scenario name comes from the log: whatever it is, the figures stay inside out_dir.
-TEST(LogTools, FigureFileNamesNeverLeaveTheOutputDirectory) {
+TEST(LogTools, TraceModesAreTheBandSourcesChanges) {
   TempDir dir;
-  writeScriptedRun(dir.file("run.lcm"));
-  const RunLog run = readRunLog(dir.file("run.lcm"));
-  const RunAnalysis a = analyseRun(run);
-  const fs::path out = dir.file("fig");
-  for (const std::string& name :
-       std::vector<std::string>{"../../escaped", "/tmp/absolute", "..", ".hidden", "-rf",
-                                "a/b\\c\nd\x1b", std::string(500, 'n'), ""}) {
-    const FigurePaths paths = writeFigures(run, a, out.string(), name);
-    for (const auto& p : {paths.trajectories, paths.ca, paths.cm_gamma}) {
-      EXPECT_EQ(fs::path(p).parent_path(), out) << p;
-      EXPECT_TRUE(fs::exists(p)) << p;
-      const std::string file = fs::path(p).filename().string();
-      EXPECT_NE(file[0], '.') << p;
-      EXPECT_EQ(file.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                       "0123456789_-."),
-                std::string::npos)
-          << p;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    const std::int8_t modes[] = {
+        velocity_command_t::MODE_NAVIGATING, velocity_command_t::MODE_NAVIGATING,
+        velocity_command_t::MODE_DOCKING,    velocity_command_t::MODE_HOLDING,
+        velocity_command_t::MODE_HOLDING,    velocity_command_t::MODE_RESUMING};
+    for (int k = 0; k < 6; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      w.put(channels::kRobotCmd, command(k, modes[k], velocity_command_t::GUARD_NONE));
     }
   }
-  EXPECT_FALSE(fs::exists(dir.file("escaped_ca.svg")));
-  EXPECT_FALSE(fs::exists("/tmp/absolute_ca.svg"));
-  EXPECT_EQ(safeFileStem("open_facilitating"), "open_facilitating");  // names as before
-  EXPECT_EQ(safeFileStem("../../escaped"), "_.._escaped");
-  EXPECT_EQ(safeFileStem(".."), "run");
-  EXPECT_EQ(safeFileStem(std::string(500, 'n')).size(), 100u);
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json doc = traceDocument(run, analyseRun(run), dir.file("run.lcm"), "");
+  const Json& m = doc.at("modes");
+  ASSERT_EQ(m.size(), 4u) << dumpJson(m);
+  EXPECT_EQ(m.at(0).at("mode"), "navigating");
+  EXPECT_EQ(m.at(1).at("mode"), "docking");
+  EXPECT_EQ(m.at(2).at("mode"), "holding");
+  EXPECT_EQ(m.at(3).at("mode"), "resuming");
+  EXPECT_DOUBLE_EQ(m.at(2).at("t_s").get<double>(), 0.3);
 }
 
-TEST(LogTools, SummaryFiguresDrawOneCurvePerScenarioFromTheSummaryAlone) {
+// The map as the scenario gives it: its walls, and the grid the daemons load, cell by cell.
+TEST(LogTools, TraceMapIsTheScenarioMapWithItsWallsAndGrid) {
   TempDir dir;
-  writeScriptedRun(dir.file("run.lcm"));
-  const RunLog run = readRunLog(dir.file("run.lcm"));
-  const Json entry = summarizeRun(run, analyseRun(run), "run.lcm");
-  EXPECT_EQ(entry.at("humans").at(0).at("ca_kind"), "interaction");
-  EXPECT_EQ(entry.at("humans").at(0).at("ca_m").size(), 80u);
-  Json renamed = parseJson(dumpJson(entry));
-  renamed["scenario"] = "narrow_minimal";
-  const Json no_ca = {{"scenario", "open_minimal"}, {"humans", Json::array()}};
-  const Json doc = parseJson(dumpJson(summaryDocument({entry, renamed, no_ca})));
-  const FigurePaths paths = writeSummaryFigures(doc, dir.file("fig"));
-  EXPECT_EQ(paths.cm_gamma, dir.file("fig") + "/summary_cm_gamma.svg");
-  const std::string cm = summaryCmGammaSvg(doc);
-  EXPECT_EQ(countOf(cm, "<polyline"), 2);
-  EXPECT_NE(cm.find(">open_facilitating</text>"), std::string::npos);
-  EXPECT_NE(cm.find(">narrow_minimal</text>"), std::string::npos);
-  EXPECT_EQ(countOf(summaryCaSvg(doc), "<polyline"), 2);
-  EXPECT_THROW(summaryCaSvg(Json::object()), std::runtime_error);
+  {
+    std::ofstream out(dir.file("corridor.yaml"));
+    out << "name: corridor\nmap:\n  resolution_m: 0.1\n  walls:\n"
+           "    - {x0_m: 0, y0_m: 0, x1_m: 10, y1_m: 0}\n"
+           "    - {x0_m: 0, y0_m: 2, x1_m: 10, y1_m: 2, thickness_m: 0.2}\n";
+  }
+  const Json m = traceMap(dir.file("corridor.yaml"));
+  ASSERT_EQ(m.at("walls").size(), 2u);
+  EXPECT_EQ(m.at("walls").at(1), Json::parse("[0, 2, 10, 2]"));
+  EXPECT_TRUE(m.at("file").is_null());
+  EXPECT_DOUBLE_EQ(m.at("resolution_m").get<double>(), 0.1);
+  const LoadedMap loaded = loadMap(dir.file("corridor.yaml"));
+  const OccupancyGrid2& g = loaded.grid;
+  EXPECT_EQ(m.at("width"), g.width());
+  EXPECT_EQ(m.at("height"), g.height());
+  std::size_t cells = 0;
+  for (const auto& run : m.at("obstacle_runs")) {
+    const int j = run.at(0), i0 = run.at(1), i1 = run.at(2);
+    for (int i = i0; i < i1; ++i) EXPECT_NE(g.at(i, j), CellState::kFree) << i << " " << j;
+    cells += static_cast<std::size_t>(i1 - i0);
+  }
+  EXPECT_EQ(cells, g.size() - g.count(CellState::kFree));
+  EXPECT_GT(cells, 0u);
+
+  // A scenario naming a ROS map: the file it names, resolved against the scenario's folder.
+  const Json ros =
+      traceMap(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml");
+  EXPECT_EQ(fs::path(ros.at("file").get<std::string>()).filename().string(), "open.yaml");
+  EXPECT_TRUE(fs::exists(ros.at("file").get<std::string>()));
+  EXPECT_DOUBLE_EQ(ros.at("resolution_m").get<double>(), 0.05);
+  EXPECT_EQ(ros.at("origin_m"), Json::parse("[-5, -10]"));
+  EXPECT_TRUE(ros.at("walls").empty());
+  EXPECT_THROW(traceMap(dir.file("absent.yaml")), std::exception);
 }
 
 TEST(LogTools, BrokenLogIsSkippedAndCountedNotFatal) {
@@ -1115,7 +1155,7 @@ TEST(LogTools, BrokenLogIsSkippedAndCountedNotFatal) {
             "t=1.00s  human 1  t_cross=7.00s  SAY INFORM_DIRECTION \"I will pass on your left.\" "
             "(round 1, direction left)\n");
   EXPECT_NO_THROW(summarizeRun(run, a, "broken.lcm").dump());
-  EXPECT_NO_THROW(writeFigures(run, a, dir.file("fig"), "broken"));
+  EXPECT_NO_THROW(dumpJson(traceDocument(run, a, dir.file("broken.lcm"), "")));
 }
 
 TEST(LogTools, MissingOrEmptyLog) {
@@ -1127,8 +1167,10 @@ TEST(LogTools, MissingOrEmptyLog) {
   EXPECT_FALSE(run.counts.anyCorruption());
   const RunAnalysis a = analyseRun(run);
   EXPECT_EQ(formatTranscript("x", buildTranscript(run, a)), "# scenario x\n");
-  // Figures of nothing still render, with a note instead of series.
-  EXPECT_EQ(countOf(trajectoriesSvg(run, a, "x"), "<polyline"), 0);
+  // A trace of nothing is still a trace: no states, no words.
+  const Json doc = traceDocument(run, a, dir.file("empty.lcm"), "");
+  EXPECT_TRUE(doc.at("robot").at("t_s").empty());
+  EXPECT_TRUE(doc.at("utterances").empty());
 }
 
 }  // namespace

@@ -11,9 +11,10 @@ import argparse
 import sys
 from typing import Callable, Sequence
 
-from . import metrics, population
+from . import figures, metrics, population
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "figures": figures.main,
     "metrics": metrics.main,
     "population": population.main,
 }

@@ -196,19 +196,9 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     for (const auto& h : s.humans)
       if (h.id == s.robot.id)
         throw RejectedMessage("human id " + std::to_string(h.id) + " is the robot's id");
-    switch (clock_.offer(s.utime)) {
-      case MessageClock::Verdict::kJump:
-        throw RejectedMessage("agent states " + clock_.describe(s.utime) +
-                              " (limits.max_time_jump_s)");
-      case MessageClock::Verdict::kBackwards:
-        throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
-                             std::to_string(*clock_.now()));
-      case MessageClock::Verdict::kResynced:
-        onResync(s.utime);
-        break;
-      case MessageClock::Verdict::kAccepted:
-        break;
-    }
+    if (!clock_.take(s.utime, "agent states", [&] { onResync(s.utime); }))
+      throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
+                           std::to_string(*clock_.now()));
     leaveOutFarHumans(s);
     if (s.step >= 0) {
       // Only the steps that will be planned (cycle() erases them); the harness holds at most
@@ -277,16 +267,8 @@ void BandSourceNode::planLatestFreeRunning() {
 
 void BandSourceNode::onGoals(const goals_t& msg) {
   GoalsSnapshot g = fromLcm(msg);  // throws RejectedMessage
-  switch (goals_clock_.offer(msg.utime)) {
-    case MessageClock::Verdict::kJump:
-      throw RejectedMessage("goals " + goals_clock_.describe(msg.utime) +
-                            " (limits.max_time_jump_s)");
-    case MessageClock::Verdict::kBackwards:
-      return;  // a repeat of an older step's goals never replaces newer ones
-    case MessageClock::Verdict::kResynced:
-    case MessageClock::Verdict::kAccepted:
-      break;
-  }
+  // A repeat of an older step's goals never replaces newer ones.
+  if (!goals_clock_.take(msg.utime, "goals")) return;
   goals_ = std::move(g);  // full state: replaces the previous goals
   goal_utimes_.insert(msg.utime);
   while (goal_utimes_.size() > 64) goal_utimes_.erase(goal_utimes_.begin());

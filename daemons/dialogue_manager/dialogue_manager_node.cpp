@@ -146,27 +146,15 @@ std::size_t DialogueManagerNode::longestKeptTextBytes() const {
 
 // ---- time ----
 
-bool DialogueManagerNode::clockAccepts(std::int64_t utime) {
-  switch (clock_.offer(utime)) {
-    case MessageClock::Verdict::kJump:
-      return false;
-    case MessageClock::Verdict::kResynced:
-      // A new run, a restarted tracker, or a clock one stray first message had set: the times
-      // kept per human are of the old time base, so their ages restart from now.
-      log().warn("dialogue_manager: message time goes on from utime {}: per-human times restart",
-                 utime);
-      heard_.restamp(utime);
-      present_.restamp(utime);
-      for (auto& [id, t] : tracked_) t.last_seen_utime = utime;
-      if (latest_agents_utime_) latest_agents_utime_ = utime;
-      return true;
-    case MessageClock::Verdict::kBackwards:
-      // A little behind another input (a situation is stamped with its bands' time, older than
-      // the newest agent states): used. Lockstep order is kept by the step numbers.
-    case MessageClock::Verdict::kAccepted:
-      return true;
-  }
-  return true;
+void DialogueManagerNode::onResync(std::int64_t utime) {
+  // A new run, a restarted tracker, or a clock one stray first message had set: the times kept
+  // per human are of the old time base, so their ages restart from now.
+  log().warn("dialogue_manager: message time goes on from utime {}: per-human times restart",
+             utime);
+  heard_.restamp(utime);
+  present_.restamp(utime);
+  for (auto& [id, t] : tracked_) t.last_seen_utime = utime;
+  if (latest_agents_utime_) latest_agents_utime_ = utime;
 }
 
 std::int64_t DialogueManagerNode::nearClock(std::int64_t utime) const {
@@ -205,7 +193,18 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
         } catch (...) {
           bad = std::current_exception();
         }
-        const bool on_time = !bad && clockAccepts(utime);
+        // A jump is rejected as bad content is. An input a little behind another (a situation is
+        // stamped with its bands' time, older than the newest agent states) is used: lockstep
+        // order is kept by the step numbers.
+        bool on_time = false;
+        if (!bad) {
+          try {
+            clock_.take(utime, channel, [&] { onResync(utime); });
+            on_time = true;
+          } catch (const RejectedMessage&) {
+            bad = std::current_exception();
+          }
+        }
         StepInputs& bucket = inputs_[step];
         if (!bucket.has_utime) {
           bucket.utime = on_time ? utime : nearClock(utime);
@@ -216,9 +215,6 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
         // runs once this input is stored.
         if (is_new) schedule(step);
         if (bad) std::rethrow_exception(bad);
-        if (!on_time)
-          throw RejectedMessage(std::string(channel) + ": " + clock_.describe(utime) +
-                                " (limits.max_time_jump_s)");
         store(bucket);
       },
       world);

@@ -243,9 +243,8 @@ class DialogueManagerNode {
                  const std::string& key, Convert convert);
   /// Schedules the work of `step`, whose inputs are being filed in inputs_[step].
   void schedule(std::int64_t step);
-  /// Offers a message's utime to the clock: true when the message may be used; false when it is
-  /// stamped too far from the clock (the caller rejects it). A resync re-bases the per-id times.
-  bool clockAccepts(std::int64_t utime);
+  /// The message clock resynchronised at `utime`: the per-id times are re-based on it.
+  void onResync(std::int64_t utime);
   /// `utime` if the clock has none or it is within limits.max_time_jump_s of it, else the clock's
   /// time (an ack stamped far off never stamps a step).
   std::int64_t nearClock(std::int64_t utime) const;

@@ -193,11 +193,11 @@ void Session::continueSwitchedIds(const SceneSnapshot& agents, SessionOutput& ou
     people_.erase(*old);
     // The new id may have a record of its own already (a path assessment, joined late).
     Person& p = people_[h.id];
-    std::optional<StampedPath> own_path = std::move(p.path);
+    std::optional<StampedPath> own_path = p.path;
     const bool history_unknown = p.history_unknown;
     const bool judge_absence = p.judge_absence;
     p = std::move(moved);
-    if (own_path) p.path = std::move(own_path);  // its own assessment is the newer one's
+    if (own_path) p.path = own_path;  // its own assessment is the newer one's
     p.history_unknown = p.history_unknown || history_unknown;
     p.judge_absence = p.judge_absence || judge_absence;
     present_.erase(*old);

@@ -126,7 +126,7 @@ class BandCycle {
     return planner_->configErrors();
   }
 
-  BandCycleOutput step(const BandCycleInput& in);
+  BandCycleOutput step(const BandCycleInput& s);
 
   /// The agent states' clock was resynchronised at `utime`: the times kept from the old time
   /// base restart from it, goal beliefs restart.
@@ -161,7 +161,7 @@ class BandCycle {
   /// with (the most likely, once min_walked_m is walked); the beliefs go into out.
   std::map<std::int32_t, Pose2> inferGoals(const BandCycleInput& s,
                                            const std::map<std::int32_t, Pose2>& given,
-                                           BandCycleOutput& out);
+                                           BandCycleOutput& result);
   /// Bounds the planner's per-agent memory (max_ids, forget_after_s).
   void boundPlannerMemory(const BandCycleInput& s, const PlanResult& result, BandCycleOutput& out);
 

@@ -7,7 +7,6 @@
 
 #include "coopnav/bands_t.hpp"
 #include "coopnav/geometry/geometry.hpp"
-#include "coopnav/planning/global_planner.hpp"
 #include "coopnav/reference_paths_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "maps/map_loader.hpp"
@@ -25,8 +24,6 @@ constexpr std::size_t kPlanStatsKeep = 100000;
 /// Free-running: a message this fraction of a period early still starts a cycle, so that a
 /// publisher at exactly control_hz with a little jitter is not halved.
 constexpr double kThrottleSlack = 0.05;
-/// Below this speed a human's heading is its pose's, not its direction of motion [m/s].
-constexpr double kWalkingSpeed_m_s = 0.1;
 
 std::int8_t bandsStatus(PlanStatus s) {
   switch (s) {
@@ -65,14 +62,6 @@ std::int8_t commandMode(RobotMode m) {
   return velocity_command_t::MODE_STOPPED;
 }
 
-/// Position and heading of motion (the mode machine judges "passed" along where the human goes).
-Pose2 motionPose(const AgentState& h) {
-  Pose2 p = h.pose;
-  const double vx = h.velocity.vx_m_s, vy = h.velocity.vy_m_s;
-  if (std::hypot(vx, vy) > kWalkingSpeed_m_s) p.theta_rad = std::atan2(vy, vx);
-  return p;
-}
-
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
   const auto k = static_cast<std::size_t>(std::llround(q * static_cast<double>(v.size() - 1)));
@@ -80,10 +69,10 @@ double percentile(std::vector<double> v, double q) {
   return v[k];
 }
 
-std::string idList(const std::set<std::int32_t>& ids) {
-  std::string s;
-  for (const auto id : ids) s += (s.empty() ? "" : ",") + std::to_string(id);
-  return s;
+spdlog::level::level_enum logLevel(BandCycleNote::Level l) {
+  return l == BandCycleNote::Level::kWarn   ? spdlog::level::warn
+         : l == BandCycleNote::Level::kInfo ? spdlog::level::info
+                                            : spdlog::level::debug;
 }
 
 }  // namespace
@@ -99,21 +88,11 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   LoadedField loaded = loadDistanceField(config_.map, /*build_tree=*/false);
   map_ = loaded.field;
   const BandPlannerConfig& pc = config_.planner.config;
-  planner_ = std::make_unique<DualBandPlanner>(pc, map_);
-  if (!planner_->configErrors().empty()) {
-    const auto& e = planner_->configErrors().front();
+  if (const auto errors = pc.validate(); !errors.empty()) {
+    const auto& e = errors.front();
     throw ConfigError("planner." + e.key + " = " + std::to_string(e.value) +
                       " is outside the allowed range " + e.allowed);
   }
-  ModeMachineOptions mo = config_.dock.options;
-  mo.goal_tolerance_m = pc.xy_goal_tolerance_m;
-  mo.dock.robot_radius_m = pc.robot.radius_m;
-  modes_ = DockModeMachine(mo);
-  limits_.holonomic = pc.robot.holonomic;
-  limits_.max_forward_m_s = pc.robot.max_vel_x_m_s;
-  limits_.max_backward_m_s = pc.robot.max_vel_x_backwards_m_s;
-  limits_.max_lateral_m_s = pc.robot.max_vel_y_m_s;
-  limits_.max_omega_rad_s = pc.robot.max_vel_theta_rad_s;
 
   StepNodeOptions steps;
   // Step k plans with every robot action of k-1 and the goals of k (a lost one is re-sent when
@@ -133,6 +112,7 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
       "its dock mode, reference-path revisions and planner memory (bands and reference paths "
       "restart from the current poses)");
 
+  std::shared_ptr<const GoalDistances> goal_distances;
   if (config_.goal_inference.enabled) {
     const GoalInferenceYaml& gi = config_.goal_inference;
     std::vector<GoalRegion> goals;
@@ -145,13 +125,33 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
           "band_source: goal_inference: no candidate goal (none from the map, none configured): "
           "humans without a given goal get constant-velocity bands");
     } else {
-      goal_distances_ = std::make_shared<const GoalDistances>(map_, goals, gi.options);
+      goal_distances = std::make_shared<const GoalDistances>(map_, goals, gi.options);
       log().info(
           "band_source: goal inference over {} candidate goals ({} from the map's shape, {} "
           "annotated on it, {} configured)",
           goals.size(), from_shape, loaded.map.goal_regions.size(), gi.candidates.size());
     }
   }
+
+  BandCycleConfig cc;
+  cc.planner = pc;
+  cc.modes = config_.dock.options;
+  cc.guard = config_.guard.options;
+  cc.go_first = config_.go_first;
+  cc.max_iterations = config_.max_iterations;
+  cc.free_running_time_budget_s = config_.free_running_time_budget_s;
+  cc.reference_paths_republish_s = config_.reference_paths_republish_s;
+  cc.goal_min_walked_m = config_.goal_inference.min_walked_m;
+  cc.goal_switch_margin_m = config_.goal_inference.switch_margin_m;
+  cc.goal_agent_radius_m = config_.goal_inference.options.agent_radius_m;
+  cc.forget_after_s = runtime_.limits().forget_after_s;
+  cc.max_ids = static_cast<std::size_t>(runtime_.limits().max_ids);
+  // Wall clock for the free-running time budget and the reported solve and planning times only;
+  // the plan itself depends on message time alone (lockstep passes no budget).
+  cycle_ = std::make_unique<BandCycle>(cc, map_, std::move(goal_distances), [] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  });
 
   const auto& g = map_->grid();
   detail_ = "map " + config_.map.map_file + " " + std::to_string(g.width()) + "x" +
@@ -182,7 +182,7 @@ BandSourceNode::~BandSourceNode() {
   if (all_plan_ms_.empty()) return;
   log().info(
       "band_source: {} planning cycles, planning time p50 {:.2f} ms, p99 {:.2f} ms, max {:.2f} ms",
-      cycles_, percentile(all_plan_ms_, 0.5), percentile(all_plan_ms_, 0.99),
+      cycle_->cycles(), percentile(all_plan_ms_, 0.5), percentile(all_plan_ms_, 0.99),
       *std::max_element(all_plan_ms_.begin(), all_plan_ms_.end()));
 }
 
@@ -197,19 +197,9 @@ void BandSourceNode::onAgentStates(const agent_states_t& msg) {
     for (const auto& h : s.humans)
       if (h.id == s.robot.id)
         throw RejectedMessage("human id " + std::to_string(h.id) + " is the robot's id");
-    switch (clock_.offer(s.utime)) {
-      case MessageClock::Verdict::kJump:
-        throw RejectedMessage("agent states " + clock_.describe(s.utime) +
-                              " (limits.max_time_jump_s)");
-      case MessageClock::Verdict::kBackwards:
-        throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
-                             std::to_string(*clock_.now()));
-      case MessageClock::Verdict::kResynced:
-        onResync(s.utime);
-        break;
-      case MessageClock::Verdict::kAccepted:
-        break;
-    }
+    if (!clock_.take(s.utime, "agent states", [&] { onResync(s.utime); }))
+      throw DroppedMessage("agent states utime " + std::to_string(s.utime) + " before " +
+                           std::to_string(*clock_.now()));
     leaveOutFarHumans(s);
     if (s.step >= 0) {
       // Only the steps that will be planned (cycle() erases them); the harness holds at most
@@ -243,14 +233,7 @@ void BandSourceNode::onResync(std::int64_t utime) {
       "republication and planner-memory times restart from it; goal beliefs restart)",
       utime);
   last_cycle_utime_.reset();
-  if (last_refs_utime_) last_refs_utime_ = utime;
-  if (planner_memory_check_utime_) planner_memory_check_utime_ = utime;
-  // A goal belief is a track in the old time base: later observations would be refused as older.
-  goal_beliefs_.clear();
-  goal_belief_recency_.clear();
-  inferred_goal_.clear();
-  // The dock's hold timeout (dock.hold_timeout_s) is counted by the mode machine in message
-  // time: after a resync backwards a hold ends when the human passes or a RESUME comes.
+  cycle_->restamp(utime);
 }
 
 void BandSourceNode::leaveOutFarHumans(AgentStatesSnapshot& s) const {
@@ -278,16 +261,8 @@ void BandSourceNode::planLatestFreeRunning() {
 
 void BandSourceNode::onGoals(const goals_t& msg) {
   GoalsSnapshot g = fromLcm(msg);  // throws RejectedMessage
-  switch (goals_clock_.offer(msg.utime)) {
-    case MessageClock::Verdict::kJump:
-      throw RejectedMessage("goals " + goals_clock_.describe(msg.utime) +
-                            " (limits.max_time_jump_s)");
-    case MessageClock::Verdict::kBackwards:
-      return;  // a repeat of an older step's goals never replaces newer ones
-    case MessageClock::Verdict::kResynced:
-    case MessageClock::Verdict::kAccepted:
-      break;
-  }
+  // A repeat of an older step's goals never replaces newer ones.
+  if (!goals_clock_.take(msg.utime, "goals")) return;
   goals_ = std::move(g);  // full state: replaces the previous goals
   goal_utimes_.insert(msg.utime);
   while (goal_utimes_.size() > 64) goal_utimes_.erase(goal_utimes_.begin());
@@ -336,166 +311,49 @@ void BandSourceNode::cycle(const AgentStatesSnapshot& s, StepNode::Step& step) {
 }
 
 void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
-  const double stamp_s = utimeToSeconds(s.utime);
-
-  // --- goals: the robot's (kind ROBOT; its own id preferred) and the humans' ---
-  std::optional<Pose2> robot_goal;
-  std::map<std::int32_t, Pose2> human_goals;
+  BandCycleInput in;
+  in.utime = s.utime;
+  in.step = s.step;
+  in.robot = s.robot;
+  in.humans = s.humans;
   if (goals_) {
-    for (const auto& g : goals_->goals) {
-      if (g.kind == AgentKind::kRobot) {
-        if (!robot_goal || g.agent_id == s.robot.id) robot_goal = g.pose;
-      } else {
-        human_goals[g.agent_id] = g.pose;
-      }
-    }
+    in.goals.emplace();
+    for (const auto& g : goals_->goals) in.goals->push_back({g.agent_id, g.kind, g.pose});
   }
-
-  // --- the dialogue's actions since the last cycle; the latest one wins ---
-  bool dock_req = false, resume_req = false;
-  std::int32_t dock_for = -1;
-  if (action_) {
-    dock_req = action_->action == dialogue::RobotAction::kDock;
-    resume_req = action_->action == dialogue::RobotAction::kResume;
-    if (dock_req) dock_for = action_->stamp.human_id;
-    // Any newer action ends going first; GO_FIRST starts it.
-    go_first_.reset();
-    if (action_->action == dialogue::RobotAction::kGoFirst)
-      go_first_ = GoingFirst{action_->stamp.human_id, stamp_s};
-  }
+  // The dialogue's actions since the last cycle: the latest one wins.
+  if (action_)
+    in.action =
+        CycleAction{action_->action == dialogue::RobotAction::kDock, action_->stamp.human_id,
+                    action_->action == dialogue::RobotAction::kGoFirst};
   action_.reset();
+  in.planner_points = scan_points_.planner;
+  in.guard_points = scan_points_.guard;
 
-  // --- mode: navigate / dock / hold / retreat / resume ---
-  RobotMode mode = RobotMode::kNavigate;
-  Pose2 active_goal = s.robot.pose;
-  bool hold = false;
-  ModeOutput mode_out;
-  if (robot_goal) {
-    ModeInput in;
-    in.stamp_s = stamp_s;
-    in.robot = s.robot.pose;
-    in.robot_radius_m = s.robot.radius_m;
-    in.trail = &trail_.points();
-    in.limits = limits_;
-    in.goal = *robot_goal;
-    in.dock_requested = dock_req;
-    in.resume_requested = resume_req;
-    const std::optional<std::int32_t> hid =
-        dock_req ? std::optional<std::int32_t>(dock_for) : dock_human_id_;
-    const AgentState* human = hid ? s.human(*hid) : nullptr;
-    if (human) {
-      in.has_human = true;
-      in.human = motionPose(*human);
-      in.human_velocity = {human->velocity.vx_m_s, human->velocity.vy_m_s};
-      in.human_radius_m = human->radius_m;
-    } else if (dock_req) {
-      log().warn("band_source: DOCK for human {} who is not in the agent states: ignored",
-                 dock_for);
-    }
-    mode_out = modes_.update(*map_, in);
-    const ModeOutput& out = mode_out;
-    if (out.dock_failure) {
-      log().warn("band_source: DOCK for human {} at step {}: {}: the robot keeps avoiding",
-                 dock_for, s.step,
-                 *out.dock_failure == DockStatus::kNoWall
-                     ? "no wall on the side away from the human and room to pass"
-                     : "no reachable dock pose");
-    }
-    if (out.mode == RobotMode::kDocking || out.mode == RobotMode::kHolding ||
-        out.mode == RobotMode::kRetreating) {
-      if (dock_req && in.has_human) dock_human_id_ = dock_for;
-    } else {
-      dock_human_id_.reset();
-    }
-    if (out.changed) {
-      log().info("band_source: mode {} at step {} (utime {}){}", toString(out.mode), s.step,
-                 s.utime,
-                 out.room != RoomMove::kUnknown
-                     ? std::string(" for human ") +
-                           std::to_string(dock_human_id_ ? *dock_human_id_ : dock_for) +
-                           ", room: " + toString(out.room)
-                     : std::string());
-    }
-    mode = out.mode;
-    active_goal = out.active_goal;
-    hold = out.hold_still;
-  } else if (dock_req || resume_req) {
-    log().warn("band_source: robot action ignored: the robot has no goal");
-  }
+  const BandCycleOutput out = cycle_->step(in);
+  notePlanTime(out.plan_ms);
+  for (const auto& n : out.notes) log().log(logLevel(n.level), "band_source: {}", n.text);
 
-  // --- plan ---
-  PlanRequest req;
-  req.stamp_s = stamp_s;
-  req.agent = s.robot;
-  req.goal = active_goal;
-  req.obstacle_points = scan_points_.planner;
-  req.max_iterations = config_.max_iterations;
-  req.time_budget_s = s.step < 0 ? config_.free_running_time_budget_s : 0.0;
-  // Wall clock for the free-running time budget and the reported solve time only; the plan
-  // itself depends on message time alone (lockstep passes no budget).
-  req.clock_s = [] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-  };
-  // Humans the goals message gives no goal: the most likely inferred one (same step order as
-  // the reference paths: published first).
-  for (const auto& [id, goal] : inferGoals(s, human_goals, step)) human_goals.emplace(id, goal);
-  std::set<std::int32_t> with_goal, without_goal;
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  for (const auto& h : s.humans) {
-    OtherAgentInput o;
-    o.state = h;
-    const auto it = human_goals.find(h.id);
-    if (it != human_goals.end()) {
-      o.goal = it->second;
-      with_goal.insert(h.id);
-    } else {
-      o.goal = {kNaN, kNaN, kNaN};  // unknown: the planner predicts constant velocity
-      without_goal.insert(h.id);
-    }
-    req.others.push_back(o);
+  // --- outputs, in the lockstep order: goal estimates, reference paths, bands, command ---
+  if (out.goal_estimates) {
+    GoalEstimates e;
+    e.utime = s.utime;
+    e.step = s.step;
+    e.goals = out.goal_estimates->goals;
+    for (const auto& h : out.goal_estimates->humans)
+      e.humans.push_back({h.agent_id, h.most_likely, h.walked_m, h.observations, h.probability});
+    step.publish(channels::kGoalEstimates, toLcm(e));
   }
-  if (without_goal != humans_without_goal_) {
-    humans_without_goal_ = without_goal;
-    if (!without_goal.empty()) {
-      log().info(
-          "band_source: humans without a goal (constant-velocity band, no reference path): {}",
-          idList(without_goal));
-    }
+  if (out.reference_paths) {
+    ReferencePaths r;
+    r.utime = s.utime;
+    r.step = s.step;
+    for (const auto& p : *out.reference_paths) r.paths.push_back({p.agent_id, p.revision, p.path});
+    step.publish(channels::kReferencePaths, toLcm(r));
   }
-  const auto t0 = std::chrono::steady_clock::now();
-  const PlanResult r = planner_->plan(req);
-  const double plan_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  notePlanTime(plan_ms);
-  ++cycles_;
-  const std::set<std::int32_t> unplanned(r.unplanned_ids.begin(), r.unplanned_ids.end());
-  if (unplanned != humans_unplanned_) {
-    humans_unplanned_ = unplanned;
-    if (!unplanned.empty()) {
-      log().info(
-          "band_source: more than {} humans: a predicted band (not planned jointly) this cycle "
-          "for {}",
-          config_.planner.config.max_planned_others, idList(unplanned));
-    }
-  }
-  if (r.status != PlanStatus::kOk && r.status != PlanStatus::kGoalReached) {
-    log().warn("band_source: step {} (utime {}): planner {}", s.step, s.utime, toString(r.status));
-  }
-  log().debug("band_source: step {} {} mode {} {} iterations, cost {:.3g}, {:.2f} ms", s.step,
-              toString(r.status), toString(mode), r.iterations, r.final_cost, plan_ms);
-
-  // --- outputs, in the lockstep order: reference paths, bands, command ---
-  publishReferencePaths(s, r, with_goal, step);
-  boundPlannerMemory(s, r);
-
-  const bool idle = !robot_goal;
-  const bool usable = r.status == PlanStatus::kOk || r.status == PlanStatus::kGoalReached;
-  std::int8_t cmd_mode = velocity_command_t::MODE_IDLE;
-  // A dock or a retreat is driven without the planner's band (modeCommand).
-  const bool driven = mode == RobotMode::kDocking || mode == RobotMode::kRetreating;
-  if (!idle) cmd_mode = usable || driven ? commandMode(mode) : velocity_command_t::MODE_STOPPED;
-
+  const PlanResult& r = out.plan;
+  const std::int8_t cmd_mode = out.idle      ? velocity_command_t::MODE_IDLE
+                               : out.stopped ? velocity_command_t::MODE_STOPPED
+                                             : commandMode(out.mode);
   BandsSnapshot b;
   b.utime = s.utime;
   b.step = s.step;
@@ -507,267 +365,16 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   b.robot_id = s.robot.id;
   b.robot = r.agent_band;
   for (const auto& o : r.others) b.humans.emplace_back(o.id, o.band);
-  b.room_plans = roomPlans(s, r);
+  for (const RoomMove m : out.room_plans) b.room_plans.push_back(static_cast<std::int8_t>(m));
   step.publish(channels::kBands, toLcm(b));
 
   VelocityCommand c;
   c.utime = s.utime;
   c.step = s.step;
   c.mode = cmd_mode;
-  Velocity2 command = modeCommand(s, mode_out, r, hold, idle);
-  if (go_first_ && mode == RobotMode::kNavigate && !idle) command = goFirstCommand(s, r, command);
-  const GuardOutput g = guard(s, command);
-  c.body = g.command_body;
-  c.guard = static_cast<std::int8_t>(g.action);
+  c.body = out.command_body;
+  c.guard = static_cast<std::int8_t>(out.guard);
   step.publish(channels::kRobotCmd, toLcm(c));
-
-  // The way back is the way the robot came while navigating: a dock or a retreat is no way back.
-  if (mode != RobotMode::kDocking && mode != RobotMode::kHolding && mode != RobotMode::kRetreating)
-    trail_.add(s.robot.pose.position());
-}
-
-std::vector<std::int8_t> BandSourceNode::roomPlans(const AgentStatesSnapshot& s,
-                                                   const PlanResult& r) {
-  std::vector<std::int8_t> plans;
-  const ModeMachineOptions& mo = modes_.options();
-  for (const auto& o : r.others) {
-    std::int8_t plan = bands_t::ROOM_UNKNOWN;
-    const AgentState* h = s.human(o.id);
-    if (h) {
-      Encounter e;
-      e.robot = s.robot.pose;
-      e.robot_radius_m = s.robot.radius_m;
-      e.human_position = h->pose.position();
-      e.human_velocity = {h->velocity.vx_m_s, h->velocity.vy_m_s};
-      e.human_radius_m = h->radius_m;
-      e.trail = &trail_.points();
-      e.limits = limits_;
-      // Only a human ahead and closing may need room: a few distance queries each.
-      // Ahead: in front of the robot as it heads, and not yet past it (one overtaking the robot
-      // from behind needs no room made).
-      const bool ahead =
-          (h->pose.position() - s.robot.pose.position())
-                  .dot(headingVector(s.robot.pose.theta_rad)) > 0.0 &&
-          !DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h), mo.human_passed_margin_m);
-      if (ahead && closingSpeed(e) > mo.room.closing_speed_m_s)
-        plan = static_cast<std::int8_t>(decideRoom(*map_, e, mo.dock, mo.room).move);
-    }
-    plans.push_back(plan);
-  }
-  return plans;
-}
-
-Velocity2 BandSourceNode::modeCommand(const AgentStatesSnapshot& s, const ModeOutput& m,
-                                      const PlanResult& r, bool hold, bool idle) const {
-  if (idle || hold) return {};
-  // The robot drives a dock or a retreat itself: the planner's band keeps
-  // planner.min_obstacle_dist_m from walls, so it would stop short of a flush dock pose.
-  if (m.mode == RobotMode::kDocking && !m.route.empty())
-    return followRoute(s.robot.pose, m.route, limits_.max_forward_m_s, limits_);
-  if (m.mode == RobotMode::kRetreating) {
-    if (!m.retreat_direction) return {};
-    return driveAlong(s.robot.pose, *m.retreat_direction, modes_.options().room.wider_search_m,
-                      limits_);
-  }
-  return r.status == PlanStatus::kOk ? r.command_body : Velocity2{};
-}
-
-// Issue 44: the person made room and waits; the robot's band still bends round them and the
-// relative-velocity and safety terms hold it back (a mutual wait). Going first, the robot
-// drives its own global path past them, shifted to the side away from them by what clears
-// their body where the walls allow, at a modest speed; the guard scales or stops it near them as
-// it does every command, so going first never drives into anyone.
-Velocity2 BandSourceNode::goFirstCommand(const AgentStatesSnapshot& s, const PlanResult& r,
-                                         const Velocity2& planned) {
-  const GoFirstYaml& gf = config_.go_first;
-  const double stamp_s = utimeToSeconds(s.utime);
-  const AgentState* h = s.human(go_first_->human_id);
-  const char* end = nullptr;
-  if (h == nullptr) {
-    end = "the person is not tracked";
-  } else if (DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h),
-                                             modes_.options().human_passed_margin_m)) {
-    end = "the person is passed";
-  } else if (stamp_s - go_first_->since_s > gf.max_s) {
-    end = "go_first.max_s is over";
-  } else if (r.status != PlanStatus::kOk || r.agent_path.size() < 2) {
-    end = "no path to the goal";
-  }
-  if (end != nullptr) {
-    log().info("band_source: going first for human {} ends at step {}: {}", go_first_->human_id,
-               s.step, end);
-    go_first_.reset();
-    return planned;
-  }
-  if (std::hypot(planned.vx_m_s, planned.vy_m_s) >= gf.speed_m_s) return planned;
-  const Eigen::Vector2d pos = s.robot.pose.position();
-  const auto foot = projectOntoPath(r.agent_path, pos);
-  const Path2 ahead = subPath(r.agent_path, foot ? foot->arc_length_m : 0.0, gf.lookahead_m);
-  if (ahead.size() < 2 || (ahead.back() - ahead.front()).norm() < 1e-3) return planned;
-  const Eigen::Vector2d dir = (ahead.back() - ahead.front()).normalized();
-  const Eigen::Vector2d left(-dir.y(), dir.x());
-  const Eigen::Vector2d person = h->pose.position();
-  const double person_lat = left.dot(person - ahead.front());
-  const double side = person_lat > 0.0 ? -1.0 : 1.0;  // away from the person
-  // Lateral place of the robot's centre: beside the person by both radii and the clearance,
-  // no nearer the wall on that side than its radius and the guard's clearance.
-  const double wanted = side * person_lat + h->radius_m + s.robot.radius_m + gf.clearance_m;
-  const double room = map_->ray(ahead.back(), side * left, 5.0).distance_m - s.robot.radius_m -
-                      config_.guard.options.min_clearance_m;
-  const double lateral = side * std::max(0.0, std::min(wanted, room));
-  const Path2 route{pos, ahead.back() + lateral * left};
-  return followRoute(s.robot.pose, route, gf.speed_m_s, limits_);
-}
-
-GuardOutput BandSourceNode::guard(const AgentStatesSnapshot& s, const Velocity2& command) {
-  GuardInput in;
-  in.robot = s.robot.pose;
-  in.robot_radius_m = s.robot.radius_m;
-  in.command_body = command;
-  in.limits = limits_;
-  for (const auto& h : s.humans)
-    in.humans.push_back({h.pose.position(), {h.velocity.vx_m_s, h.velocity.vy_m_s}, h.radius_m});
-  in.obstacle_points = scan_points_.guard;
-  const GuardOutput g = guardCommand(*map_, in, config_.guard.options);
-  if (g.action != last_guard_) {
-    log().info("band_source: guard {} at step {} (utime {}, command x {:.2f})", toString(g.action),
-               s.step, s.utime, g.scale);
-    last_guard_ = g.action;
-  }
-  return g;
-}
-
-void BandSourceNode::publishReferencePaths(const AgentStatesSnapshot& s, const PlanResult& r,
-                                           const std::set<std::int32_t>& with_goal,
-                                           StepNode::Step& step) {
-  bool changed = false;
-  // Forget humans who left, or whose goal became unknown (their path is no longer a reference).
-  for (auto it = refs_.begin(); it != refs_.end();) {
-    if (!with_goal.count(it->first)) {
-      it = refs_.erase(it);
-      changed = true;
-    } else {
-      ++it;
-    }
-  }
-  for (const auto& o : r.others) {
-    if (!with_goal.count(o.id) || o.reference_path.size() < 2) continue;
-    auto it = refs_.find(o.id);
-    if (it == refs_.end()) {
-      refs_[o.id] = {o.reference_path, 1};
-      changed = true;
-    } else if (it->second.path != o.reference_path) {
-      it->second.path = o.reference_path;
-      ++it->second.revision;
-      changed = true;
-    }
-  }
-  const bool due =
-      config_.reference_paths_republish_s > 0.0 && last_refs_utime_ &&
-      utimeDiffSeconds(s.utime, *last_refs_utime_) >= config_.reference_paths_republish_s;
-  if (!changed && !due) return;
-  ReferencePaths out;
-  out.utime = s.utime;
-  out.step = s.step;
-  for (const auto& [id, ref] : refs_) {
-    ReferencePaths::Entry e;
-    e.agent_id = id;
-    e.revision = ref.revision;
-    e.path = ref.path;
-    out.paths.push_back(std::move(e));
-  }
-  step.publish(channels::kReferencePaths, toLcm(out));
-  last_refs_utime_ = s.utime;
-}
-
-std::map<std::int32_t, Pose2> BandSourceNode::inferGoals(const AgentStatesSnapshot& s,
-                                                         const std::map<std::int32_t, Pose2>& given,
-                                                         StepNode::Step& step) {
-  std::map<std::int32_t, Pose2> planned;
-  if (!goal_distances_) return planned;
-  const double stamp_s = utimeToSeconds(s.utime);
-  const InputLimits& limits = runtime_.limits();
-  GoalEstimates out;
-  out.utime = s.utime;
-  out.step = s.step;
-  for (const auto& g : goal_distances_->goals()) out.goals.push_back(g.centre());
-  for (const auto& h : s.humans) {
-    if (given.count(h.id)) continue;
-    auto it = goal_beliefs_.find(h.id);
-    if (it == goal_beliefs_.end())
-      it = goal_beliefs_.emplace(h.id, GoalBelief(goal_distances_)).first;
-    goal_belief_recency_.touch(h.id, s.utime);
-    GoalBelief& b = it->second;
-    b.observe(stamp_s, h.pose.position());
-    const auto planned_now = inferred_goal_.find(h.id);
-    const int best =
-        b.plannedGoal(planned_now == inferred_goal_.end() ? -1 : planned_now->second.index,
-                      config_.goal_inference.switch_margin_m);
-    GoalEstimates::Human e;
-    e.agent_id = h.id;
-    e.most_likely = best;
-    e.walked_m = b.walkedLength_m();
-    e.observations = static_cast<std::int32_t>(
-        std::min<std::size_t>(b.observations(), std::numeric_limits<std::int32_t>::max()));
-    e.probability = b.probabilities();
-    out.humans.push_back(std::move(e));
-    if (best < 0 || b.walkedLength_m() < config_.goal_inference.min_walked_m) continue;
-    // Where the human crosses the region is fixed when the region is chosen: re-projecting
-    // every cycle would move the goal with the human's own avoidance, and the reference path
-    // (the path it would have taken) with it.
-    auto was = inferred_goal_.find(h.id);
-    if (was == inferred_goal_.end() || was->second.index != best) {
-      const GoalRegion& region = goal_distances_->goals()[static_cast<std::size_t>(best)];
-      const Eigen::Vector2d target =
-          region.target(h.pose.position(), config_.goal_inference.options.agent_radius_m);
-      log().info(
-          "band_source: human {} most likely walks to goal {} (centre {:.2f}, {:.2f}), p {:.2f}: "
-          "planned to ({:.2f}, {:.2f})",
-          h.id, best, region.centre().x(), region.centre().y(),
-          b.probabilities()[static_cast<std::size_t>(best)], target.x(), target.y());
-      was = inferred_goal_.insert_or_assign(h.id, InferredGoal{best, target}).first;
-    }
-    const Eigen::Vector2d& g = was->second.target;
-    planned[h.id] = {g.x(), g.y(), std::numeric_limits<double>::quiet_NaN()};
-  }
-  // A belief is of one track: an id gone for forget_after_s (or a flood of ids) loses it.
-  goal_belief_recency_.forgetOld(s.utime, limits.forget_after_s,
-                                 static_cast<std::size_t>(limits.max_ids), [this](std::int32_t id) {
-                                   goal_beliefs_.erase(id);
-                                   inferred_goal_.erase(id);
-                                 });
-  if (!out.humans.empty()) step.publish(channels::kGoalEstimates, toLcm(out));
-  return planned;
-}
-
-void BandSourceNode::boundPlannerMemory(const AgentStatesSnapshot& s, const PlanResult& r) {
-  planner_ids_.insert(s.robot.id);
-  for (const auto& o : r.others) planner_ids_.insert(o.id);
-  if (!planner_memory_check_utime_) planner_memory_check_utime_ = s.utime;
-  const InputLimits& limits = runtime_.limits();
-  // The planner can only forget every id at once, and that re-plans the reference paths of the
-  // humans present from where they stand (a new d_h reference mid-interaction). So, at most once
-  // per forget_after_s of message time, ids no longer present are forgotten at the first cycle
-  // without a reference path to keep; more ids than max_ids (a flood of new ids) are forgotten
-  // at once whatever that costs.
-  std::size_t gone = 0;
-  const bool over = planner_ids_.size() > static_cast<std::size_t>(limits.max_ids);
-  if (!over) {
-    if (!refs_.empty() ||
-        utimeDiffSeconds(s.utime, *planner_memory_check_utime_) <= limits.forget_after_s)
-      return;
-    std::set<std::int32_t> here{s.robot.id};
-    for (const auto& h : s.humans) here.insert(h.id);
-    for (const auto id : planner_ids_) gone += here.count(id) ? 0 : 1;
-    planner_memory_check_utime_ = s.utime;  // checked at most once per forget_after_s
-    if (gone == 0) return;
-  }
-  log().info("band_source: planner memory of {} agents cleared ({})", planner_ids_.size(),
-             over ? "more than limits.max_ids"
-                  : std::to_string(gone) + " no longer present after limits.forget_after_s");
-  planner_->reset();
-  planner_ids_.clear();
-  planner_memory_check_utime_ = s.utime;
 }
 
 void BandSourceNode::notePlanTime(double ms) {

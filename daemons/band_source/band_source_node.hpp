@@ -2,7 +2,9 @@
 /// @file Band source: the CoHAN-style dual-band planner (lib/band) behind LCM. From the agent
 /// states, the goals and the dialogue's robot actions it plans, each control cycle, the robot's
 /// band and one anticipated band per human, the humans' reference paths and the robot's velocity
-/// command; a DOCK action sends the robot to a wall-side pose until the human has passed.
+/// command; a DOCK action sends the robot to a wall-side pose until the human has passed. The
+/// cycle itself (goal choice, modes, dock tracking, command) is lib/band's BandCycle: the node
+/// decodes, files by step, calls it and publishes what it returns.
 /// Lockstep: one agent-states step = one control cycle, acknowledged after its outputs.
 
 #include <cstdint>
@@ -16,17 +18,13 @@
 #include "config/band_config_yaml.hpp"
 #include "config/config.hpp"
 #include "coopnav/agent_states_t.hpp"
-#include "coopnav/band/dual_band_planner.hpp"
+#include "coopnav/band/band_cycle.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/goals_t.hpp"
 #include "coopnav/laser_scan_t.hpp"
-#include "coopnav/planning/dock.hpp"
 #include "coopnav/planning/goal_inference.hpp"
-#include "coopnav/planning/room.hpp"
-#include "coopnav/planning/safety_guard.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "maps/map_source.hpp"
-#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -83,17 +81,8 @@ struct GoalInferenceYaml {
   }
 };
 
-/// Going first (robot_action_t.ACTION_GO_FIRST, README "Going first").
-struct GoFirstYaml {
-  /// [m/s] The robot drives past the person at this speed while the planner's command is slower.
-  double speed_m_s{0.3};
-  /// [m] Along its global path, the point it heads for is this far ahead.
-  double lookahead_m{1.5};
-  /// [m] Body to body, the lateral gap to the person it keeps where the walls allow.
-  double clearance_m{0.2};
-  /// [s] Going first ends after this long even if the person is not passed yet.
-  double max_s{20.0};
-
+/// Going first (robot_action_t.ACTION_GO_FIRST, README "Going first"); defaults: lib's.
+struct GoFirstYaml : GoFirstOptions {
   template <class V>
   void visit(V& v) {
     v("speed_m_s", speed_m_s, Range{0.05, 2.0});
@@ -169,20 +158,15 @@ class BandSourceNode {
   BandSourceNode& operator=(const BandSourceNode&) = delete;
 
   /// Planning cycles run so far (for tests).
-  std::int64_t cycles() const { return cycles_; }
+  std::int64_t cycles() const { return cycle_->cycles(); }
   /// For tests: lockstep steps whose time is kept until they are planned.
   std::size_t stepsKept() const { return step_utime_.size(); }
   /// For tests: agent ids the planner may hold memory for (bands, paths).
-  std::size_t plannerIdsKept() const { return planner_ids_.size(); }
+  std::size_t plannerIdsKept() const { return cycle_->plannerIdsKept(); }
   /// For tests: the reason of the robot action waiting for the next cycle ("" if none).
   const std::string& pendingActionReason() const;
 
  private:
-  struct RefPath {
-    Path2 path;
-    std::int32_t revision{0};
-  };
-
   void onAgentStates(const agent_states_t& msg);
   /// The agent states' clock was resynchronised at `utime`: the times kept from the old time
   /// base restart from it.
@@ -197,39 +181,14 @@ class BandSourceNode {
   void leaveOutFarHumans(AgentStatesSnapshot& states) const;
   /// One control cycle; never throws (it may run from the gate's timer).
   void cycle(const AgentStatesSnapshot& states, StepNode::Step& step);
+  /// The cycle's inputs -> BandCycle -> the step's outputs.
   void plan(const AgentStatesSnapshot& states, StepNode::Step& step);
-  /// bands_t.ROOM_* for each planned human: how the robot would make room for it if asked now
-  /// (only for humans ahead and closing; ROOM_UNKNOWN for the others).
-  std::vector<std::int8_t> roomPlans(const AgentStatesSnapshot& states, const PlanResult& result);
-  /// The command of a mode the robot drives itself (docking, retreating), else the planner's.
-  Velocity2 modeCommand(const AgentStatesSnapshot& states, const ModeOutput& mode,
-                        const PlanResult& result, bool hold, bool idle) const;
-  /// While going first (GO_FIRST): the command past the person when the planner's is slower,
-  /// else `planned`; ends going first once the person is passed, gone or the time is up.
-  Velocity2 goFirstCommand(const AgentStatesSnapshot& states, const PlanResult& result,
-                           const Velocity2& planned);
-  /// The safety guard applied to `command`, logged when its action changes.
-  GuardOutput guard(const AgentStatesSnapshot& states, const Velocity2& command);
-  void publishReferencePaths(const AgentStatesSnapshot& states, const PlanResult& result,
-                             const std::set<std::int32_t>& with_goal, StepNode::Step& step);
   void notePlanTime(double ms);
-  /// Updates the goal belief of every human `given` has no goal for and returns the goals to plan
-  /// with (the most likely, once min_walked_m is walked); publishes the beliefs.
-  std::map<std::int32_t, Pose2> inferGoals(const AgentStatesSnapshot& s,
-                                           const std::map<std::int32_t, Pose2>& given,
-                                           StepNode::Step& step);
-  /// Bounds the planner's per-agent memory (limits.max_ids, limits.forget_after_s).
-  void boundPlannerMemory(const AgentStatesSnapshot& states, const PlanResult& result);
-
   Config config_;
   Runtime& runtime_;
   std::shared_ptr<const GridDistanceField> map_;
-  std::unique_ptr<DualBandPlanner> planner_;
-  DockModeMachine modes_;
-  RobotLimits limits_;  ///< the planner's robot limits, for the commands it does not plan
-  /// The robot's recent positions while it navigates: the way back for a wider place or a retreat.
-  Trail trail_;
-  GuardAction last_guard_{GuardAction::kNone};
+  /// The control cycle: planner, mode machine, goal beliefs, reference paths.
+  std::unique_ptr<BandCycle> cycle_;
   ScanObstacles scans_;
   /// The scan points of the cycle being planned (ScanObstacles::take at its start).
   ScanObstacles::Points scan_points_;
@@ -244,38 +203,10 @@ class BandSourceNode {
   /// The robot action to apply at the next cycle: of those received since the last one, the
   /// latest wins.
   std::optional<RobotActionMsg> action_;
-  std::optional<std::int32_t> dock_human_id_;  ///< the human a dock is for, while docking / holding
-  /// Going first (GO_FIRST) past this human since this time [s of message time].
-  struct GoingFirst {
-    std::int32_t human_id{0};
-    double since_s{0.0};
-  };
-  std::optional<GoingFirst> go_first_;
   std::optional<std::int64_t> last_cycle_utime_;          ///< free-running throttle
   std::optional<AgentStatesSnapshot> free_running_next_;  ///< newest not yet planned
-  std::map<std::int32_t, RefPath> refs_;                  ///< published reference path per human id
-  std::optional<std::int64_t> last_refs_utime_;
-  std::set<std::int32_t> humans_without_goal_;
-  /// Goal inference (nullptr when disabled or without candidates): the candidates' distance
-  /// fields, one belief per human whose goal is inferred, forgotten like the planner's ids.
-  std::shared_ptr<const GoalDistances> goal_distances_;
-  std::map<std::int32_t, GoalBelief> goal_beliefs_;
-  IdRecency goal_belief_recency_;
-  /// The goal a human is planned with: the region's index and where on it the human was
-  /// heading when it was chosen.
-  struct InferredGoal {
-    int index{-1};
-    Eigen::Vector2d target{0.0, 0.0};
-  };
-  std::map<std::int32_t, InferredGoal> inferred_goal_;
-  std::set<std::int32_t> humans_unplanned_;  ///< beyond planner.max_planned_others
-  /// Agent ids planned since the planner's memory was last cleared (it keeps a band and a path
-  /// per id it ever planned), and the time of that clearing or of the last check for ids gone.
-  std::set<std::int32_t> planner_ids_;
-  std::optional<std::int64_t> planner_memory_check_utime_;
   std::string detail_;
 
-  std::int64_t cycles_{0};
   std::vector<double> plan_ms_;  ///< wall time per planning call since the last summary
   std::vector<double> all_plan_ms_;
   /// Last: steps still held when the node goes away are not acknowledged.

@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <functional>
-#include <set>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
-#include "coopnav/geometry/track_continuity.hpp"
 #include "coopnav/path_assessor_control_t.hpp"
 #include "coopnav/robot_action_t.hpp"
 #include "coopnav/utterance_t.hpp"
@@ -15,32 +14,6 @@
 #include "runtime/log.hpp"
 
 namespace coopnav {
-namespace {
-
-/// Ids listed in one log line about a batch of them; the rest are counted.
-constexpr std::size_t kIdsPerLogLine = 8;
-
-std::string formatTCross(std::optional<double> t_cross_s) {
-  return t_cross_s ? fmt::format("{:.2f} s", *t_cross_s) : std::string("-");
-}
-
-std::string formatOptional(std::optional<double> v) {
-  return v ? fmt::format("{:.3f}", *v) : std::string("unknown");
-}
-
-const char* tristateName(Tristate t) {
-  return t == Tristate::kTrue ? "TRUE" : (t == Tristate::kFalse ? "FALSE" : "UNKNOWN");
-}
-
-std::string idList(const std::vector<std::int32_t>& ids) {
-  std::string s;
-  for (std::size_t i = 0; i < ids.size() && i < kIdsPerLogLine; ++i)
-    s += (s.empty() ? "" : ",") + std::to_string(ids[i]);
-  if (ids.size() > kIdsPerLogLine) s += fmt::format(" and {} more", ids.size() - kIdsPerLogLine);
-  return s;
-}
-
-}  // namespace
 
 dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   dialogue::DecisionConfig c;
@@ -57,6 +30,19 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   return c;
 }
 
+dialogue::SessionConfig DialogueManagerConfig::sessionConfig() const {
+  dialogue::SessionConfig c;
+  c.decision = decisionConfig();
+  c.crowd = crowd;
+  c.crossed_hysteresis_m = crossed_hysteresis_m;
+  c.human_gone_s = human_gone_s;
+  c.path_max_age_s = path_max_age_s;
+  c.muted = muted;
+  c.interrupt_for_change = interrupt_for_change;
+  c.speech_rate_wpm = speech.rate_wpm;
+  return c;
+}
+
 void DialogueManagerConfig::resolvePaths(const std::string& base_dir) {
   speech.wav_dir = resolvePath(base_dir, speech.wav_dir);
   if (speech.program.find('/') != std::string::npos)
@@ -65,10 +51,10 @@ void DialogueManagerConfig::resolvePaths(const std::string& base_dir) {
 
 DialogueManagerNode::DialogueManagerNode(const Config& config, Runtime& runtime)
     : config_(config),
-      decision_config_(config.decisionConfig()),
       runtime_(runtime),
       speech_(config.speech),
-      crowd_(config.crowd),
+      session_(config.sessionConfig(), runtime.limits().forget_after_s,
+               static_cast<std::size_t>(runtime.limits().max_ids)),
       clock_(runtime.limits().max_time_jump_s, runtime.limits().time_resync_messages),
       ack_steps_(runtime.limits().max_pending_steps, runtime.limits().time_resync_messages) {
   // Step k is decided with every situation and path assessment of k and the world's agent
@@ -116,58 +102,33 @@ void DialogueManagerNode::measureTemplates() {
   std::sort(texts.begin(), texts.end());
   texts.erase(std::unique(texts.begin(), texts.end()), texts.end());
   const auto seconds = speech_.measure(texts);
+  std::map<std::string, double> measured_s;
   for (std::size_t i = 0; i < texts.size(); ++i)
-    if (seconds[i]) measured_s_[texts[i]] = *seconds[i];
+    if (seconds[i]) measured_s[texts[i]] = *seconds[i];
   log().info(
       "dialogue_manager: speech: measured {} of {} template texts with {} (the others are "
       "estimated)",
-      measured_s_.size(), texts.size(), config_.speech.program);
-  for (const auto& [text, d] : measured_s_)
+      measured_s.size(), texts.size(), config_.speech.program);
+  for (const auto& [text, d] : measured_s)
     log().debug("dialogue_manager: speech: {:.3f} s \"{}\"", d, text);
-}
-
-double DialogueManagerNode::speechDuration(const std::string& text) const {
-  const auto it = measured_s_.find(text);
-  if (it != measured_s_.end()) return it->second;
-  return dialogue::estimateSpeechDuration(text, config_.speech.rate_wpm);
-}
-
-const dialogue::HumanDecision* DialogueManagerNode::decision(std::int32_t id) const {
-  auto it = humans_.find(id);
-  return it == humans_.end() ? nullptr : &it->second.decision;
+  session_.setMeasuredDurations(std::move(measured_s));
 }
 
 std::size_t DialogueManagerNode::longestKeptTextBytes() const {
-  std::size_t n = 0;
-  for (const auto& [id, h] : humans_) n = std::max(n, h.last_situation.reason.size());
-  for (const auto& [step, in] : inputs_)
-    for (const auto& [id, s] : in.situations) n = std::max(n, s.snapshot.reason.size());
+  std::size_t n = session_.longestKeptTextBytes();
+  for (const auto& [step, bucket] : inputs_)
+    for (const auto& [id, s] : bucket.in.situations) n = std::max(n, s.snapshot.reason.size());
   return n;
 }
 
 // ---- time ----
 
-bool DialogueManagerNode::clockAccepts(std::int64_t utime) {
-  switch (clock_.offer(utime)) {
-    case MessageClock::Verdict::kJump:
-      return false;
-    case MessageClock::Verdict::kResynced:
-      // A new run, a restarted tracker, or a clock one stray first message had set: the times
-      // kept per human are of the old time base, so their ages restart from now.
-      log().warn("dialogue_manager: message time goes on from utime {}: per-human times restart",
-                 utime);
-      heard_.restamp(utime);
-      present_.restamp(utime);
-      for (auto& [id, t] : tracked_) t.last_seen_utime = utime;
-      if (latest_agents_utime_) latest_agents_utime_ = utime;
-      return true;
-    case MessageClock::Verdict::kBackwards:
-      // A little behind another input (a situation is stamped with its bands' time, older than
-      // the newest agent states): used. Lockstep order is kept by the step numbers.
-    case MessageClock::Verdict::kAccepted:
-      return true;
-  }
-  return true;
+void DialogueManagerNode::onResync(std::int64_t utime) {
+  // A new run, a restarted tracker, or a clock one stray first message had set: the times kept
+  // per human are of the old time base, so their ages restart from now.
+  log().warn("dialogue_manager: message time goes on from utime {}: per-human times restart",
+             utime);
+  session_.restamp(utime);
 }
 
 std::int64_t DialogueManagerNode::nearClock(std::int64_t utime) const {
@@ -206,10 +167,21 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
         } catch (...) {
           bad = std::current_exception();
         }
-        const bool on_time = !bad && clockAccepts(utime);
+        // A jump is rejected as bad content is. An input a little behind another (a situation is
+        // stamped with its bands' time, older than the newest agent states) is used: lockstep
+        // order is kept by the step numbers.
+        bool on_time = false;
+        if (!bad) {
+          try {
+            clock_.take(utime, channel, [&] { onResync(utime); });
+            on_time = true;
+          } catch (const RejectedMessage&) {
+            bad = std::current_exception();
+          }
+        }
         StepInputs& bucket = inputs_[step];
         if (!bucket.has_utime) {
-          bucket.utime = on_time ? utime : nearClock(utime);
+          bucket.in.utime = on_time ? utime : nearClock(utime);
           bucket.has_utime = true;
         }
         if (step > newest_step_) newest_step_ = step;
@@ -217,9 +189,6 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
         // runs once this input is stored.
         if (is_new) schedule(step);
         if (bad) std::rethrow_exception(bad);
-        if (!on_time)
-          throw RejectedMessage(std::string(channel) + ": " + clock_.describe(utime) +
-                                " (limits.max_time_jump_s)");
         store(bucket);
       },
       world);
@@ -228,13 +197,14 @@ void DialogueManagerNode::fileInput(std::int64_t step, std::int64_t utime, const
 void DialogueManagerNode::onSituation(const situation_t& msg) {
   fileInput(msg.step, msg.utime, kSituationAssessor, channels::kSituation,
             std::to_string(msg.human_id), [&]() -> Store {
-              SituationIn in{{msg.utime, msg.step, msg.human_id}, situationSnapshotFromLcm(msg)};
+              dialogue::StampedSituation in{{msg.utime, msg.step, msg.human_id},
+                                            situationSnapshotFromLcm(msg)};
               in.snapshot.reason = keptText(std::move(in.snapshot.reason), maxTextBytes());
               return [this, in = std::move(in)](StepInputs& b) {
                 const std::int32_t id = in.stamp.human_id;
-                if (!b.situations.count(id) && b.situations.size() >= maxIds())
+                if (!b.in.situations.count(id) && b.in.situations.size() >= maxIds())
                   throw RejectedMessage("more than limits.max_ids situations in one step");
-                b.situations[id] = in;
+                b.in.situations[id] = in;
               };
             });
 }
@@ -250,16 +220,20 @@ void DialogueManagerNode::onPathAssessment(const path_assessment_t& msg) {
                                       "'; this dialogue manager acts on '" +
                                       config_.assessment_profile + "' (assessment_profile)");
               return [this, id = msg.human_id, p, utime = msg.utime](StepInputs& b) {
-                if (!b.paths.count(id) && b.paths.size() >= maxIds())
+                if (!b.in.paths.count(id) && b.in.paths.size() >= maxIds())
                   throw RejectedMessage("more than limits.max_ids path assessments in one step");
-                b.paths[id] = {p, utime};
+                b.in.paths[id] = {p, utime};
               };
             });
 }
 
 void DialogueManagerNode::onAgentStates(const agent_states_t& msg) {
-  fileInput(msg.step, msg.utime, "world_sim", channels::kAgentStates, "",
-            [&]() -> Store { return [a = fromLcm(msg)](StepInputs& b) { b.agents = a; }; });
+  fileInput(msg.step, msg.utime, "world_sim", channels::kAgentStates, "", [&]() -> Store {
+    AgentStatesSnapshot a = fromLcm(msg);
+    return [scene = dialogue::SceneSnapshot{a.utime, a.robot, std::move(a.humans)}](StepInputs& b) {
+      b.in.agents = scene;
+    };
+  });
 }
 
 void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
@@ -276,13 +250,13 @@ void DialogueManagerNode::onStepAck(const step_ack_t& ack) {
   if (ack.step <= newest_step_ || ack.step <= last_done_step_ || inputs_.count(ack.step)) return;
   newest_step_ = ack.step;
   StepInputs& bucket = inputs_[ack.step];
-  bucket.utime = nearClock(ack.utime);
+  bucket.in.utime = nearClock(ack.utime);
   bucket.has_utime = true;
   schedule(ack.step);
 }
 
 void DialogueManagerNode::schedule(std::int64_t step) {
-  steps_->schedule(step, inputs_.at(step).utime, [this](StepNode::Step& run) { runStep(run); });
+  steps_->schedule(step, inputs_.at(step).in.utime, [this](StepNode::Step& run) { runStep(run); });
 }
 
 // ---- one step ----
@@ -291,24 +265,17 @@ void DialogueManagerNode::runStep(StepNode::Step& run) {
   const std::int64_t step = run.step();
   auto it = inputs_.find(step);
   if (it == inputs_.end()) return;  // cannot happen: one work item per bucket
-  StepInputs in = std::move(it->second);
+  dialogue::SessionInput in = std::move(it->second.in);
   inputs_.erase(it);
+  in.step = step;
+  in.clock_utime = clock_.now();
   if (step >= 0 && !first_step_seen_) {
     first_step_seen_ = true;
     // A journal replay starts at step 0, muted; a live first step after 0 is a restart that
-    // lost what was said before.
-    joined_late_ = step > 0 && !runtime_.muted() && runtime_.joinedLate();
-    if (joined_late_) {
-      for (const auto& [id, s] : in.situations) history_unknown_.insert(id);
-      if (in.agents)
-        for (const auto& h : in.agents->humans) history_unknown_.insert(h.id);
-      std::string ids;
-      for (const auto id : history_unknown_) ids += (ids.empty() ? "" : ",") + std::to_string(id);
-      log().warn(
-          "dialogue_manager: joined the run at step {} without its state: no decisions for "
-          "humans {} (rounds already fired unknown)",
-          step, ids.empty() ? "-" : ids);
-    }
+    // lost what was said before: the humans already there may have heard rounds this process
+    // does not know of, so nothing is decided for them (no repeated round, no dock on a guess).
+    if (step > 0 && !runtime_.muted() && runtime_.joinedLate())
+      log().warn("dialogue_manager: {}", session_.joinLate(in).text);
   }
   if (run.degraded()) {
     degraded_ = true;
@@ -318,7 +285,7 @@ void DialogueManagerNode::runStep(StepNode::Step& run) {
     runtime_.setRunning(speech_.usable() ? "speech on" : "");
   }
   try {
-    process(run, in);
+    publish(run, session_.step(in));
   } catch (const std::exception& e) {
     // A bug, never input (inputs were validated when filed): say so, and still acknowledge.
     runtime_.countRejected();
@@ -334,381 +301,36 @@ void DialogueManagerNode::runStep(StepNode::Step& run) {
   speech_pending_.clear();
 }
 
-void DialogueManagerNode::process(StepNode::Step& run, StepInputs& in) {
-  const std::int64_t step = run.step();
-  const std::int64_t now = clockNow(in.utime);
-  // 1. Where the agents are: crossed detection and presence, for every human in the scene.
-  std::set<std::int32_t> crossed_now;
-  if (in.agents) {
-    const AgentStatesSnapshot& a = *in.agents;
-    robot_pose_ = a.robot.pose;
-    robot_speed_m_s_ = std::hypot(a.robot.velocity.vx_m_s, a.robot.velocity.vy_m_s);
-    robot_radius_m_ = a.robot.radius_m;
-    robot_known_ = true;
-    latest_agents_utime_ =
-        latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
-    continueSwitchedIds(a);
-    for (const auto& h : a.humans) {
-      Tracked& t = tracked_[h.id];
-      t.position_m = h.pose.position();
-      t.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
-      t.radius_m = h.radius_m;
-      const bool was = t.crossed.crossed;
-      t.crossed = dialogue::updateCrossed(t.crossed, h.pose, a.robot.pose.position(),
-                                          config_.crossed_hysteresis_m);
-      t.last_seen_utime = a.utime;
-      present_.touch(h.id, a.utime);
-      heard_.touch(h.id, now);
-      if (!was && t.crossed.crossed) crossed_now.insert(h.id);
-    }
-  }
-  // 2. The latest path assessment of each human, read before the decisions of this step.
-  for (const auto& [id, p] : in.paths) {
-    latest_path_[id] = p;
-    heard_.touch(id, now);
-  }
-
-  // 3. Decisions, humans in id order (deterministic output order), emitted together.
-  std::set<std::int32_t> ids;
-  for (const auto& [id, s] : in.situations) ids.insert(id);
-  for (std::int32_t id : crossed_now)
-    if (humans_.count(id)) ids.insert(id);
-  std::vector<Decided> decided;
-  for (std::int32_t id : ids) {
-    auto sit = in.situations.find(id);
-    if (sit != in.situations.end()) {
-      decided.push_back(decide(run, id, sit->second.stamp, sit->second.snapshot));
-    } else {
-      // Crossed on this step's agent states, no situation for it: round 3 on the last one.
-      const DialogueStamp stamp{in.agents->utime, step, id};
-      decided.push_back(decide(run, id, stamp, humans_.at(id).last_situation));
-    }
-  }
-  emitDecided(run, decided);
-
-  // 4. Humans that left the scene end their interaction (stop the recorder, resume a dock).
-  if (in.agents) endAbsent(run, *in.agents);
-  // 5. Forget humans long gone (as the assessors do): a robot running for hours meets
-  // thousands of tracker ids, and a tracker that reuses an id after a minute means someone
-  // new, whose rounds start afresh. Ids never seen in the agent states age the same way.
-  forgetStale(run);
-}
-
-void DialogueManagerNode::continueSwitchedIds(const AgentStatesSnapshot& agents) {
-  std::set<std::int32_t> here;
-  for (const auto& h : agents.humans) here.insert(h.id);
-  std::vector<LostTrack> lost;
-  for (const auto& [id, t] : tracked_) {
-    const auto h = humans_.find(id);
-    // An ended interaction continues too: the person was told what it was told, and a new id
-    // must not start round 1 again for someone who has already passed.
-    if (here.count(id) || h == humans_.end()) continue;
-    lost.push_back({id, utimeToSeconds(t.last_seen_utime), t.position_m, t.velocity_m_s});
-  }
-  TrackContinuityOptions options;
-  options.max_gap_s = config_.human_gone_s;  // an absence this long ends the interaction anyway
-  for (const auto& h : agents.humans) {
-    if (lost.empty()) return;
-    if (tracked_.count(h.id) || humans_.count(h.id)) continue;  // not a new id
-    const auto old = continuedTrack(lost, utimeToSeconds(agents.utime), h.pose.position(), options);
-    if (!old) continue;
-    auto human = humans_.extract(*old);
-    human.key() = h.id;
-    humans_.insert(std::move(human));
-    auto tracked = tracked_.extract(*old);
-    tracked.key() = h.id;
-    tracked_.insert(std::move(tracked));
-    if (auto path = latest_path_.extract(*old)) {
-      path.key() = h.id;
-      latest_path_.insert(std::move(path));
-    }
-    if (history_unknown_.erase(*old)) history_unknown_.insert(h.id);
-    if (judge_absence_.erase(*old)) judge_absence_.insert(h.id);
-    present_.erase(*old);
-    heard_.erase(*old);
-    log().info(
-        "dialogue_manager: human {} continues human {} (a tracker id switch at utime {}): its "
-        "interaction goes on, no round repeated",
-        h.id, *old, agents.utime);
-    lost.erase(
-        std::remove_if(lost.begin(), lost.end(), [&](const LostTrack& l) { return l.id == *old; }),
-        lost.end());
-  }
-}
-
-void DialogueManagerNode::endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents) {
-  const std::int64_t latest = *latest_agents_utime_;
-  std::set<std::int32_t> gone;  // in id order: the order of the outputs
-  while (const IdRecency::Entry* e = present_.oldest()) {
-    if (utimeDiffSeconds(latest, e->utime) <= config_.human_gone_s) break;
-    gone.insert(e->id);
-    present_.erase(e->id);
-  }
-  // Humans whose decision began while they were already absent (the situation assessor still
-  // reported someone the tracker had lost): judged now, as every absent human.
-  for (const std::int32_t id : judge_absence_) {
-    const auto t = tracked_.find(id);
-    if (!present_.contains(id) && t != tracked_.end() &&
-        utimeDiffSeconds(latest, t->second.last_seen_utime) > config_.human_gone_s)
-      gone.insert(id);
-  }
-  judge_absence_.clear();
-  for (const std::int32_t id : gone) {
-    const auto h = humans_.find(id);
-    if (h == humans_.end() || h->second.decision.ended()) continue;
-    const double absent_s = utimeDiffSeconds(latest, tracked_.at(id).last_seen_utime);
-    const std::string why =
-        fmt::format("human {} absent from the agent states for {:.1f} s", id, absent_s);
-    const DialogueStamp stamp{agents.utime, run.step(), id};
-    emit(run, stamp, h->second.decision.endInteraction(utimeToSeconds(agents.utime), why),
-         std::nullopt);
-  }
-}
-
-void DialogueManagerNode::forgetStale(StepNode::Step& run) {
-  const auto now = clock_.now();
-  if (!now) return;
-  const double max_age_s = std::max(runtime_.limits().forget_after_s, config_.human_gone_s);
-  std::vector<std::int32_t> forgotten;  // least recent first: the aged ones, then the others
-  std::vector<std::int32_t> ended;      // of these, those whose interaction was still open
-  const IdRecency::Forgotten n = heard_.forgetOld(*now, max_age_s, maxIds(), [&](std::int32_t id) {
-    forgotten.push_back(id);
-    const auto h = humans_.find(id);
-    if (h != humans_.end() && !h->second.decision.ended()) {
-      // Never forgotten in the middle of it: the recorder is stopped and a dock resumed.
-      ended.push_back(id);
-      const DialogueStamp stamp{run.utime(), run.step(), id};
-      emit(run, stamp,
-           h->second.decision.endInteraction(utimeToSeconds(run.utime()),
-                                             "forgotten (limits.max_ids / forget_after_s)"),
-           std::nullopt, /*quiet=*/true);
-    }
-    forget(id);
-  });
-  if (forgotten.empty()) return;
-  const auto aged_end = forgotten.begin() + static_cast<std::ptrdiff_t>(n.aged);
-  log().info(
-      "dialogue_manager: forgot {} humans not heard of for {:.0f} s ({}) and {} beyond "
-      "limits.max_ids {} ({}); interactions ended: {}",
-      n.aged, max_age_s, idList({forgotten.begin(), aged_end}), n.over, maxIds(),
-      idList({aged_end, forgotten.end()}), ended.empty() ? "-" : idList(ended));
-}
-
-void DialogueManagerNode::forget(std::int32_t id) {
-  crowd_.forget(id);
-  humans_.erase(id);
-  tracked_.erase(id);
-  latest_path_.erase(id);
-  history_unknown_.erase(id);
-  judge_absence_.erase(id);
-  present_.erase(id);
-  heard_.erase(id);
-}
-
-DialogueManagerNode::Decided DialogueManagerNode::decide(
-    const StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
-    const dialogue::SituationSnapshot& situation) {
-  heard_.touch(id, clockNow(stamp.utime));
-  // See joined_late_: never a round or dock on a guess.
-  if (history_unknown_.count(id)) return {stamp, {}, situation.t_cross_s};
-  auto hit = humans_.find(id);
-  if (hit == humans_.end()) {
-    hit = humans_.emplace(id, Human(decision_config_)).first;
-    log().info("dialogue_manager: human {} seen first at step {} (t_cross {})", id, run.step(),
-               formatTCross(situation.t_cross_s));
-    if (tracked_.count(id) && !present_.contains(id)) judge_absence_.insert(id);
-  }
-  Human& h = hit->second;
-  h.last_situation = situation;
-  dialogue::DecisionInput in;
-  in.t_s = utimeToSeconds(stamp.utime);
-  in.situation = situation;
-  if (auto p = latest_path_.find(id); p != latest_path_.end()) {
-    const double age_s = utimeDiffSeconds(stamp.utime, p->second.utime);
-    if (age_s <= config_.path_max_age_s) {
-      in.path = p->second.snapshot;
-    } else if (h.stale_path_logged_utime != p->second.utime) {
-      h.stale_path_logged_utime = p->second.utime;  // once per stale assessment
-      log().warn(
-          "dialogue_manager: step {} human {}: the latest path assessment is {:.1f} s old (over "
-          "path_max_age_s {:.1f} s): CM and IsContributing unknown",
-          stamp.step, id, age_s, config_.path_max_age_s);
-    }
-  }
-  auto t = tracked_.find(id);
-  in.crossed = t != tracked_.end() && t->second.crossed.crossed;
-  in.heard_by_s = h.heard_by_s;
-  if (t != tracked_.end() && present_.contains(id) && robot_known_) {
-    // The stand-off watch sees the robot and this person as the latest agent states have them.
-    dialogue::StandOffInput m;
-    m.t_s = in.t_s;
-    m.robot_speed_m_s = robot_speed_m_s_;
-    m.human_speed_m_s = t->second.velocity_m_s.norm();
-    m.centre_distance_m = (t->second.position_m - robot_pose_.position()).norm();
-    m.gap_m = m.centre_distance_m - robot_radius_m_ - t->second.radius_m;
-    m.t_cross_s = situation.t_cross_s;
-    in.motion = m;
-  }
-  const dialogue::DecisionOutput out = h.decision.step(in);
-  for (const auto& r : out.rounds)
-    if (r.round == 2)
-      log().info(
-          "dialogue_manager: step {} human {} round 2 on CM {} m against d_h {} m, "
-          "IsContributing {}, RobotIsConstrained {}{}",
-          stamp.step, id, formatOptional(in.path.cm_window_m), formatOptional(situation.d_h_m),
-          tristateName(in.path.is_contributing), tristateName(situation.robot_is_constrained),
-          h.heard_by_s
-              ? fmt::format(" ({:.2f} s after round 1's words ended)", in.t_s - *h.heard_by_s)
-              : "");
-  return {stamp, out, situation.t_cross_s};
-}
-
-void DialogueManagerNode::emitDecided(StepNode::Step& run, std::vector<Decided>& decided) {
-  std::vector<dialogue::DecidedUtterance> utterances;
-  for (std::size_t i = 0; i < decided.size(); ++i)
-    for (std::size_t k = 0; k < decided[i].out.utterances.size(); ++k)
-      utterances.push_back({decided[i].stamp.human_id, decided[i].out.utterances[k],
-                            (i << 16) | k});  // ≤ 64 k utterances per decision: never near
-  std::vector<dialogue::CoordinatedUtterance> coordinated;
-  if (!utterances.empty()) {
-    std::vector<dialogue::CrowdMember> scene;
-    for (const auto& [id, t] : tracked_)
-      if (present_.contains(id)) scene.push_back({id, t.position_m, t.velocity_m_s});
-    bool making_room = false;
-    for (const auto& [id, h] : humans_)
-      making_room = making_room || h.decision.docked() || h.last_situation.robot_retreating;
-    coordinated = crowd_.coordinate(robot_pose_, scene, std::move(utterances), making_room);
-  }
-  for (std::size_t i = 0; i < decided.size(); ++i) {
-    std::vector<const dialogue::CoordinatedUtterance*> mine(decided[i].out.utterances.size());
-    for (const auto& c : coordinated)
-      if ((c.tag >> 16) == i) mine[c.tag & 0xffff] = &c;
-    emit(run, decided[i].stamp, decided[i].out, decided[i].t_cross_s, false, &mine);
-  }
-}
-
 // ---- output ----
 
-void DialogueManagerNode::emit(
-    StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
-    std::optional<double> t_cross_s, bool quiet,
-    const std::vector<const dialogue::CoordinatedUtterance*>* coordinated) {
-  std::string why;
-  for (const auto& r : out.rounds) {
-    if (!quiet)
-      log().log(r.degraded ? spdlog::level::warn : spdlog::level::info,
-                "dialogue_manager: step {} human {} round {} (t_cross {}): {}{}{}", stamp.step,
-                stamp.human_id, r.round, formatTCross(r.t_cross_s), r.branch,
-                r.reason.empty() ? "" : "; ", r.reason);
-    if (why.empty())
-      why = (r.round > 0 ? "round " + std::to_string(r.round) + ": " : std::string()) + r.branch +
-            (r.reason.empty() ? "" : " (" + r.reason + ")");
+void DialogueManagerNode::publish(StepNode::Step& run, const dialogue::SessionOutput& out) {
+  for (const auto& n : out.notes) {
+    const auto level = n.level == dialogue::SessionNote::Level::kWarn   ? spdlog::level::warn
+                       : n.level == dialogue::SessionNote::Level::kInfo ? spdlog::level::info
+                                                                        : spdlog::level::debug;
+    log().log(level, "dialogue_manager: {}", n.text);
   }
-  // The reasons hold the situation assessor's text: published on no longer than it is kept.
-  why = keptText(std::move(why), maxTextBytes());
-  // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
-  const double t_s = utimeToSeconds(stamp.utime);
-  for (std::size_t k = 0; k < out.utterances.size(); ++k) {
-    const dialogue::CoordinatedUtterance* c =
-        coordinated && k < coordinated->size() ? (*coordinated)[k] : nullptr;
-    dialogue::Utterance u = c ? c->utterance : out.utterances[k];
-    const std::vector<std::int32_t> group = c ? c->group : std::vector<std::int32_t>{};
-    const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
-    // Words that end a stand-off have no crossing to be late for: nobody is going yet.
-    const bool has_deadline = !dialogue::endsStandOff(u.act);
-    if (c && c->verdict != dialogue::CrowdVerdict::kSay) {
-      // Decided, not said (crowd.hpp): published all the same, as every decided utterance is.
-      dialogue::SpeechSlot slot;
-      slot.delivery = c->verdict == dialogue::CrowdVerdict::kToldToGroup
-                          ? dialogue::Delivery::kToldToGroup
-                          : dialogue::Delivery::kContradicts;
-      slot.duration_s = 0.0;
-      run.publish(channels::kUtterance, toLcm(stamp, u, t, slot, group));
-      log().info("dialogue_manager: not said to human {}: \"{}\" ({}, round {}): {}",
-                 stamp.human_id, u.text, dialogue::toString(u.act), u.round, c->reason);
-      continue;
-    }
-    // A cue is worth saying only if its words end before the crossing; thanks have no deadline.
-    const std::optional<double> deadline_s =
-        has_deadline && t && std::isfinite(*t) ? std::optional<double>(t_s + *t) : std::nullopt;
-    // Short of time, a making-room sentence is said in its shorter wording rather than not at all.
-    const std::vector<std::string> wordings = dialogue::wordings(config_.templates, u);
-    std::vector<double> durations_s;
-    durations_s.reserve(wordings.size());
-    for (const auto& w : wordings) durations_s.push_back(speechDuration(w));
-    const double free_in_s = std::max(0.0, voice_.freeAt() - t_s);
-    // Words announcing that the robot makes room, or goes first, change what the person was
-    // told: they cut the words being said rather than be lost behind them (issue 44).
-    const bool changes_action =
-        config_.interrupt_for_change &&
-        (dialogue::announcesMakingRoom(u.act) || dialogue::endsStandOff(u.act));
-    const auto choice =
-        voice_.planFirstFitting(t_s, durations_s, deadline_s, config_.muted, changes_action);
-    const dialogue::SpeechSlot slot = choice.slot;
-    if (slot.interrupts_s > 0.0) {
-      log().info(
-          "dialogue_manager: to human {}: \"{}\" interrupts the words being said ({:.2f} s "
-          "before their end)",
-          stamp.human_id, wordings[choice.index], slot.interrupts_s);
-    }
-    if (choice.index > 0) {
-      log().info(
-          "dialogue_manager: to human {}: \"{}\" ({:.2f} s) would end {:.2f} s after the "
-          "crossing: said as \"{}\"",
-          stamp.human_id, u.text, durations_s[0],
-          t_s + free_in_s + durations_s[0] - deadline_s.value_or(t_s), wordings[choice.index]);
-      u.text = wordings[choice.index];
-    }
-    run.publish(channels::kUtterance, toLcm(stamp, u, t, slot, group));
-    switch (slot.delivery) {
-      case dialogue::Delivery::kToldToGroup:
-      case dialogue::Delivery::kContradicts:
-        break;  // never planned by the voice
-      case dialogue::Delivery::kSaid:
-        // The group hears it too: its round 2 judges them from when the words ended.
-        for (const std::int32_t id : group)
-          if (const auto h = humans_.find(id); h != humans_.end())
-            h->second.heard_by_s = t_s + slot.end_s();
-        if (const auto h = humans_.find(stamp.human_id); h != humans_.end())
-          h->second.heard_by_s = t_s + slot.end_s();
-        log().info("dialogue_manager: to human {}: \"{}\" ({}, round {}; {:.2f} s{})",
-                   stamp.human_id, u.text, dialogue::toString(u.act), u.round, slot.duration_s,
-                   slot.start_s > 0.0 ? fmt::format(", after {:.2f} s", slot.start_s) : "");
-        speech_pending_.push_back(
-            {u.text, fmt::format("u{}_h{}_r{}_{}", stamp.utime, stamp.human_id, u.round,
-                                 dialogue::toString(u.act))});
-        break;
-      case dialogue::Delivery::kMuted:
-        log().info("dialogue_manager: muted: not said to human {}: \"{}\" ({}, round {})",
-                   stamp.human_id, u.text, dialogue::toString(u.act), u.round);
-        break;
-      case dialogue::Delivery::kTooLate:
-        log().info(
-            "dialogue_manager: not said to human {}: \"{}\" ({}, round {}): its {:.2f} s of "
-            "speech would end {:.2f} s after the crossing",
-            stamp.human_id, u.text, dialogue::toString(u.act), u.round, slot.duration_s,
-            t_s + slot.end_s() - deadline_s.value_or(t_s));
-        break;
-    }
-  }
-  for (const auto a : out.robot_actions) {
-    run.publish(channels::kRobotAction, toLcm(stamp, a, why));
-    log().info("dialogue_manager: robot action {} for human {}", dialogue::toString(a),
-               stamp.human_id);
-  }
-  for (const auto c : out.recorder_commands) {
-    const bool start = c == dialogue::RecorderCommand::kStart;
-    const RecorderControl control{stamp.utime,
-                                  stamp.step,
-                                  stamp.human_id,
-                                  c,
-                                  why,
-                                  start ? out.start_d_oh_m : std::nullopt,
-                                  start ? out.start_d_h_m : std::nullopt};
-    run.publish(channels::kPathAssessorControl, toLcm(control));
-    log().debug("dialogue_manager: recorder {} for human {}", dialogue::toString(c),
-                stamp.human_id);
-  }
+  // In the session's order (docs/lockstep.md row 4). The reasons hold the situation assessor's
+  // text: published on no longer than it is kept.
+  for (const auto& m : out.messages)
+    std::visit(
+        [&](const auto& o) {
+          using T = std::decay_t<decltype(o)>;
+          const DialogueStamp stamp{o.stamp.utime, o.stamp.step, o.stamp.human_id};
+          if constexpr (std::is_same_v<T, dialogue::UtteranceOut>) {
+            run.publish(channels::kUtterance,
+                        toLcm(stamp, o.utterance, o.t_cross_s, o.slot, o.group));
+          } else if constexpr (std::is_same_v<T, dialogue::RobotActionOut>) {
+            run.publish(channels::kRobotAction,
+                        toLcm(stamp, o.action, keptText(o.why, maxTextBytes())));
+          } else {
+            run.publish(channels::kPathAssessorControl,
+                        toLcm(RecorderControl{stamp.utime, stamp.step, stamp.human_id, o.command,
+                                              keptText(o.why, maxTextBytes()), o.d_oh_m, o.d_h_m}));
+          }
+        },
+        m);
+  speech_pending_.insert(speech_pending_.end(), out.speak.begin(), out.speak.end());
 }
 
 }  // namespace coopnav

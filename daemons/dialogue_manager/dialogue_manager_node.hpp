@@ -1,17 +1,17 @@
 #pragma once
-/// @file Dialogue manager: the decision pipeline of paper §II-D run per human (lib/dialogue's
-/// HumanDecision), fed by the situation and path assessors, emitting utterances, robot actions
-/// and path-assessor controls. In lockstep it acts on step k once situation_assessor and
-/// path_assessor have acknowledged k (docs/lockstep.md row 4), then acknowledges k; free-running
-/// (step -1) it acts on each situation with the latest path assessment of that human.
+/// @file Dialogue manager: the decision pipeline of paper §II-D run per human, fed by the
+/// situation and path assessors, emitting utterances, robot actions and path-assessor controls.
+/// The node decodes and files each input under its step, hands the step to lib/dialogue's
+/// Session (the multi-person logic: one record per person) and publishes what it returns. In
+/// lockstep it acts on step k once situation_assessor and path_assessor have acknowledged k
+/// (docs/lockstep.md row 4), then acknowledges k; free-running (step -1) it acts on each
+/// situation with the latest path assessment of that human.
 
-#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <vector>
 
@@ -19,11 +19,11 @@
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/crowd.hpp"
 #include "coopnav/dialogue/decision.hpp"
+#include "coopnav/dialogue/session.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/path_assessment_t.hpp"
 #include "coopnav/situation_t.hpp"
 #include "coopnav/step_ack_t.hpp"
-#include "runtime/id_recency.hpp"
 #include "runtime/limits.hpp"
 #include "runtime/message_clock.hpp"
 #include "runtime/runtime.hpp"
@@ -106,14 +106,10 @@ struct DialogueManagerConfig {
   double crossing_range_m{dialogue::DecisionConfig{}.crossing_range_m};
   CrowdConfigYaml crowd;
   StandOffConfigYaml stand_off;
-  double crossed_hysteresis_m{0.2};
-  double human_gone_s{2.0};
-  /// [s] A path assessment older than this (message time, against the situation decided on) is
-  /// not acted on: CM and IsContributing are unknown (round 2 then takes its precautionary
-  /// dock, or stays silent). The path assessor publishes every planning cycle (10 Hz); a
-  /// lockstep run never sees an older one (each step waits for it), a free-running one does
-  /// when the path assessor or its host is gone.
-  double path_max_age_s{0.5};
+  double crossed_hysteresis_m{dialogue::SessionConfig{}.crossed_hysteresis_m};
+  double human_gone_s{dialogue::SessionConfig{}.human_gone_s};
+  /// [s] A path assessment older than this is not acted on (dialogue::SessionConfig).
+  double path_max_age_s{dialogue::SessionConfig{}.path_max_age_s};
   int gate_timeout_ms{2000};
   bool gate_wait_for_unseen{true};
   /// The path assessment profile acted on (path_assessment_t.profile; config/path_assessor.yaml
@@ -160,6 +156,7 @@ struct DialogueManagerConfig {
     v("limits", limits);
   }
   dialogue::DecisionConfig decisionConfig() const;
+  dialogue::SessionConfig sessionConfig() const;
   /// speech.wav_dir and a speech.program with a '/' are relative to the config file's folder.
   void resolvePaths(const std::string& base_dir);
 };
@@ -173,61 +170,28 @@ class DialogueManagerNode {
   DialogueManagerNode(const Config& config, Runtime& runtime);
 
   /// For tests: the decision of human `id`, or nullptr before its first situation.
-  const dialogue::HumanDecision* decision(std::int32_t id) const;
+  const dialogue::HumanDecision* decision(std::int32_t id) const { return session_.decision(id); }
   std::size_t pendingSteps() const { return steps_->pending(); }
   const SpeechOutput& speech() const { return speech_; }
   /// How long saying `text` takes [s]: measured with the speech program at start when speech is
   /// on, else estimated (dialogue::estimateSpeechDuration).
-  double speechDuration(const std::string& text) const;
-  /// For tests: ids with per-id state (a decision, a crossed tracker or a path assessment).
-  std::size_t idsKept() const { return heard_.size(); }
+  double speechDuration(const std::string& text) const { return session_.speechDuration(text); }
+  /// For tests: ids with per-id state (a decision, a position or a path assessment).
+  std::size_t idsKept() const { return session_.idsKept(); }
   /// For tests: decisions kept (one per human).
-  std::size_t humansKept() const { return humans_.size(); }
+  std::size_t humansKept() const { return session_.humansKept(); }
   /// For tests: the longest text from a message kept (a situation's reason) [bytes].
   std::size_t longestKeptTextBytes() const;
 
  private:
-  /// A path assessment and its message time: one older than path_max_age_s is not acted on.
-  struct StampedPath {
-    dialogue::PathSnapshot snapshot;
-    std::int64_t utime{0};
-  };
-  /// Everything received for one step, applied in one go when the gate lets the step run.
-  struct SituationIn {
-    DialogueStamp stamp;
-    dialogue::SituationSnapshot snapshot;
-  };
+  /// Everything received for one step, handed to the session in one go when the gate lets the
+  /// step run.
   struct StepInputs {
-    std::optional<AgentStatesSnapshot> agents;
-    std::map<std::int32_t, StampedPath> paths;
-    std::map<std::int32_t, SituationIn> situations;
-    std::int64_t utime{0};  ///< the step's input time (first message of it, or the clock's)
-    bool has_utime{false};
+    dialogue::SessionInput in;
+    bool has_utime{false};  ///< in.utime is set (first message of the step, or the clock's)
   };
-  struct Human {
-    explicit Human(const dialogue::DecisionConfig& c) : decision(c) {}
-    dialogue::HumanDecision decision;
-    dialogue::SituationSnapshot last_situation;
-    std::optional<double> heard_by_s;          ///< [s] when the words said to it so far have ended
-    std::int64_t stale_path_logged_utime{-1};  ///< the stale assessment last warned about
-  };
-  struct Tracked {
-    dialogue::CrossedTracker crossed;
-    std::int64_t last_seen_utime{0};         ///< set when the human is first seen
-    Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
-    Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
-    double radius_m{0.3};                    ///< [m] as last seen
-  };
-  /// A new id where a human with an interaction (open or ended) was lost and heading: the
-  /// tracker switched ids (lib/geometry/track_continuity.hpp); the interaction goes on under the
-  /// new id.
-  void continueSwitchedIds(const AgentStatesSnapshot& agents);
   /// Files a converted input into its step's bucket (may throw RejectedMessage: over a cap).
   using Store = std::function<void(StepInputs&)>;
-  struct SpeechItem {
-    std::string text;
-    std::string wav_stem;
-  };
 
   /// Measures every template text with the speech program (start-up, speech on).
   void measureTemplates();
@@ -249,84 +213,34 @@ class DialogueManagerNode {
                  const std::string& key, Convert convert);
   /// Schedules the work of `step`, whose inputs are being filed in inputs_[step].
   void schedule(std::int64_t step);
-  /// Offers a message's utime to the clock: true when the message may be used; false when it is
-  /// stamped too far from the clock (the caller rejects it). A resync re-bases the per-id times.
-  bool clockAccepts(std::int64_t utime);
+  /// The message clock resynchronised at `utime`: the per-id times are re-based on it.
+  void onResync(std::int64_t utime);
   /// `utime` if the clock has none or it is within limits.max_time_jump_s of it, else the clock's
   /// time (an ack stamped far off never stamps a step).
   std::int64_t nearClock(std::int64_t utime) const;
-  /// The clock's time; `fallback` before any input was accepted.
-  std::int64_t clockNow(std::int64_t fallback) const { return clock_.now().value_or(fallback); }
   std::size_t maxIds() const { return static_cast<std::size_t>(runtime_.limits().max_ids); }
   std::size_t maxTextBytes() const { return runtime_.limits().maxTextBytes(); }
   void runStep(StepNode::Step& run);
-  void process(StepNode::Step& run, StepInputs& in);
-  /// What one human's decision produced at this step, emitted once every human has decided (the
-  /// crowd logic judges their utterances together).
-  struct Decided {
-    DialogueStamp stamp;
-    dialogue::DecisionOutput out;
-    std::optional<double> t_cross_s;
-  };
-  Decided decide(const StepNode::Step& run, std::int32_t id, const DialogueStamp& stamp,
-                 const dialogue::SituationSnapshot& situation);
-  /// Emits the step's decisions, their utterances addressed, told once per group and never
-  /// contradicting each other (lib/dialogue/crowd.hpp).
-  void emitDecided(StepNode::Step& run, std::vector<Decided>& decided);
-  /// Ends the interaction of every human absent from the agent states for human_gone_s.
-  void endAbsent(StepNode::Step& run, const AgentStatesSnapshot& agents);
-  /// Forgets ids not heard of for limits.forget_after_s (message time) and the least recently
-  /// heard of beyond limits.max_ids; a human whose interaction is still open has it ended first
-  /// (recorder stopped, a dock resumed). One log line per batch.
-  void forgetStale(StepNode::Step& run);
-  void forget(std::int32_t id);
-  /// `quiet`: no log line per round (an interaction ended by forgetting it: one line per batch).
-  /// `coordinated`: per utterance of `out`, what the crowd logic made of it (nullptr: said as
-  /// decided, to nobody else).
-  void emit(StepNode::Step& run, const DialogueStamp& stamp, const dialogue::DecisionOutput& out,
-            std::optional<double> t_cross_s, bool quiet = false,
-            const std::vector<const dialogue::CoordinatedUtterance*>* coordinated = nullptr);
+  /// Publishes what the session decided, in its order, and logs its notes.
+  void publish(StepNode::Step& run, const dialogue::SessionOutput& out);
 
   Config config_;
-  dialogue::DecisionConfig decision_config_;
   Runtime& runtime_;
   std::int64_t last_done_step_{-1};  ///< latest lockstep step acted on
-  /// Joined a run after its step 0 without a journal (a restart that lost its state): the humans
-  /// already there may have heard rounds this process does not know of, so it decides nothing
-  /// for them (no repeated round, no dock on a guess) and says so.
-  bool joined_late_{false};
+  /// A first live step after 0 without a journal is a restart that lost its state: the session
+  /// is told (Session::joinLate) and decides nothing for the humans already there.
   bool first_step_seen_{false};
-  std::set<std::int32_t> history_unknown_;
   SpeechOutput speech_;
-  /// Measured durations of every template text (both sides), when speech is on.
-  std::map<std::string, double> measured_s_;
-  /// The robot's one voice: when each utterance starts, and whether it is said at all.
-  dialogue::SpeechTimeline voice_;
   std::map<std::int64_t, StepInputs> inputs_;  ///< per step: its inputs until it runs
   std::int64_t newest_step_{-1};
-  std::map<std::int32_t, Human> humans_;
-  std::map<std::int32_t, Tracked> tracked_;
-  std::map<std::int32_t, StampedPath> latest_path_;
-  dialogue::CrowdConversation crowd_;
-  Pose2 robot_pose_;             ///< as last seen in the agent states (where "on my left" is)
-  double robot_speed_m_s_{0.0};  ///< [m/s] as last seen (the stand-off watch)
-  double robot_radius_m_{0.0};   ///< [m] as last seen
-  bool robot_known_{false};      ///< agent states were seen
+  /// Everyone in the scene, one record per person: the logic of a step.
+  dialogue::Session session_;
   /// The time of every input, guarded: a message stamped far from it is rejected, so one
   /// situation stamped INT64_MAX cannot pin the times below (docs/bad-inputs.md "Caps").
   MessageClock clock_;
   /// The assessors' acked steps: one far off the others is refused (onStepAck).
   JumpGuard ack_steps_;
-  /// Every id with per-id state (humans_, tracked_, latest_path_, history_unknown_), by when it
-  /// was last heard of on any input: the order in which ids are forgotten.
-  IdRecency heard_;
-  /// Ids seen in the agent states whose absence was not yet handled, by when last seen.
-  IdRecency present_;
-  /// Humans whose decision began while they were absent from the agent states: their absence is
-  /// judged at the next agent states (they are not in present_).
-  std::set<std::int32_t> judge_absence_;
-  std::optional<std::int64_t> latest_agents_utime_;
-  std::vector<SpeechItem> speech_pending_;
+  std::vector<dialogue::SpeechRequest> speech_pending_;
   bool degraded_{false};
   /// Last: steps still held when the node goes away are not acknowledged.
   std::unique_ptr<StepNode> steps_;

@@ -107,30 +107,22 @@ PathAssessorNode::Human& PathAssessorNode::human(std::int32_t id) {
 void PathAssessorNode::hear(std::int32_t id) { recency_.touch(id, clock_.now().value_or(0)); }
 
 void PathAssessorNode::offerTime(std::int64_t utime, const char* what) {
-  switch (clock_.offer(utime)) {
-    case MessageClock::Verdict::kJump:
-      // One message stamped INT64_MAX must not become the time base (every later observation
-      // would be "before" it and ignored) nor age every human out.
-      throw RejectedMessage(std::string(what) + ": " + clock_.describe(utime) +
-                            " (over limits.max_time_jump_s)");
-    case MessageClock::Verdict::kResynced:
-      // A new time line (a new run, a restarted simulator, or a clock one bad first message had
-      // set): the recorders' times are on the old one and cannot be compared with it.
-      log().info(
-          "path_assessor: message time resynced to {}: forgetting the {} humans of the previous "
-          "time",
-          utime, humans_.size());
-      humans_.clear();
-      recency_.clear();
-      base_utime_ = utime;
-      ++time_line_;
-      break;
-    case MessageClock::Verdict::kAccepted:
-      if (!base_utime_) base_utime_ = utime;
-      break;
-    case MessageClock::Verdict::kBackwards:  // as before: each recorder ignores what is not new
-      break;
-  }
+  // A jump is rejected: one message stamped INT64_MAX must not become the time base (every later
+  // observation would be "before" it and ignored) nor age every human out. A message a little
+  // behind is used as before: each recorder ignores what is not new.
+  const bool ahead = clock_.take(utime, what, [&] {
+    // A new time line (a new run, a restarted simulator, or a clock one bad first message had
+    // set): the recorders' times are on the old one and cannot be compared with it.
+    log().info(
+        "path_assessor: message time resynced to {}: forgetting the {} humans of the previous "
+        "time",
+        utime, humans_.size());
+    humans_.clear();
+    recency_.clear();
+    base_utime_ = utime;
+    ++time_line_;
+  });
+  if (ahead && !base_utime_) base_utime_ = utime;
 }
 
 void PathAssessorNode::forgetHumans() {

@@ -77,26 +77,19 @@ void SituationAssessorNode::onReferencePaths(const reference_paths_t& msg) {
 
 void SituationAssessorNode::storeReferencePaths(const reference_paths_t& msg) {
   const ReferencePaths paths = fromLcm(msg);  // throws RejectedMessage (NaN, bad counts)
-  switch (clock_.offer(paths.utime)) {
-    case MessageClock::Verdict::kJump:
-      // One message stamped INT64_MAX must not make every later path look stale, nor keep its
-      // paths for ever (they would age against its own time).
-      throw RejectedMessage("reference paths: " + clock_.describe(paths.utime) +
-                            " (over limits.max_time_jump_s)");
-    case MessageClock::Verdict::kResynced:
-      // A new time line (a new run, a restarted band source, or a clock one bad message had
-      // set): paths stamped on the old one can be neither compared nor aged against it.
-      log().info(
-          "situation_assessor: reference paths' time resynced to {}: forgetting the {} paths "
-          "stored on the previous time",
-          paths.utime, references_.size());
-      references_.clear();
-      recency_.clear();
-      break;
-    case MessageClock::Verdict::kBackwards:  // reordered: stored, the revision check decides
-    case MessageClock::Verdict::kAccepted:
-      break;
-  }
+  // A jump is rejected: one message stamped INT64_MAX must not make every later path look stale,
+  // nor keep its paths for ever (they would age against its own time). Reordered ones are
+  // stored: the revision check decides.
+  clock_.take(paths.utime, "reference paths", [&] {
+    // A new time line (a new run, a restarted band source, or a clock one bad message had set):
+    // paths stamped on the old one can be neither compared nor aged against it.
+    log().info(
+        "situation_assessor: reference paths' time resynced to {}: forgetting the {} paths "
+        "stored on the previous time",
+        paths.utime, references_.size());
+    references_.clear();
+    recency_.clear();
+  });
   const std::int64_t now_utime = *clock_.now();
   for (const auto& e : paths.paths) {
     auto it = references_.find(e.agent_id);

@@ -278,19 +278,9 @@ void SceneModel::forgetOld() {
 
 void SceneModel::apply(const agent_states_t& msg) {
   AgentStatesSnapshot s = fromLcm(msg);  // throws RejectedMessage (NaN, counts, ids)
-  switch (clock_.offer(s.utime)) {
-    case MessageClock::Verdict::kJump:
-      throw RejectedMessage("agent states: " + clock_.describe(s.utime) +
-                            " (over limits.max_time_jump_s)");
-    case MessageClock::Verdict::kBackwards:
-      throw DroppedMessage("agent states: older than the scene");
-    case MessageClock::Verdict::kResynced:
-      // A new run (or a restarted simulator): what was drawn belongs to the old time line.
-      newTimeLine();
-      break;
-    case MessageClock::Verdict::kAccepted:
-      break;
-  }
+  // A resync is a new run (or a restarted simulator): what was drawn belongs to the old time line.
+  if (!clock_.take(s.utime, "agent states", [&] { newTimeLine(); }))
+    throw DroppedMessage("agent states: older than the scene");
   states_ = std::move(s);
   forgetOld();
 }

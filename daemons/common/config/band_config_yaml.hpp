@@ -1,7 +1,8 @@
 #pragma once
 /// @file YAML views of the band planner's and the dock mode machine's lib/ configs. lib/ stays free
-/// of YAML and of the config visitor, so these adapters visit the lib structs' own fields: the lib
-/// structs' in-class initialisers stay the only defaults, and the planner's own validate() is the
+/// of YAML and of the config visitor; the planner's keys are declared once, in the lib structs'
+/// forEachKey (name, field, range), which these adapters read and the planner's validate()
+/// checks: the lib structs' in-class initialisers stay the only defaults, and validate() is the
 /// only range check of its keys (its errors are reported through the visitor's require(), under
 /// the same dotted key names as in the YAML).
 ///
@@ -20,21 +21,17 @@
 
 namespace coopnav {
 
+/// Reads the keys the lib structs declare (forEachKey): a nested mapping through its own view,
+/// a string with its choices; ranges are validate()'s (reported by BandPlannerConfigYaml).
+template <class V>
+struct BandKeysYaml;
+
 /// Visits an AgentKinematics it points to (keys as the field names).
 struct AgentKinematicsYaml {
   AgentKinematics* k{nullptr};
   template <class V>
   void visit(V& v) {
-    v("holonomic", k->holonomic);
-    v("max_vel_x_m_s", k->max_vel_x_m_s);
-    v("max_vel_x_backwards_m_s", k->max_vel_x_backwards_m_s);
-    v("max_vel_y_m_s", k->max_vel_y_m_s);
-    v("max_vel_theta_rad_s", k->max_vel_theta_rad_s);
-    v("acc_lim_x_m_s2", k->acc_lim_x_m_s2);
-    v("acc_lim_y_m_s2", k->acc_lim_y_m_s2);
-    v("acc_lim_theta_rad_s2", k->acc_lim_theta_rad_s2);
-    v("min_nominal_vel_m_s", k->min_nominal_vel_m_s);
-    v("radius_m", k->radius_m);
+    AgentKinematics::forEachKey(*k, BandKeysYaml<V>{v});
   }
 };
 
@@ -43,19 +40,28 @@ struct BandWeightsYaml {
   BandWeights* w{nullptr};
   template <class V>
   void visit(V& v) {
-    v("max_vel_x", w->max_vel_x);
-    v("max_vel_y", w->max_vel_y);
-    v("max_vel_theta", w->max_vel_theta);
-    v("acc_lim_x", w->acc_lim_x);
-    v("acc_lim_y", w->acc_lim_y);
-    v("acc_lim_theta", w->acc_lim_theta);
-    v("nominal_vel", w->nominal_vel);
-    v("optimaltime", w->optimaltime);
-    v("viapoint", w->viapoint);
-    v("obstacle", w->obstacle);
-    v("kinematics_nh", w->kinematics_nh);
-    v("kinematics_nh_diff_drive", w->kinematics_nh_diff_drive);
-    v("kinematics_forward_drive", w->kinematics_forward_drive);
+    BandWeights::forEachKey(*w, BandKeysYaml<V>{v});
+  }
+};
+
+template <class V>
+struct BandKeysYaml {
+  V& v;
+  template <class T>
+  void operator()(const char* key, T& field, const KeyRange& /*checked by validate()*/) const {
+    v(key, field);
+  }
+  void operator()(const char* key, std::string& field, const KeyChoices& choices) const {
+    v(key, field, OneOf{choices.values});
+  }
+  void operator()(const char* key, bool& flag) const { v(key, flag); }
+  void operator()(const char* key, AgentKinematics& k) const {
+    AgentKinematicsYaml view{&k};
+    v(key, view);
+  }
+  void operator()(const char* key, BandWeights& w) const {
+    BandWeightsYaml view{&w};
+    v(key, view);
   }
 };
 
@@ -65,50 +71,8 @@ struct BandPlannerConfigYaml {
 
   template <class V>
   void visit(V& v) {
-    BandPlannerConfig& c = config;
-    v("dt_ref_s", c.dt_ref_s);
-    v("dt_hysteresis_s", c.dt_hysteresis_s);
-    v("min_samples", c.min_samples);
-    v("max_samples", c.max_samples);
-    v("dt_min_s", c.dt_min_s);
-    v("max_plan_length_m", c.max_plan_length_m);
-    v("other_horizon_s", c.other_horizon_s);
-    v("max_planned_others", c.max_planned_others);
-    v("no_inner_iterations", c.no_inner_iterations);
-    v("no_outer_iterations", c.no_outer_iterations);
-    v("weight_adapt_factor", c.weight_adapt_factor);
-    v("initial_damping_scale", c.initial_damping_scale);
-    v("penalty_epsilon", c.penalty_epsilon);
-    v("warm_start", c.warm_start);
-    v("solver", c.solver, OneOf{{"sparse_lm", "ceres"}});
-    v("warm_start_reset_dist_m", c.warm_start_reset_dist_m);
-    AgentKinematicsYaml robot{&c.robot};
-    AgentKinematicsYaml human{&c.human};
-    v("robot", robot);
-    v("human", human);
-    BandWeightsYaml planning{&c.planning_weights};
-    BandWeightsYaml other{&c.other_weights};
-    v("planning_weights", planning);
-    v("other_weights", other);
-    v("min_obstacle_dist_m", c.min_obstacle_dist_m);
-    v("min_agent_robot_dist_m", c.min_agent_robot_dist_m);
-    v("min_agent_agent_dist_m", c.min_agent_agent_dist_m);
-    v("weight_agent_robot_safety", c.weight_agent_robot_safety);
-    v("weight_agent_agent_safety", c.weight_agent_agent_safety);
-    v("rel_vel_cost_threshold", c.rel_vel_cost_threshold);
-    v("weight_agent_robot_rel_vel", c.weight_agent_robot_rel_vel);
-    v("rel_vel_activation_dist_m", c.rel_vel_activation_dist_m);
-    v("safety_activation_dist_m", c.safety_activation_dist_m);
-    v("symmetry_break_offset_m", c.symmetry_break_offset_m);
-    v("init_planning_band_aside", c.init_planning_band_aside);
-    v("xy_goal_tolerance_m", c.xy_goal_tolerance_m);
-    v("yaw_goal_tolerance_rad", c.yaw_goal_tolerance_rad);
-    v("free_goal_heading", c.free_goal_heading);
-    v("global_resolution_m", c.global_resolution_m);
-    v("global_clearance_pref_m", c.global_clearance_pref_m);
-    v("global_clearance_weight", c.global_clearance_weight);
-    v("global_replan_dist_m", c.global_replan_dist_m);
-    for (const auto& e : c.validate()) {
+    BandPlannerConfig::forEachKey(config, BandKeysYaml<V>{v});
+    for (const auto& e : config.validate()) {
       v.require(false, e.key,
                 "= " + formatValue(e.value) + " is outside the allowed range " + e.allowed);
     }

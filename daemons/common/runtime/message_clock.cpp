@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "runtime/runtime.hpp"
+
 namespace coopnav {
 namespace {
 
@@ -51,6 +53,22 @@ std::string MessageClock::describe(std::int64_t utime) const {
   const double gap_s = gap(utime, *now()) * 1e-6;
   return "utime " + std::to_string(utime) + " is " + std::to_string(std::fabs(gap_s)) + " s " +
          (gap_s >= 0.0 ? "after" : "before") + " the clock " + std::to_string(*now());
+}
+
+bool MessageClock::take(std::int64_t utime, const std::string& what,
+                        const std::function<void()>& on_resync) {
+  switch (offer(utime)) {
+    case Verdict::kJump:
+      throw RejectedMessage(what + ": " + describe(utime) + " (over limits.max_time_jump_s)");
+    case Verdict::kResynced:
+      if (on_resync) on_resync();
+      return true;
+    case Verdict::kBackwards:
+      return false;
+    case Verdict::kAccepted:
+      return true;
+  }
+  return true;
 }
 
 }  // namespace coopnav

@@ -3,6 +3,7 @@
 /// (docs/bad-inputs.md "Caps").
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -46,6 +47,15 @@ class MessageClock : public JumpGuard {
 
   /// Text for a log line or an exception: "utime U is N s after / before the clock C".
   std::string describe(std::int64_t utime) const;
+
+  /// The one verdict switch of every daemon: offers the utime of a message (`what` names it in
+  /// the error). A jump is rejected: throws RejectedMessage "<what>: <describe> (over
+  /// limits.max_time_jump_s)", so one message stamped INT64_MAX cannot become the time base. A
+  /// resync calls `on_resync` (a new time line: the caller forgets or restamps what it kept on
+  /// the old one). Returns true when the message is at or after the clock (or resynced it),
+  /// false when it is a little behind it (reordered or repeated: the caller uses or drops it).
+  bool take(std::int64_t utime, const std::string& what,
+            const std::function<void()>& on_resync = {});
 };
 
 }  // namespace coopnav

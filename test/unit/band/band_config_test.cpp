@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+#include <string>
+#include <vector>
+
 namespace coopnav {
 namespace {
 
@@ -58,6 +63,41 @@ TEST(BandPlannerConfigTest, DampingStartScaleIsOffByDefaultAndNotNegative) {
   const auto errors = c.validate();
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].key, "initial_damping_scale");
+}
+
+/// Breaks every numeric key (NaN; out of range for an integer) and records its dotted name.
+struct BreakEveryKey {
+  std::vector<std::string>& names;
+  std::string prefix;
+  void operator()(const char* key, double& v, const KeyRange&) const {
+    v = std::numeric_limits<double>::quiet_NaN();
+    names.push_back(prefix + key);
+  }
+  void operator()(const char* key, int& v, const KeyRange&) const {
+    v = -1000000;
+    names.push_back(prefix + key);
+  }
+  void operator()(const char*, std::string&, const KeyChoices&) const {}
+  void operator()(const char*, bool&) const {}
+  void operator()(const char* key, AgentKinematics& k) const {
+    AgentKinematics::forEachKey(k, BreakEveryKey{names, prefix + key + "."});
+  }
+  void operator()(const char* key, BandWeights& w) const {
+    BandWeights::forEachKey(w, BreakEveryKey{names, prefix + key + "."});
+  }
+};
+
+TEST(BandPlannerConfigTest, EveryNumericKeyIsDeclaredOnceAndValidateChecksExactlyThose) {
+  BandPlannerConfig c;
+  std::vector<std::string> names;
+  BandPlannerConfig::forEachKey(c, BreakEveryKey{names, ""});
+  EXPECT_EQ(names.size(), 30U + 2 * 9 + 2 * 13);  // top level, robot/human, the two weight sets
+  std::vector<std::string> sorted = names;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(std::adjacent_find(sorted.begin(), sorted.end()), sorted.end()) << "a key twice";
+  std::vector<std::string> rejected;
+  for (const auto& e : c.validate()) rejected.push_back(e.key);
+  EXPECT_EQ(rejected, names);
 }
 
 }  // namespace

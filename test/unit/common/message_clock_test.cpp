@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <string>
+
+#include "runtime/runtime.hpp"
 
 namespace coopnav {
 namespace {
@@ -62,6 +65,29 @@ TEST(MessageClockTest, AnInClockMessageBreaksARunOfFarOnes) {
   EXPECT_EQ(clock.offer(kS), V::kAccepted);  // the run is broken
   EXPECT_EQ(clock.offer(1002 * kS), V::kJump);
   EXPECT_EQ(*clock.now(), kS);
+}
+
+TEST(MessageClockTest, TakeRejectsAJumpCallsBackOnAResyncAndTellsBehind) {
+  MessageClock clock(60.0, 2);
+  int resyncs = 0;
+  const auto resync = [&] { ++resyncs; };
+  EXPECT_TRUE(clock.take(10 * kS, "agent states", resync));
+  EXPECT_TRUE(clock.take(11 * kS, "agent states", resync));
+  EXPECT_FALSE(clock.take(10 * kS, "agent states", resync));  // a little behind: the caller's call
+  try {
+    clock.take(1000 * kS, "agent states", resync);
+    ADD_FAILURE() << "a jump is rejected";
+  } catch (const RejectedMessage& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("agent states: utime 1000000000 is ", 0), 0U) << what;
+    EXPECT_NE(what.find("(over limits.max_time_jump_s)"), std::string::npos) << what;
+  }
+  EXPECT_EQ(*clock.now(), 11 * kS);
+  EXPECT_EQ(resyncs, 0);
+  EXPECT_TRUE(clock.take(1001 * kS, "agent states", resync));  // two agreeing: a new time line
+  EXPECT_EQ(resyncs, 1);
+  EXPECT_EQ(*clock.now(), 1001 * kS);
+  EXPECT_TRUE(clock.take(1002 * kS, "goals"));  // no callback needed
 }
 
 TEST(JumpGuardTest, StepsUseTheSameRuleInStepUnits) {

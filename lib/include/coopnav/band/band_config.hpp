@@ -5,12 +5,33 @@
 /// HATEB's `hateb_config.h` defaults where it sets none) unless a comment says why we differ.
 /// Defaults live here and only here; the daemon's YAML overrides them key by key.
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "coopnav/geometry/types.hpp"
 
 namespace coopnav {
+
+/// The allowed values of a numeric key: [lo, hi], or (lo, hi] when lo_open.
+struct KeyRange {
+  double lo;
+  double hi;
+  bool lo_open{false};
+};
+/// The allowed values of a string key.
+struct KeyChoices {
+  std::vector<std::string> values;
+};
+
+// Every key of the planner's configuration is declared once, in forEachKey below: its name, its
+// field and, for a number, its allowed range. validate() checks the ranges; the daemons' YAML
+// adapter (daemons/common/config/band_config_yaml.hpp) reads the keys. `f` is called, in the
+// YAML's order, as f(name, field) for a flag, f(name, field, KeyRange) for a number,
+// f(name, field, KeyChoices) for a string and f(name, nested) for a nested mapping
+// (AgentKinematics, BandWeights). `Self` is the struct, const or not.
 
 /// Kinematic limits of one agent kind. Body frame: x forward, y left.
 struct AgentKinematics {
@@ -26,6 +47,20 @@ struct AgentKinematics {
   /// max(0.3, 5-sample average), ros.cpp l.771).
   double min_nominal_vel_m_s{0.3};
   double radius_m{0.34};  ///< default disc radius when the request gives none (<= 0)
+
+  template <class Self, class F>
+  static void forEachKey(Self& k, F&& f) {
+    f("holonomic", k.holonomic);
+    f("max_vel_x_m_s", k.max_vel_x_m_s, KeyRange{0.0, 10.0, true});
+    f("max_vel_x_backwards_m_s", k.max_vel_x_backwards_m_s, KeyRange{0.0, 10.0});
+    f("max_vel_y_m_s", k.max_vel_y_m_s, KeyRange{0.0, 10.0});
+    f("max_vel_theta_rad_s", k.max_vel_theta_rad_s, KeyRange{0.0, 20.0, true});
+    f("acc_lim_x_m_s2", k.acc_lim_x_m_s2, KeyRange{0.0, 20.0, true});
+    f("acc_lim_y_m_s2", k.acc_lim_y_m_s2, KeyRange{0.0, 20.0, true});
+    f("acc_lim_theta_rad_s2", k.acc_lim_theta_rad_s2, KeyRange{0.0, 50.0, true});
+    f("min_nominal_vel_m_s", k.min_nominal_vel_m_s, KeyRange{0.0, 10.0});
+    f("radius_m", k.radius_m, KeyRange{0.0, 5.0, true});
+  }
 };
 
 /// CoHAN 2.0 sim agent (human) limits: 1.3 / 0.4 / 1.1 m/s, acc 0.6 / 0.3 / 0.8, radius 0.30.
@@ -61,6 +96,24 @@ struct BandWeights {
   double kinematics_nh{1.0};
   double kinematics_nh_diff_drive{1000.0};
   double kinematics_forward_drive{100.0};  ///< diff drive only (CoHAN code default)
+
+  template <class Self, class F>
+  static void forEachKey(Self& w, F&& f) {
+    const KeyRange weight{0.0, 1e6};
+    f("max_vel_x", w.max_vel_x, weight);
+    f("max_vel_y", w.max_vel_y, weight);
+    f("max_vel_theta", w.max_vel_theta, weight);
+    f("acc_lim_x", w.acc_lim_x, weight);
+    f("acc_lim_y", w.acc_lim_y, weight);
+    f("acc_lim_theta", w.acc_lim_theta, weight);
+    f("nominal_vel", w.nominal_vel, weight);
+    f("optimaltime", w.optimaltime, weight);
+    f("viapoint", w.viapoint, weight);
+    f("obstacle", w.obstacle, weight);
+    f("kinematics_nh", w.kinematics_nh, weight);
+    f("kinematics_nh_diff_drive", w.kinematics_nh_diff_drive, weight);
+    f("kinematics_forward_drive", w.kinematics_forward_drive, weight);
+  }
 };
 
 /// CoHAN 2.0 sim agent weights: max_vel 4, acc 2, nominal 2, optimaltime 3, viapoint 0.5.
@@ -181,6 +234,50 @@ struct BandPlannerConfig {
   };
   /// Checks every key; empty when the configuration is usable.
   std::vector<Error> validate() const;
+
+  template <class Self, class F>
+  static void forEachKey(Self& c, F&& f) {
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    f("dt_ref_s", c.dt_ref_s, KeyRange{0.0, 2.0, true});
+    f("dt_hysteresis_s", c.dt_hysteresis_s, KeyRange{0.0, c.dt_ref_s});
+    f("min_samples", c.min_samples, KeyRange{2, 10000});
+    f("max_samples", c.max_samples,
+      KeyRange{static_cast<double>(std::max(c.min_samples, 2)), 10000});
+    f("dt_min_s", c.dt_min_s, KeyRange{0.0, c.dt_ref_s, true});
+    f("max_plan_length_m", c.max_plan_length_m, KeyRange{0.0, 1000.0, true});
+    f("other_horizon_s", c.other_horizon_s, KeyRange{-kInf, 600.0});
+    f("max_planned_others", c.max_planned_others, KeyRange{1, 1000});
+    f("no_inner_iterations", c.no_inner_iterations, KeyRange{1, 1000});
+    f("no_outer_iterations", c.no_outer_iterations, KeyRange{1, 100});
+    f("weight_adapt_factor", c.weight_adapt_factor, KeyRange{1.0, 100.0});
+    f("initial_damping_scale", c.initial_damping_scale, KeyRange{0.0, 1e6});
+    f("penalty_epsilon", c.penalty_epsilon, KeyRange{0.0, 1.0});
+    f("warm_start", c.warm_start);
+    f("solver", c.solver, KeyChoices{{"sparse_lm", "ceres"}});
+    f("warm_start_reset_dist_m", c.warm_start_reset_dist_m, KeyRange{0.0, 100.0, true});
+    f("robot", c.robot);
+    f("human", c.human);
+    f("planning_weights", c.planning_weights);
+    f("other_weights", c.other_weights);
+    f("min_obstacle_dist_m", c.min_obstacle_dist_m, KeyRange{0.0, 10.0});
+    f("min_agent_robot_dist_m", c.min_agent_robot_dist_m, KeyRange{0.0, 10.0});
+    f("min_agent_agent_dist_m", c.min_agent_agent_dist_m, KeyRange{0.0, 10.0});
+    f("weight_agent_robot_safety", c.weight_agent_robot_safety, KeyRange{0.0, 1e6});
+    f("weight_agent_agent_safety", c.weight_agent_agent_safety, KeyRange{0.0, 1e6});
+    f("rel_vel_cost_threshold", c.rel_vel_cost_threshold, KeyRange{0.0, 1e3});
+    f("weight_agent_robot_rel_vel", c.weight_agent_robot_rel_vel, KeyRange{0.0, 1e6});
+    f("rel_vel_activation_dist_m", c.rel_vel_activation_dist_m, KeyRange{-kInf, 1e3});
+    f("safety_activation_dist_m", c.safety_activation_dist_m, KeyRange{-kInf, 1e3});
+    f("symmetry_break_offset_m", c.symmetry_break_offset_m, KeyRange{0.0, 5.0});
+    f("init_planning_band_aside", c.init_planning_band_aside);
+    f("xy_goal_tolerance_m", c.xy_goal_tolerance_m, KeyRange{0.0, 10.0, true});
+    f("yaw_goal_tolerance_rad", c.yaw_goal_tolerance_rad, KeyRange{0.0, M_PI, true});
+    f("free_goal_heading", c.free_goal_heading);
+    f("global_resolution_m", c.global_resolution_m, KeyRange{0.01, 2.0});
+    f("global_clearance_pref_m", c.global_clearance_pref_m, KeyRange{0.0, 10.0});
+    f("global_clearance_weight", c.global_clearance_weight, KeyRange{0.0, 1e3});
+    f("global_replan_dist_m", c.global_replan_dist_m, KeyRange{0.0, 100.0, true});
+  }
 
   /// Limits of an agent of this kind.
   const AgentKinematics& kinematics(AgentKind kind) const {

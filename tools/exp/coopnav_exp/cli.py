@@ -11,12 +11,28 @@ import argparse
 import sys
 from typing import Callable, Sequence
 
+from . import faults, run, system
+
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "faults": faults.main,
+    "run": run.main,
+    "system": system.main,
 }
 
 
+class Parser(argparse.ArgumentParser):
+    """Says "--out needs a value" for an option given last without its value (the scripts'
+    wording, which their tests and users know)."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        if message.startswith("argument ") and message.endswith(": expected one argument"):
+            opt = message[len("argument "):-len(": expected one argument")].split("/")[-1]
+            message = f"{opt} needs a value (--help)"
+        self.exit(2, f"{self.prog}: {message}\n")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="coopnav", description="coopnav's experiment layer: runs, faults, populations.")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, command in COMMANDS.items():

@@ -34,3 +34,37 @@ def needs_build(build: Path, *relative: str) -> None:
     missing = [r for r in relative if not (build / r).exists()]
     if missing:
         pytest.fail(f"not built in {build}: {', '.join(missing)}")
+
+
+def run_sh(source: Path, out: Path, *scenarios: Path | str, port: int, args: tuple = (),
+           env: dict | None = None, check: bool = True):
+    """`scripts/run.sh --no-build --out OUT [args] SCENARIO...` as a user runs it, on the test's
+    ports; its output is shown on failure (pytest prints what the test printed)."""
+    import subprocess
+    e = dict(os.environ, COOPNAV_RUN_PORT_BASE=str(port), **(env or {}))
+    p = subprocess.run(["bash", str(source / "scripts" / "run.sh"), "--no-build", "--out",
+                        str(out), *args, *map(str, scenarios)], env=e, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    if check and p.returncode != 0:
+        print(p.stdout)
+        pytest.fail(f"run.sh exited {p.returncode}")
+    return p
+
+
+def scenarios_of(summary: Path) -> dict:
+    """summary.json's entries by scenario name."""
+    import json
+    return {s["scenario"]: s for s in json.loads(Path(summary).read_text())["scenarios"]}
+
+
+def said_lines(transcript: Path) -> str:
+    """The SAY / NOT SAID / ACTION lines of a transcript, to show what a run did."""
+    return "\n".join(l for l in Path(transcript).read_text().splitlines()
+                     if " SAY " in l or " NOT SAID " in l or " ACTION " in l)
+
+
+def dialogue_check_failures(s: dict) -> list[str]:
+    d = s["dialogue_checks"]
+    return [f"{s['scenario']}: {k}: {d[k]}" for k in (
+        "action_contradicts_words", "contradictions", "told_twice", "said_to_not_crossing")
+        if d[k]]

@@ -461,3 +461,54 @@ def main(args: argparse.Namespace) -> int:
         failed = 3
     return failed
 
+
+
+# ---- run-one: one run for the bash scripts that remain (scripts/scenario.sh) ----
+
+def run_one_main(args: argparse.Namespace) -> int:
+    """One run (run_one) for a script: exits with world_sim's status (1: never started).
+
+    scripts/scenario.sh's coopnav_run_scenario calls it; the knobs come from the environment
+    that function documents (COOPNAV_ABSENT, COOPNAV_STATE, COOPNAV_LOSS, COOPNAV_LOSS_SEED,
+    COOPNAV_PROFILE, COOPNAV_NETNS_PREFIX, COOPNAV_NETNS_NETEM, COOPNAV_DAEMON_ARGS_<name>).
+    --world-started FILE: the file is made once world_sim runs (a script's hook starts then)."""
+    try:
+        s = system_mod.load()
+        env = os.environ
+        loss = env.get("COOPNAV_LOSS") or None
+        started = args.world_started
+
+        def during(_live: LiveRun) -> None:
+            if started:
+                started.touch()
+
+        with supervise.signals_stop():
+            r = run_one(args.scenario, args.dir, args.port,
+                        profile=env.get("COOPNAV_PROFILE") or "paper",
+                        daemon_args=daemon_args_from_env(s),
+                        absent=tuple(env.get("COOPNAV_ABSENT", "").split()),
+                        state=env.get("COOPNAV_STATE", "0") == "1",
+                        loss=float(loss) if loss else None,
+                        loss_seed=int(env.get("COOPNAV_LOSS_SEED") or 1),
+                        netns_prefix=env.get("COOPNAV_NETNS_PREFIX") or None,
+                        netem=env.get("COOPNAV_NETNS_NETEM") or None,
+                        timeout_s=args.timeout_s, during=during, summarize=args.summarize,
+                        system=s)
+    except (system_mod.SystemConfigError, KeyError, ValueError) as ex:
+        print(f"coopnav run-one: {ex}", file=sys.stderr)
+        return 2
+    except Interrupted as ex:
+        return ex.exit_status
+    return r.world_sim_exit
+
+
+def _run_one_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("scenario", type=Path)
+    p.add_argument("dir", type=Path)
+    p.add_argument("port", type=int)
+    p.add_argument("--world-started", type=Path, default=None, metavar="FILE")
+    p.add_argument("--timeout-s", type=float, default=900.0)
+    p.add_argument("--summarize", action="store_true", help="write DIR/summary.json")
+
+
+run_one_main.add_arguments = _run_one_arguments  # type: ignore[attr-defined]

@@ -43,6 +43,7 @@ class Daemon:
     journal: bool = False
     lockstep: bool = False
     ready: str = "status"
+    replayed: bool = False
 
 
 @dataclass(frozen=True)
@@ -79,6 +80,9 @@ class System:
     def lockstep_names(self) -> list[str]:
         return [d.name for d in self.daemons if d.lockstep]
 
+    def replayed_names(self) -> list[str]:
+        return [d.name for d in self.daemons if d.replayed]
+
     def daemon(self, name: str) -> Daemon:
         for d in self.daemons:
             if d.name == name:
@@ -98,19 +102,22 @@ class System:
         return (build or build_dir()) / self.tools[name]
 
     # ---- command lines ----
-    def command(self, name: str, *, scenario: Path, profile: str = "paper",
+    def command(self, name: str, *, scenario: Path | None, profile: str = "paper",
                 state_dir: Path | None = None, extra: Sequence[str] = (),
-                lcm_url: str | None = None, build: Path | None = None) -> list[str]:
-        """The command line of daemon or world `name` in a run of `scenario`."""
+                lcm_url: str | None = None, build: Path | None = None,
+                config_dir: Path | None = None) -> list[str]:
+        """The command line of daemon or world `name` in a run of `scenario` (None: no map or
+        scenario argument; the config's own). config_dir: another folder of the same files."""
         if profile not in self.profiles:
             raise KeyError(f"no profile '{profile}' in {self.path} "
                            f"(profiles: {', '.join(self.profiles)})")
         d = self.daemon(name)
         entry = self.profiles[profile].get(name, ProfileEntry())
-        cmd = [str(self.binary(name, build)), "-c", str(self.config_dir / (entry.config or d.config))]
-        if d is self.world:
+        cmd = [str(self.binary(name, build)), "-c",
+               str((config_dir or self.config_dir) / (entry.config or d.config))]
+        if scenario is not None and d is self.world:
             cmd += ["--set", f"{self.scenario_key}={scenario}"]
-        elif d.map_key:
+        elif scenario is not None and d.map_key:
             cmd += ["--set", f"{d.map_key}={scenario}"]
         cmd += list(entry.args)
         if state_dir is not None and d.journal:
@@ -157,7 +164,7 @@ def _daemon(m: Any, where: str, path: Path, config_dir: Path) -> Daemon:
     if not isinstance(m, dict):
         raise SystemConfigError(path, where, f"must be a mapping, not {m!r}")
     _no_other_keys(m, {"name", "binary", "config", "map_key", "journal", "lockstep", "ready",
-                       "scenario_key"}, where, path)
+                       "replayed"}, where, path)
     name = _nonempty(_req(m, "name", where, path, str), f"{where}.name", path)
     if not name.replace("_", "").isalnum():
         raise SystemConfigError(path, f"{where}.name", f"'{name}' is not a plain name")
@@ -172,7 +179,8 @@ def _daemon(m: Any, where: str, path: Path, config_dir: Path) -> Daemon:
                   binary=_nonempty(_req(m, "binary", where, path, str), f"{where}.binary", path),
                   config=config, map_key=_opt(m, "map_key", where, path, str, None),
                   journal=_opt(m, "journal", where, path, bool, False),
-                  lockstep=_opt(m, "lockstep", where, path, bool, False), ready=ready)
+                  lockstep=_opt(m, "lockstep", where, path, bool, False), ready=ready,
+                  replayed=_opt(m, "replayed", where, path, bool, False))
 
 
 def load(path: Path | str | None = None) -> System:
@@ -265,14 +273,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     sub = p.add_subparsers(dest="what", required=True)
     d = sub.add_parser("daemons", help="the daemons' names in start order, one a line")
     d.add_argument("--lockstep", action="store_true", help="only the lockstep participants")
+    d.add_argument("--replayed", action="store_true", help="only those a replay starts")
     d.add_argument("--with-world", action="store_true", help="and the world's name, last")
     c = sub.add_parser("command", help="a daemon's (or the world's) command line, one "
                                        "argument a line")
     c.add_argument("name")
-    c.add_argument("--scenario", type=Path, required=True)
+    c.add_argument("--scenario", type=Path, default=None,
+                   help="the run's scenario: the world's, and the map of the daemons that read one")
     c.add_argument("--profile", default="paper")
     c.add_argument("--state-dir", type=Path, default=None)
     c.add_argument("--lcm-url", default=None)
+    c.add_argument("--config-dir", type=Path, default=None,
+                   help="the config files from this folder (default config/)")
     b = sub.add_parser("binary", help="the path of a daemon's, the world's or a tool's executable")
     b.add_argument("name")
     sub.add_parser("check", help="load and check system.yaml; says what is wrong and where")
@@ -282,12 +294,14 @@ def main(args: argparse.Namespace) -> int:
     try:
         s = load(args.system)
         if args.what == "daemons":
-            names = s.lockstep_names() if args.lockstep else s.names()
+            names = (s.lockstep_names() if args.lockstep else
+                     s.replayed_names() if args.replayed else s.names())
             print("\n".join(names + ([s.world.name] if args.with_world else [])))
         elif args.what == "command":
-            print("\n".join(s.command(args.name, scenario=args.scenario.resolve(),
-                                      profile=args.profile, state_dir=args.state_dir,
-                                      lcm_url=args.lcm_url)))
+            scen = args.scenario.absolute() if args.scenario else None
+            print("\n".join(s.command(args.name, scenario=scen, profile=args.profile,
+                                      state_dir=args.state_dir, lcm_url=args.lcm_url,
+                                      config_dir=args.config_dir)))
         elif args.what == "binary":
             print(s.tool(args.name) if args.name in s.tools or args.name == "recorder"
                   else s.binary(args.name))

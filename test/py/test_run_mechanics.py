@@ -11,6 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
+import yaml
 
 from coopnav_exp import run, system
 
@@ -25,8 +26,11 @@ signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
 if name == "coopnav_ctl":
     if sys.argv[1] == "summarize":
         out = sys.argv[sys.argv.index("--out") + 1]
-        Path(out).write_text(json.dumps({"scenarios": [{"final_state": "GOAL_REACHED",
-                                                         "sim_time_s": 1.0}]}))
+        # A run without the distance server: its situations say the distances are unknown.
+        unknown = 5 if "absent" in out else 0
+        Path(out).write_text(json.dumps({"scenarios": [{
+            "final_state": "GOAL_REACHED", "sim_time_s": 1.0,
+            "faults": {"crossing_distance_unknown": unknown}}]}))
     if sys.argv[1] == "wait-ready":
         time.sleep(float(os.environ.get("FAKE_READY_S", "0.2")))
     sys.exit(0)
@@ -161,3 +165,35 @@ def test_an_unknown_absent_daemon_is_an_error(fake, tmp_path):
     s, scenario = fake
     with pytest.raises(KeyError, match="no daemon 'ghost'"):
         run.run_one(scenario, tmp_path / "o", 41000, absent=("ghost",), system=s)
+
+
+def test_faults_orchestration_with_stand_ins(fake, tmp_path, monkeypatch, capsys):
+    """faults: the clean, kill, absent and loss runs of one scenario with their arguments; the
+    killed daemon is started again with its journal; the verdict table is written."""
+    from coopnav_exp import cli
+    monkeypatch.setenv("COOPNAV_FAULT_PORT_BASE", "41100")
+    rc = cli.main(["faults", "--no-build", "--out", str(tmp_path / "f"), "--scenarios",
+                   "narrow_minimal", "--kill", "band_source", "--seed", "3"])
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    lines = (tmp_path / "f/faults.txt").read_text().splitlines()
+    assert [l.split()[1] for l in lines] == ["clean", "kill", "absent", "loss"]
+    assert [l.split()[-1] for l in lines] == ["ok", "same", "same", "same"]
+    assert "killed band_source (-9) at step" in out
+    c = calls(tmp_path)
+    bands = [x for x in c if x[0] == "coopnav_band_source"]
+    kill_dir = str(tmp_path / "f/narrow_minimal/kill_band_source")
+    killed = [x for x in bands if kill_dir + "/state" in x]
+    assert len(killed) == 2, "started, killed, started again with its journal"
+    assert "step_gate_timeout_s=60" in killed[1]
+    # The kill run's scenario: the world waits longer, the map path absolute.
+    scen = yaml.safe_load(Path(kill_dir, "scenario/narrow_minimal.yaml").read_text())
+    assert scen["lockstep"]["step_timeout_s"] == 180
+    assert Path(scen["map"]["file"]).is_absolute() and Path(scen["map"]["file"]).is_file()
+    absent = [x for x in c if "absent_distance_server" in " ".join(map(str, x))]
+    assert not any(x[0] == "coopnav_obstacle_distance_server" for x in absent)
+    assert any("distance_attempts=1" in x for x in absent if x[0] == "coopnav_situation_assessor")
+    assert any(x[0] == "coopnav_lossy_relay" for x in c)
+    ports = sorted({int(a.split(":")[2].split("?")[0]) for x in c for a in x[3:]
+                    if isinstance(a, str) and a.startswith("udpm://")})
+    assert ports[0] == 41100 and 41130 in ports  # ten ports a run, the fourth run's own

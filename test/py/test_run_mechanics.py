@@ -5,6 +5,7 @@ The stand-ins log their argv and act as their role does (a recorder writes its f
 answers wait-ready and summarize)."""
 
 import json
+import os
 import shutil
 import stat
 import time
@@ -197,3 +198,26 @@ def test_faults_orchestration_with_stand_ins(fake, tmp_path, monkeypatch, capsys
     ports = sorted({int(a.split(":")[2].split("?")[0]) for x in c for a in x[3:]
                     if isinstance(a, str) and a.startswith("udpm://")})
     assert ports[0] == 41100 and 41130 in ports  # ten ports a run, the fourth run's own
+
+
+def test_scenario_sh_runs_one_run_with_the_scripts_hook(fake, tmp_path, monkeypatch, source_dir):
+    """scripts/scenario.sh, the bash scripts' shell over run-one: its knobs from the
+    environment, the hook while the world runs, world_sim's exit status returned."""
+    import subprocess
+    s, scenario = fake
+    script = f'''
+        source "{source_dir}/scripts/lib.sh"; source "{source_dir}/scripts/scenario.sh"
+        coopnav_scenario_hook() {{ echo "hook $1" >"{tmp_path}/hook"; }}
+        echo "${{COOPNAV_DAEMONS[*]}}" >"{tmp_path}/daemons"
+        rc=0; coopnav_run_scenario "{scenario}" "{tmp_path}/o" 41200 || rc=$?; echo "rc=$rc"'''
+    env = dict(os.environ, COOPNAV_ABSENT="obstacle_distance_server", FAKE_WORLD_EXIT="5",
+               COOPNAV_DAEMON_ARGS_world_sim="--set mode=real_time")
+    p = subprocess.run(["bash", "-c", script], env=env, stdout=subprocess.PIPE, text=True,
+                       timeout=60)
+    assert p.stdout.strip() == "rc=5"
+    assert (tmp_path / "hook").read_text() == "hook scen\n"
+    assert (tmp_path / "daemons").read_text().split() == s.names()
+    c = calls(tmp_path)
+    assert not any(x[0] == "coopnav_obstacle_distance_server" for x in c)
+    world = next(x for x in c if x[0] == "coopnav_world_sim")
+    assert world[-4:-2] == ["--set", "mode=real_time"]

@@ -1,13 +1,10 @@
-"""run.py: the outcome rules and the arguments (no process), and one run through run_one (the
-API every launcher calls): its files, the golden transcript to the byte, a hook that sees the
-world stepping, and no process of the run left afterwards."""
+"""run.py without a process: the outcome rules, the extra arguments from the environment, bad
+arguments refused before any run. run_one itself: test_run_mechanics.py (stand-ins) and the
+e2e tests of real runs (test_run_paper_scenarios.py: the golden transcript to the byte)."""
 
-import subprocess
-from pathlib import Path
 
 import pytest
 
-from conftest import needs_build
 from coopnav_exp import cli, run, system
 
 
@@ -48,36 +45,3 @@ def test_bad_arguments_exit_2_before_any_run(tmp_path, capsys):
     assert "--out needs a value" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
-
-def test_one_run_gives_the_golden_transcript_and_leaves_no_process(tmp_path, source_dir,
-                                                                   build_dir, port_base):
-    s = system.load()
-    needs_build(build_dir, *(s.daemon(n).binary for n in s.names() + ["world_sim"]),
-                s.tools["ctl"], s.recorder_binary)
-    seen = {}
-
-    def during(live: run.LiveRun) -> None:
-        # The hook runs while the world steps: it can wait for a step and see every daemon.
-        seen["step5"] = live.ctl("wait-step", "world_sim", "--step", "5", "--timeout-s", "120")
-        seen["pids"] = {n: live.pid(n) for n in s.names()}
-
-    def after(live: run.LiveRun) -> None:
-        seen["alive_after"] = [n for n in s.names() if live.sup.procs[n].alive()]
-
-    r = run.run_one(source_dir / "config/scenarios/narrow_minimal.yaml", tmp_path / "nm",
-                    port_base, during=during, after=after, system=s)
-    assert r.ok and r.world_sim_exit == 0 and r.died == []
-    assert r.log == tmp_path / "nm/narrow_minimal.lcm" and r.log.is_file()
-    assert r.summary == tmp_path / "nm/summary.json"
-    assert r.summary_entry()["final_state"] == "GOAL_REACHED"
-    assert (tmp_path / "nm/scenario.path").read_text().strip() == \
-        str(source_dir / "config/scenarios/narrow_minimal.yaml")
-    for n in s.names() + ["world_sim"]:
-        assert (tmp_path / "nm" / f"{n}.log").is_file(), n
-    assert seen["step5"] == 0 and seen["alive_after"] == s.names()
-    for n, pid in seen["pids"].items():
-        assert not Path(f"/proc/{pid}").exists() or \
-            Path(f"/proc/{pid}/stat").read_text().split()[2] == "Z", f"{n} still running"
-    transcript = subprocess.run([str(s.tool("ctl")), "transcript", str(r.log), "--scenario",
-                                 "narrow_minimal"], stdout=subprocess.PIPE, check=True).stdout
-    assert transcript == (source_dir / "test/data/golden/narrow_minimal.transcript").read_bytes()

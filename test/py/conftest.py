@@ -29,13 +29,6 @@ def port_base() -> int:
     return int(os.environ.get("COOPNAV_TEST_PORT_BASE", "40000"))
 
 
-def needs_build(build: Path, *relative: str) -> None:
-    """Skips nothing: a test that needs built binaries fails if they are missing."""
-    missing = [r for r in relative if not (build / r).exists()]
-    if missing:
-        pytest.fail(f"not built in {build}: {', '.join(missing)}")
-
-
 def run_sh(source: Path, out: Path, *scenarios: Path | str, port: int, args: tuple = (),
            env: dict | None = None, check: bool = True):
     """`scripts/run.sh --no-build --out OUT [args] SCENARIO...` as a user runs it, on the test's

@@ -2,7 +2,6 @@
 arguments refused before any run. run_one itself: test_run_mechanics.py (stand-ins) and the
 e2e tests of real runs (test_run_paper_scenarios.py: the golden transcript to the byte)."""
 
-
 import pytest
 
 from coopnav_exp import cli, run, system

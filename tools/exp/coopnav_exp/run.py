@@ -221,7 +221,7 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                 try:
                     sup.wait_ready(on_host("recorder") + [
                         str(s.tool("ctl")), "wait-ready", *started, "--timeout-s",
-                        f"{s.timing.ready_timeout_s:g}"], started)
+                        f"{s.timing.ready_timeout_s:g}"], started, env=env)
                 except StartError as ex:
                     result.start_error = f"daemons did not come up for {name}: {ex}"
                     print(f"coopnav: {ex}\ncoopnav: daemons did not come up for {name}; see "

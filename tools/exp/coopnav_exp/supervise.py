@@ -147,7 +147,8 @@ class Supervisor:
         self._all = [p for p in self._all if p.alive()]
 
     def wait_ready(self, waiter_cmd: Sequence[str], watched: Sequence[str], *,
-                   poll_s: float = 0.1, log: Path | None = None) -> None:
+                   poll_s: float = 0.1, log: Path | None = None,
+                   env: Mapping[str, str] | None = None) -> None:
         """Runs `waiter_cmd` (e.g. `coopnav_ctl wait-ready NAMES --timeout-s T`) while watching
         the processes `watched`: one that dies meanwhile (a bad config, map or scenario) raises
         StartError at once, with its exit status and the end of its log, instead of after the
@@ -156,7 +157,8 @@ class Supervisor:
         try:
             waiter = subprocess.Popen(list(waiter_cmd), stdout=out, stderr=subprocess.STDOUT
                                       if log else subprocess.PIPE, stdin=subprocess.DEVNULL,
-                                      preexec_fn=_die_with_parent)
+                                      preexec_fn=_die_with_parent,
+                                      env=None if env is None else dict(env))
             try:
                 while waiter.poll() is None:
                     dead = self.dead(watched)

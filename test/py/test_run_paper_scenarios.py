@@ -6,12 +6,17 @@ ended before it), that the two runs give identical transcripts and CM values, th
 golden transcripts (test/data/golden), and that replaying a recorded log into fresh assessors
 and dialogue manager reproduces the recorded transcript."""
 
+import difflib
 import os
 import subprocess
 
 from conftest import run_sh, scenarios_of
 
 PAPER = ("open_facilitating", "open_minimal", "narrow_facilitating", "narrow_minimal")
+
+
+def print_diff(a: str, b: str, n: int = 30) -> None:
+    print("".join(list(difflib.unified_diff(a.splitlines(True), b.splitlines(True)))[:n]))
 
 
 def human(s):
@@ -27,8 +32,10 @@ def test_the_paper_scenarios_twice_and_a_replay(tmp_path, source_dir, port_base)
     bad = []
     for n in PAPER:
         ta = (tmp_path / "a" / n / "transcript.txt").read_text()
-        if ta != (tmp_path / "b" / n / "transcript.txt").read_text():
+        tb = (tmp_path / "b" / n / "transcript.txt").read_text()
+        if ta != tb:
             bad.append(f"{n}: transcripts of two runs differ")
+            print_diff(ta, tb)
         # The golden replay's transcripts are those of a lockstep run (test/data/golden): the
         # run gives them to the byte.
         golden = source_dir / "test/data/golden" / f"{n}.transcript"
@@ -78,4 +85,5 @@ def test_the_paper_scenarios_twice_and_a_replay(tmp_path, source_dir, port_base)
         bad.append(f"replay.sh exited {r.returncode}: {r.stderr}")
     elif r.stdout != (tmp_path / "a/narrow_minimal/transcript.txt").read_text():
         bad.append("replayed transcript differs from the recorded one")
+        print_diff((tmp_path / "a/narrow_minimal/transcript.txt").read_text(), r.stdout)
     assert not bad

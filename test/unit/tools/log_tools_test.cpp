@@ -1149,7 +1149,7 @@ TEST(LogTools, SummaryNamesRestartsDegradedDaemonsAndUnknownDistances) {
       sit.utime = utimeOf(k);
       sit.step = k;
       if (k >= 8) {
-        sit.d_oh_m = std::nan("");  // the distance server did not answer in time
+        sit.d_oh_m = std::nan("");     // the distance server did not answer in time
         w.put(channels::kStatus, st);  // twice the same: named once
       }
       w.put(channels::kSituation, sit);

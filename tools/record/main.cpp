@@ -12,7 +12,7 @@
 // kernel socket buffer (recv_buf_size in the URL) holds what arrives meanwhile.
 //
 // Each batch of messages is flushed to the file once the queue is drained, so that a script can
-// tell from the file size that the recorder has caught up (scripts/scenario.sh). SIGINT / SIGTERM
+// tell from the file size that the recorder has caught up (supervise.wait_quiet, tools/exp). SIGINT / SIGTERM
 // drain what is queued, close the file and print how many events were written.
 #include <poll.h>
 

@@ -17,6 +17,7 @@ COOPNAV_DEBS=(
   iproute2 procps python3 espeak-ng sox xvfb fonts-dejavu-core chromium
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   cyclonedds-dev cyclonedds-tools  # the ROS 2 bridge (daemons/ros2_bridge): Cyclone DDS + idlc
+  python3-yaml python3-pytest  # the experiment layer (scripts/coopnav, tools/exp) and test/py
 )
 
 coopnav_sudo() {

@@ -18,7 +18,8 @@
 #                               (scripts/netns.sh); COOPNAV_NETNS_NETEM: netem instead of relays
 #   COOPNAV_DAEMON_ARGS_<name>  extra arguments of that daemon or of world_sim (word-split)
 #   coopnav_scenario_hook       a function run while world_sim runs (in the foreground of the
-#                               script, the run in the background)
+#                               script, the run in the background), with LCM_DEFAULT_URL the
+#                               run's bus (exported: it stays after the run, as it always did)
 # COOPNAV_DAEMONS: the daemons' names in start order, from config/system.yaml.
 
 mapfile -t COOPNAV_DAEMONS < <("$COOPNAV_ROOT/scripts/coopnav" system daemons)
@@ -33,7 +34,12 @@ coopnav_run_scenario() {  # SCENARIO DIR PORT
   COOPNAV_PIDS+=("$pid")
   if declare -F coopnav_scenario_hook >/dev/null; then
     while [ ! -e "$started" ] && kill -0 "$pid" 2>/dev/null; do sleep 0.1; done
-    if [ -e "$started" ]; then coopnav_scenario_hook "$(basename "$1" .yaml)" || true; fi
+    if [ -e "$started" ]; then
+      # The hook hears the run's bus (e.g. coopnav_ctl wait-step), as the run's processes do.
+      LCM_DEFAULT_URL="$(cat "$started")"
+      export LCM_DEFAULT_URL
+      coopnav_scenario_hook "$(basename "$1" .yaml)" || true
+    fi
   fi
   wait "$pid" || rc=$?
   rm -f "$started"

@@ -207,7 +207,7 @@ def test_scenario_sh_runs_one_run_with_the_scripts_hook(fake, tmp_path, monkeypa
     s, scenario = fake
     script = f'''
         source "{source_dir}/scripts/lib.sh"; source "{source_dir}/scripts/scenario.sh"
-        coopnav_scenario_hook() {{ echo "hook $1" >"{tmp_path}/hook"; }}
+        coopnav_scenario_hook() {{ echo "hook $1 $LCM_DEFAULT_URL" >"{tmp_path}/hook"; }}
         echo "${{COOPNAV_DAEMONS[*]}}" >"{tmp_path}/daemons"
         rc=0; coopnav_run_scenario "{scenario}" "{tmp_path}/o" 41200 || rc=$?; echo "rc=$rc"'''
     env = dict(os.environ, COOPNAV_ABSENT="obstacle_distance_server", FAKE_WORLD_EXIT="5",
@@ -215,7 +215,7 @@ def test_scenario_sh_runs_one_run_with_the_scripts_hook(fake, tmp_path, monkeypa
     p = subprocess.run(["bash", "-c", script], env=env, stdout=subprocess.PIPE, text=True,
                        timeout=60)
     assert p.stdout.strip() == "rc=5"
-    assert (tmp_path / "hook").read_text() == "hook scen\n"
+    assert (tmp_path / "hook").read_text() == f"hook scen {run.lcm_url(41200)}\n"
     assert (tmp_path / "daemons").read_text().split() == s.names()
     c = calls(tmp_path)
     assert not any(x[0] == "coopnav_obstacle_distance_server" for x in c)

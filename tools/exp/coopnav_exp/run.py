@@ -471,16 +471,17 @@ def run_one_main(args: argparse.Namespace) -> int:
     scripts/scenario.sh's coopnav_run_scenario calls it; the knobs come from the environment
     that function documents (COOPNAV_ABSENT, COOPNAV_STATE, COOPNAV_LOSS, COOPNAV_LOSS_SEED,
     COOPNAV_PROFILE, COOPNAV_NETNS_PREFIX, COOPNAV_NETNS_NETEM, COOPNAV_DAEMON_ARGS_<name>).
-    --world-started FILE: the file is made once world_sim runs (a script's hook starts then)."""
+    --world-started FILE: written once world_sim runs (a script's hook starts then), holding
+    the run's LCM URL."""
     try:
         s = system_mod.load()
         env = os.environ
         loss = env.get("COOPNAV_LOSS") or None
         started = args.world_started
 
-        def during(_live: LiveRun) -> None:
-            if started:
-                started.touch()
+        def during(live: LiveRun) -> None:
+            if started:  # the run's bus: what a script's hook listens to
+                started.write_text(live.url + "\n")
 
         with supervise.signals_stop():
             r = run_one(args.scenario, args.dir, args.port,

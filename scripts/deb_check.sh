@@ -96,7 +96,7 @@ grep -q '^ExecStart=/usr/bin/coopnav_%i --config /etc/coopnav/%i.yaml' \
 coopnav_ensure_multicast
 port=$((7900 + RANDOM % 90))
 url="udpm://239.255.76.67:$port?ttl=0&recv_buf_size=4194304"
-daemons=(obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager)
+mapfile -t daemons < <("$COOPNAV_ROOT/scripts/coopnav" system daemons)  # config/system.yaml
 mkdir -p "$root/var/log/coopnav-check"
 for d in "${daemons[@]}"; do
   coopnav_spawn "$root/var/log/coopnav-check/$d.log" chroot "$root" /usr/bin/env -i \

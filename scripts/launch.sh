@@ -11,8 +11,8 @@
 #
 #   scripts/launch.sh [--url URL] [--config-dir DIR] [--map FILE] [--log-dir DIR]
 #                     [--state-dir DIR] DAEMON...
-#   DAEMON: obstacle_distance_server band_source situation_assessor path_assessor
-#           dialogue_manager world_sim, or "all" for the five daemons (not world_sim).
+#   DAEMON: a daemon of config/system.yaml (`scripts/coopnav system daemons`) or world_sim, or
+#           "all" for every daemon (not world_sim).
 #   --url: default $LCM_DEFAULT_URL, else udpm://239.255.76.67:7667?ttl=0 (this host only).
 #   --config-dir: DIR/<daemon>.yaml (default config/).
 #   --map: the map (or scenario) of the distance server and the band source (their map_file).
@@ -26,7 +26,10 @@ source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 url="${LCM_DEFAULT_URL:-udpm://239.255.76.67:7667?ttl=0}"
 cfg="$COOPNAV_ROOT/config" map="" logs="" state=""
 names=()
-all=(obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager)
+# The daemons and their command lines come from config/system.yaml (scripts/coopnav system).
+coopnav=("$COOPNAV_ROOT/scripts/coopnav" system)
+mapfile -t all < <("${coopnav[@]}" daemons)
+mapfile -t known < <("${coopnav[@]}" daemons --with-world)
 while [ $# -gt 0 ]; do
   case "$1" in
     --url | --config-dir | --map | --log-dir | --state-dir) coopnav_need_value launch.sh "$1" $# ;;&
@@ -46,13 +49,10 @@ if [ "${#names[@]}" -eq 0 ]; then
   exit 2
 fi
 for d in "${names[@]}"; do
-  case "$d" in
-    obstacle_distance_server | band_source | situation_assessor | path_assessor | \
-      dialogue_manager | world_sim) ;;
-    *) echo "launch.sh: no daemon '$d'" >&2; exit 2 ;;
-  esac
-  [ -x "$(coopnav_bin "$d")" ] ||
-    { echo "launch.sh: $(coopnav_bin "$d") missing: build first (cmake --build build)" >&2; exit 2; }
+  [[ " ${known[*]} " == *" $d "* ]] ||
+    { echo "launch.sh: no daemon '$d' (config/system.yaml: ${known[*]})" >&2; exit 2; }
+  bin="$("${coopnav[@]}" binary "$d")"
+  [ -x "$bin" ] || { echo "launch.sh: $bin missing: build first (cmake --build build)" >&2; exit 2; }
   [ -f "$cfg/$d.yaml" ] || { echo "launch.sh: no config $cfg/$d.yaml" >&2; exit 2; }
 done
 [ -z "$map" ] || [ -f "$map" ] || { echo "launch.sh: no map file '$map'" >&2; exit 2; }
@@ -87,15 +87,16 @@ coopnav_trap 'echo "launch.sh: stopping"; exit 143' TERM
 
 declare -A pid_of=()
 for d in "${names[@]}"; do
-  args=(-c "$cfg/$d.yaml")
-  case "$d" in
-    obstacle_distance_server | band_source) [ -z "$map" ] || args+=(--set "map_file=$map") ;;
-  esac
-  if [ -n "$state" ] && [ "$d" != obstacle_distance_server ]; then args+=(--state-dir "$state"); fi
+  # Its binary, config, map (the daemons that read one; not the world, whose scenario is
+  # COOPNAV_DAEMON_ARGS_world_sim's) and journal (the daemons that keep state).
+  opts=(--config-dir "$cfg")
+  [ -z "$map" ] || [ "$d" = world_sim ] || opts+=(--scenario "$map")
+  [ -z "$state" ] || opts+=(--state-dir "$state")
+  mapfile -t cmd < <("${coopnav[@]}" command "$d" "${opts[@]}")
   extra_var="COOPNAV_DAEMON_ARGS_$d"
   extra=()
   read -r -a extra <<<"${!extra_var:-}"
-  coopnav_spawn "$logs/$d.log" "$(coopnav_bin "$d")" "${args[@]}" "${extra[@]}" --lcm-url "$url"
+  coopnav_spawn "$logs/$d.log" "${cmd[@]}" "${extra[@]}" --lcm-url "$url"
   pid_of[$d]="${COOPNAV_PIDS[-1]}"
 done
 ready=()

@@ -18,7 +18,6 @@ COOPNAV_DEBS=(
   python3-yaml python3-numpy python3-matplotlib python3-pytest  # tools/exp (figures: matplotlib)
   clang-14 libclang-rt-14-dev clang-format clang-tidy
   cyclonedds-dev cyclonedds-tools  # the ROS 2 bridge (daemons/ros2_bridge): Cyclone DDS + idlc
-  python3-numpy python3-pytest  # the experiment layer's statistics and its tests (tools/exp)
   slurm-wlm munge  # populations on Slurm (docs/slurm.md) and its single-node test (test_slurm.py)
 )
 

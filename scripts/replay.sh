@@ -39,20 +39,19 @@ fi
 coopnav_ensure_multicast
 export LCM_DEFAULT_URL="udpm://239.255.76.67:${COOPNAV_REPLAY_PORT:-7689}?ttl=0&recv_buf_size=4194304"
 ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
-cfg="$COOPNAV_ROOT/config"
 
 coopnav_trap coopnav_stop_all EXIT
 
 # The recorder first: it is listening by the time the daemons are ready (a loaded machine can
 # take a while to start it).
 coopnav_record "$outdir/replay.lcm" 'COOPNAV_.*' "$outdir/record.log"
-coopnav_spawn "$outdir/obstacle_distance_server.log" "$(coopnav_bin obstacle_distance_server)" \
-  -c "$cfg/obstacle_distance_server.yaml" --set "map_file=$map"
-for d in situation_assessor path_assessor dialogue_manager; do
-  coopnav_spawn "$outdir/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml"
+# The daemons a replay starts afresh, with their run's command lines (config/system.yaml).
+mapfile -t replayed < <("$COOPNAV_ROOT/scripts/coopnav" system daemons --replayed)
+for d in "${replayed[@]}"; do
+  mapfile -t cmd < <("$COOPNAV_ROOT/scripts/coopnav" system command "$d" --scenario "$map")
+  coopnav_spawn "$outdir/$d.log" "${cmd[@]}"
 done
-"$ctl" wait-ready obstacle_distance_server situation_assessor path_assessor dialogue_manager \
-  --timeout-s 60 >/dev/null
+"$ctl" wait-ready "${replayed[@]}" --timeout-s 60 >/dev/null
 sleep 0.5
 # Listening before the first message goes out: done = the dialogue manager (the last stage) has
 # acknowledged the log's last step, however long a loaded machine takes to get there.

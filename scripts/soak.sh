@@ -84,23 +84,25 @@ EOF
 
 cfg="$COOPNAV_ROOT/config"
 coopnav_trap coopnav_stop_all EXIT
-for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager; do
+# The pipeline's daemons (config/system.yaml), free-running on their configs (no map argument:
+# each config's own).
+mapfile -t daemons < <("$COOPNAV_ROOT/scripts/coopnav" system daemons)
+for d in "${daemons[@]}"; do
   coopnav_spawn "$out/$d.log" "$(coopnav_bin "$d")" -c "$cfg/$d.yaml" --lcm-url "$url" \
     --log-level warn
 done
 coopnav_spawn "$out/world_sim.log" "$(coopnav_bin world_sim)" -c "$cfg/world_sim.yaml" \
   --lcm-url "$side_url" --log-level warn --set "scenario=$scenario" --set mode=real_time \
   --set "real_time_factor=$factor" --set exit_at_end=false
-"$COOPNAV_BUILD_DIR/tools/coopnav_ctl" --lcm-url "$url" wait-ready obstacle_distance_server \
-  band_source situation_assessor path_assessor dialogue_manager --timeout-s 60 >/dev/null
+"$COOPNAV_BUILD_DIR/tools/coopnav_ctl" --lcm-url "$url" wait-ready "${daemons[@]}" \
+  --timeout-s 60 >/dev/null
 
 echo "soak: ${minutes} min at ${factor}x; output in $out"
 rc=0
 "$COOPNAV_BUILD_DIR/tools/coopnav_soak" --lcm-url "$url" --side-url "$side_url" \
   --duration-s "$duration_s" --rate-factor "$factor" --warmup-s "$warmup_s" \
   --csv "$out/soak.csv" \
-  --daemon obstacle_distance_server --daemon band_source --daemon situation_assessor \
-  --daemon path_assessor --daemon dialogue_manager --daemon world_sim | tee "$out/soak.txt" ||
+  "${daemons[@]/#/--daemon=}" --daemon world_sim | tee "$out/soak.txt" ||
   rc=$?
 # A daemon that died during the run is a failure even if its last samples looked fine.
 for p in "${COOPNAV_PIDS[@]}"; do

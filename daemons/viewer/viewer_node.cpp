@@ -37,7 +37,7 @@ json mapJson(const OccupancyGrid2& grid, const std::string& source) {
           {"rle", std::move(rle)}};
 }
 
-/// The scenario a recorded run used (scripts/scenario.sh writes scenario.path beside the log).
+/// The scenario a recorded run used (run_one of tools/exp writes scenario.path beside the log).
 std::string scenarioBesideLog(const std::string& log_file) {
   namespace fs = std::filesystem;
   const fs::path p = fs::path(log_file).parent_path() / "scenario.path";

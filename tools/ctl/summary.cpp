@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -268,6 +269,9 @@ Json humanEntry(const RunLog& run, const HumanAnalysis& h,
       j["kind"] = e.kind == Kind::kAction ? "action" : "recorder";
       j[e.kind == Kind::kAction ? "action" : "command"] = e.what;
       j["reason"] = e.text;
+      // Acted on a fallback, not on the flowchart (the precautionary dock): the decision's
+      // branch, which the reason carries, says "degraded:" (dialogue::RoundOutcome::degraded).
+      j["degraded"] = e.text.find("degraded:") != std::string::npos;
     }
     entries.push_back(std::move(j));
   }
@@ -383,6 +387,51 @@ RobotBehaviourCounts countRobotBehaviour(const RunLog& run) {
   return n;
 }
 
+namespace {
+
+// What a fault run is judged by (scripts/coopnav faults): the restarts the step acks announced,
+// the daemons that reported themselves degraded (wall-clock status, unique name and detail),
+// and the situations of a crossing whose obstacle distances were unknown (d_OH or d_OR NaN
+// although the crossing was found: the distance server did not answer in time, or at all, or
+// answered that the point is off the map).
+Json faultsJson(const RunLog& run) {
+  Json restarts = Json::array();
+  for (const auto& a : run.restarts) {
+    Json r = Json::object();
+    r["participant"] = a.participant;
+    r["t_s"] = numberOrNull(utimeToS(a.utime));
+    r["step"] = a.restart_step;
+    r["recovered"] = a.restart == step_ack_t::RESTART_RECOVERED;
+    r["note"] = a.restart_note;
+    restarts.push_back(std::move(r));
+  }
+  Json degraded = Json::array();
+  std::set<std::pair<std::string, std::string>> seen;
+  for (const auto& st : run.daemon_status) {
+    if (st.state != daemon_status_t::STATE_DEGRADED || !seen.insert({st.name, st.detail}).second)
+      continue;
+    Json d = Json::object();
+    d["name"] = st.name;
+    d["detail"] = st.detail;
+    degraded.push_back(std::move(d));
+  }
+  std::int64_t crossings = 0;
+  std::int64_t distance_unknown = 0;
+  for (const auto& sit : run.situations) {
+    if (sit.crossing_status != situation_t::CROSSING_OK) continue;
+    ++crossings;
+    if (std::isnan(sit.d_oh_m) || std::isnan(sit.d_or_m)) ++distance_unknown;
+  }
+  Json f = Json::object();
+  f["restarts"] = std::move(restarts);
+  f["degraded_daemons"] = std::move(degraded);
+  f["crossing_situations"] = crossings;
+  f["crossing_distance_unknown"] = distance_unknown;
+  return f;
+}
+
+}  // namespace
+
 Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::string& log_name) {
   TranscriptOptions topt;
   topt.include_unknown = false;
@@ -432,6 +481,7 @@ Json summarizeRun(const RunLog& run, const RunAnalysis& analysis, const std::str
   for (const auto& h : analysis.humans) humans.push_back(humanEntry(run, h, transcript));
   s["humans"] = std::move(humans);
   s["dialogue_checks"] = dialogueChecks(run);
+  s["faults"] = faultsJson(run);
 
   const auto& c = run.counts;
   Json counts = Json::object();

@@ -18,6 +18,7 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/channels.hpp"
 #include "coopnav/daemon_status_t.hpp"
+#include "coopnav/step_ack_t.hpp"
 #include "json.hpp"
 #include "logfile/log_reader.hpp"
 #include "maps/map_loader.hpp"
@@ -1171,6 +1172,62 @@ TEST(LogTools, MissingOrEmptyLog) {
   const Json doc = traceDocument(run, a, dir.file("empty.lcm"), "");
   EXPECT_TRUE(doc.at("robot").at("t_s").empty());
   EXPECT_TRUE(doc.at("utterances").empty());
+}
+
+// What a fault run is judged by (scripts/coopnav faults) is in summary.json, never read from the
+// transcript's text: restarts, degraded daemons, crossings with unknown obstacle distances, and
+// a precautionary dock marked degraded.
+TEST(LogTools, SummaryNamesRestartsDegradedDaemonsAndUnknownDistances) {
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    daemon_status_t st{};
+    st.name = "situation_assessor";
+    st.state = daemon_status_t::STATE_DEGRADED;
+    st.detail = "distance server: no answer";
+    for (int k = 0; k < 12; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      situation_t sit = situationAt(k + 5);  // crossings found, distances known
+      sit.utime = utimeOf(k);
+      sit.step = k;
+      if (k >= 8) {
+        sit.d_oh_m = std::nan("");     // the distance server did not answer in time
+        w.put(channels::kStatus, st);  // twice the same: named once
+      }
+      w.put(channels::kSituation, sit);
+      if (k == 6) {
+        step_ack_t ack{};
+        ack.utime = utimeOf(k);
+        ack.step = k;
+        ack.participant = "band_source";
+        ack.restart = step_ack_t::RESTART_RECOVERED;
+        ack.restart_step = k;
+        ack.restart_note = "journal of 6 steps replayed";
+        w.put(channels::kStepAck, ack);
+        w.put(channels::kStepAck, ack);  // the same restart's next ack: one restart
+      }
+      if (k == 10)
+        w.put(channels::kRobotAction,
+              action(k, robot_action_t::ACTION_DOCK,
+                     "needs ? -> degraded: precautionary dock (d_OR unknown)"));
+    }
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  const Json s = parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm")));
+  const Json& f = s.at("faults");
+  ASSERT_EQ(f.at("restarts").size(), 1u);
+  EXPECT_EQ(f.at("restarts").at(0).at("participant"), "band_source");
+  EXPECT_EQ(f.at("restarts").at(0).at("step"), 6);
+  EXPECT_EQ(f.at("restarts").at(0).at("recovered"), true);
+  EXPECT_EQ(f.at("restarts").at(0).at("note"), "journal of 6 steps replayed");
+  ASSERT_EQ(f.at("degraded_daemons").size(), 1u);
+  EXPECT_EQ(f.at("degraded_daemons").at(0).at("name"), "situation_assessor");
+  EXPECT_EQ(f.at("crossing_situations"), 12);
+  EXPECT_EQ(f.at("crossing_distance_unknown"), 4);
+  const Json& entries = s.at("humans").at(0).at("transcript");
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_EQ(entries.at(0).at("action"), "DOCK");
+  EXPECT_EQ(entries.at(0).at("degraded"), true);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Sequence
 
 from . import pool as poolmod
+from .run import run_one
 
 ROOT = Path(__file__).resolve().parents[3]
 PROG = "population"
@@ -123,51 +124,6 @@ def run_specs(out: Path, options: RunOptions) -> list[RunSpec]:
     return specs
 
 
-def run_one_via_population_sh_fallback(scenario: Path, out_dir: Path, port: int, *,
-                                       profile: str = "paper",
-                                       daemon_args: dict[str, list[str]] | None = None,
-                                       absent: tuple = (), speech: bool = False,
-                                       timeout_s: float = 900):
-    """FALLBACK until `coopnav_exp.run.run_one` (helper exprun) is in this tree; the integrator
-    removes it together with `population.sh --worker`. Same signature as run_one: runs the
-    scenario through scripts/population.sh's bash worker (scripts/scenario.sh's launch and
-    `coopnav_ctl summarize`)."""
-    if absent or speech:
-        raise NotImplementedError("the bash fallback runs every daemon, without speech")
-    env = dict(os.environ)
-    env["COOPNAV_PROFILE"] = profile
-    for daemon, args in (daemon_args or {}).items():
-        key = f"COOPNAV_DAEMON_ARGS_{daemon}"
-        # scenario.sh splits these at spaces (`read -a`), unquoted.
-        env[key] = (env.get(key, "") + " " + " ".join(args)).strip()
-    rc = subprocess.run(["bash", str(ROOT / "scripts" / "population.sh"), "--worker",
-                         str(scenario), str(out_dir), str(port)], env=env,
-                        check=False).returncode
-    name = scenario.stem
-    exit_file = out_dir / "world_sim.exit"
-    summary = out_dir / "summary.json"
-    return _FallbackResult(
-        world_sim_exit=int(exit_file.read_text().strip()) if exit_file.exists() else rc,
-        out_dir=out_dir, log=out_dir / f"{name}.lcm",
-        summary=summary if summary.exists() else None)
-
-
-@dataclasses.dataclass(frozen=True)
-class _FallbackResult:
-    world_sim_exit: int
-    out_dir: Path
-    log: Path
-    summary: Path | None
-
-
-def _run_one():
-    try:
-        from .run import run_one  # helper exprun's one-run API
-        return run_one
-    except ImportError:
-        return run_one_via_population_sh_fallback
-
-
 def worker_main(argv: Sequence[str]) -> int:
     """`python3 -m coopnav_exp.population worker SPEC_JSON PORT`: one run in a process of its own
     (the pool stops it and its daemons at the wall timeout: SIGTERM ends it through run_one's
@@ -183,7 +139,7 @@ def worker_main(argv: Sequence[str]) -> int:
     print(f"[{_stamp()}] worker: {spec.name} on port {port}", flush=True)
     shutil.rmtree(spec.out_dir, ignore_errors=True)
     spec.out_dir.mkdir(parents=True)
-    result = _run_one()(spec.scenario, spec.out_dir, port, profile=spec.profile,
+    result = run_one(spec.scenario, spec.out_dir, port, profile=spec.profile,
                         daemon_args=spec.daemon_args, timeout_s=spec.timeout_s)
     (spec.out_dir / "world_sim.exit").write_text(f"{result.world_sim_exit}\n")
     print(f"[{_stamp()}] worker: {spec.name} done, world_sim exit {result.world_sim_exit}",
@@ -298,11 +254,10 @@ def lib_sh(commands: str) -> int:
 
 
 def daemon_names() -> list[str]:
-    """The daemons of a run (scripts/scenario.sh's list) and world_sim."""
-    out = subprocess.run(["bash", "-c", f'source "{ROOT}/scripts/lib.sh"; '
-                          f'source "{ROOT}/scripts/scenario.sh"; echo "${{COOPNAV_DAEMONS[@]}}"'],
-                         check=True, capture_output=True, text=True).stdout.split()
-    return out + ["world_sim"]
+    """The daemons of a run and the world, as config/system.yaml describes them."""
+    from . import system as system_mod
+    s = system_mod.load()
+    return s.names() + [s.world.name]
 
 
 def check_configs(cue_effect: bool) -> str | None:

@@ -9,13 +9,13 @@
 # muted twins included. A line per finished run says where it stands (a terminal: one line).
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
-#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
+#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated|forecast]
 #                         [--cue-effect | --crowd]
 #   (defaults: N 200, seed 1, JOBS = cores (4 per core at most), DIR runs/population-<seed>;
 #   --tracker-noise: the humans as a tracker sees them, σ 0.05 m, 5 % missed, one id switch;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
 #   table says how often the region planned with at round 1 is the one walked to;
-#   --profile: the path assessment profile, as scripts/run.sh;
+#   --profile: the config profile, as scripts/run.sh;
 #   --cue-effect: every head-on human responsive (the other draws as the seed's), every encounter
 #   run twice, speaking in DIR/runs/<name> and with the dialogue manager muted (--set muted=true)
 #   in DIR/runs/<name>_muted, same scenario file and seed; the table adds what the spoken cue
@@ -101,8 +101,8 @@ if [ "${#jobs}" -gt 6 ] || [ "$jobs" -gt "$max_jobs" ]; then
   jobs=$max_jobs
 fi
 case "${COOPNAV_PROFILE:-paper}" in
-  paper | calibrated) ;;
-  *) echo "population.sh: --profile must be paper or calibrated, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
+  paper | calibrated | forecast) ;;
+  *) echo "population.sh: --profile must be paper, calibrated or forecast, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
 esac
 if [ "$cue_effect" -eq 1 ] && [ "$crowd" -eq 1 ]; then
   echo "population.sh: --cue-effect and --crowd do not go together" >&2

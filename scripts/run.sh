@@ -4,10 +4,11 @@
 # records an LCM log, and prints the transcript (what the robot said and did, when, and why);
 # then the CM table beside the paper's Table I. Writes runs/<timestamp>/ and runs/latest.
 #
-#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated] [--speech]
+#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated|forecast] [--speech]
 #                  [scenario.yaml ...]
 #   (default scenarios: config/scenarios/{open,narrow}_{facilitating,minimal}.yaml; --profile:
-#   the path assessment profile, config/path_assessor[_calibrated].yaml, default paper;
+#   the config files the daemons run, default paper: calibrated = config/path_assessor_
+#   calibrated.yaml, forecast = config/dialogue_manager_forecast.yaml (scripts/scenario.sh);
 #   --speech: espeak-ng says each utterance into DIR/<scenario>/speech/*.wav, and the dialogue
 #   manager plans with the durations it measures; DIR without spaces)
 source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
@@ -24,7 +25,7 @@ while [ $# -gt 0 ]; do
     --no-build) build=0; shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
     --speech) speech=1; shift ;;
-    -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     -*) echo "run.sh: unknown option $1" >&2; exit 2 ;;
     *) scenarios+=("$1"); shift ;;
   esac
@@ -38,8 +39,8 @@ for s in "${scenarios[@]}"; do
   [ -f "$s" ] || { echo "run.sh: no scenario file '$s'" >&2; exit 2; }
 done
 case "${COOPNAV_PROFILE:-paper}" in
-  paper | calibrated) ;;
-  *) echo "run.sh: --profile must be paper or calibrated, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
+  paper | calibrated | forecast) ;;
+  *) echo "run.sh: --profile must be paper, calibrated or forecast, not '$COOPNAV_PROFILE'" >&2; exit 2 ;;
 esac
 
 if [ "$build" -eq 1 ]; then

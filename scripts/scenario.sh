@@ -14,9 +14,8 @@
 #   COOPNAV_LOSS=0.1            each daemon on a port of its own, joined by coopnav_lossy_relay
 #                               dropping that fraction of every forwarded message (seed
 #                               COOPNAV_LOSS_SEED); the logger and the scripts hear everything
-#   COOPNAV_PROFILE=calibrated  the assessment profile (default paper): the path assessor runs
-#                               config/path_assessor_<profile>.yaml (paper: path_assessor.yaml)
-#                               and the dialogue manager acts on that profile's assessments
+#   COOPNAV_PROFILE=calibrated  the profile (default paper; paper, calibrated or forecast): the
+#                               config files the daemons run (coopnav_profile_suffix below)
 #   COOPNAV_NETNS_PREFIX=P      every process on a host of its own: the network namespace
 #                               P-<name> (P-recorder: the recorder and the scripts' coopnav_ctl),
 #                               made by scripts/netns.sh (scripts/multihost.sh); the URL has ttl=1
@@ -53,19 +52,36 @@ _cn_host() {  # NAME
   if [ -n "${COOPNAV_NETNS_PREFIX:-}" ]; then _cn_on=(ip netns exec "$COOPNAV_NETNS_PREFIX-$1"); fi
 }
 
+# A named profile (COOPNAV_PROFILE) is a set of config files: config/<daemon>_<suffix>.yaml.
+#   paper       the paper's: every daemon's own config/<daemon>.yaml
+#   calibrated  config/path_assessor_calibrated.yaml (CM's γ, τ and side rule fitted on real
+#               walkers); the dialogue manager acts on its assessments
+#   forecast    config/dialogue_manager_forecast.yaml (round 2 and the stand-offs judge the
+#               person by the forecast p_contributing, not by CM) on the paper's path assessment
+#               (config/path_assessor_forecast.yaml is the forecast's model file, not a profile)
+coopnav_profile_suffix() {  # DAEMON: "" or "_<profile>"
+  case "${COOPNAV_PROFILE:-paper}:$1" in
+    calibrated:path_assessor) echo _calibrated ;;
+    forecast:dialogue_manager) echo _forecast ;;
+  esac
+}
+coopnav_profile_assessment() {  # the path assessment profile the run's path assessor publishes
+  case "${COOPNAV_PROFILE:-paper}" in
+    calibrated) echo calibrated ;;
+    *) echo paper ;;
+  esac
+}
+
 coopnav_start_daemon() {  # NAME
   local d="$1" args=()
   case "$d" in
     obstacle_distance_server | band_source)
       args=(-c "$_cn_cfg/$d.yaml" --set "map_file=$_cn_scenario") ;;
     path_assessor)
-      if [ "${COOPNAV_PROFILE:-paper}" = paper ]; then
-        args=(-c "$_cn_cfg/$d.yaml")
-      else
-        args=(-c "$_cn_cfg/${d}_${COOPNAV_PROFILE}.yaml")
-      fi ;;
+      args=(-c "$_cn_cfg/path_assessor$(coopnav_profile_suffix path_assessor).yaml") ;;
     dialogue_manager)
-      args=(-c "$_cn_cfg/$d.yaml" --set "assessment_profile=${COOPNAV_PROFILE:-paper}") ;;
+      args=(-c "$_cn_cfg/dialogue_manager$(coopnav_profile_suffix dialogue_manager).yaml"
+        --set "assessment_profile=$(coopnav_profile_assessment)") ;;
     *) args=(-c "$_cn_cfg/$d.yaml") ;;
   esac
   # The distance server keeps no state across requests: nothing to journal.

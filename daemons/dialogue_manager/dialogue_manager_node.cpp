@@ -50,6 +50,8 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.round2_latest_t_cross_s = round2_latest_t_cross_s;
   c.precautionary_dock = precautionary_dock;
   c.crossing_range_m = crossing_range_m;
+  dialogue::parseCooperationJudgement(judgement, c.judgement);  // validated by visit()
+  c.forecast_threshold = forecast_threshold;
   c.templates = templates;
   c.resolve_stand_offs = stand_off.resolve;
   c.stand_off = stand_off;
@@ -553,9 +555,10 @@ DialogueManagerNode::Decided DialogueManagerNode::decide(
     if (r.round == 2)
       log().info(
           "dialogue_manager: step {} human {} round 2 on CM {} m against d_h {} m, "
-          "IsContributing {}, RobotIsConstrained {}{}",
+          "IsContributing {}, p_contributing {}, RobotIsConstrained {}{}",
           stamp.step, id, formatOptional(in.path.cm_window_m), formatOptional(situation.d_h_m),
-          tristateName(in.path.is_contributing), tristateName(situation.robot_is_constrained),
+          tristateName(in.path.is_contributing), formatOptional(in.path.p_contributing),
+          tristateName(situation.robot_is_constrained),
           h.heard_by_s
               ? fmt::format(" ({:.2f} s after round 1's words ended)", in.t_s - *h.heard_by_s)
               : "");

@@ -104,6 +104,12 @@ struct WorldSimConfig {
   /// enabled); off: no scan whatever the scenario says (the planner and guard then see the map
   /// and the people only).
   std::string laser{"scenario"};
+  /// scenario: the scenario's avoidance_timing decides; trigger / realistic override it (e.g.
+  /// --set avoidance_timing=realistic for a whole population).
+  std::string avoidance_timing{"scenario"};
+  /// The onset distribution of realistic timing (defaults and their source:
+  /// lib/include/coopnav/sim/behaviour.hpp, RealisticOnsetParams).
+  sim::RealisticOnsetParams realistic_onset;
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -120,6 +126,9 @@ struct WorldSimConfig {
     v("tracker", tracker);
     v("publish_human_goals", publish_human_goals, OneOf{{"scenario", "true", "false"}});
     v("laser", laser, OneOf{{"scenario", "off"}});
+    v("avoidance_timing", avoidance_timing, OneOf{{"scenario", "trigger", "realistic"}});
+    world_sim::SimParamsYaml<sim::RealisticOnsetParams> onset_yaml{&realistic_onset};
+    v("realistic_onset", onset_yaml);
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
     v("limits", limits);
   }

@@ -10,12 +10,14 @@
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
 #                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated|forecast]
-#                         [--cue-effect | --crowd]
+#                         [--realistic-timing] [--cue-effect | --crowd]
 #   (defaults: N 200, seed 1, JOBS = cores (4 per core at most), DIR runs/population-<seed>;
 #   --tracker-noise: the humans as a tracker sees them, σ 0.05 m, 5 % missed, one id switch;
 #   --goals-withheld: the humans' goals are not published, the band source infers them, and the
 #   table says how often the region planned with at round 1 is the one walked to;
 #   --profile: the config profile, as scripts/run.sh;
+#   --realistic-timing: people who yield of their own accord start at an onset drawn from real
+#   walkers' (world_sim avoidance_timing=realistic, docs/scenario-format.md);
 #   --cue-effect: every head-on human responsive (the other draws as the seed's), every encounter
 #   run twice, speaking in DIR/runs/<name> and with the dialogue manager muted (--set muted=true)
 #   in DIR/runs/<name>_muted, same scenario file and seed; the table adds what the spoken cue
@@ -82,10 +84,14 @@ while [ $# -gt 0 ]; do
       export COOPNAV_DAEMON_ARGS_world_sim="${COOPNAV_DAEMON_ARGS_world_sim:-} \
 --set publish_human_goals=false"
       shift ;;
+    --realistic-timing)
+      export COOPNAV_DAEMON_ARGS_world_sim="${COOPNAV_DAEMON_ARGS_world_sim:-} \
+--set avoidance_timing=realistic"
+      shift ;;
     --profile) export COOPNAV_PROFILE="$2"; shift 2 ;;
     --cue-effect) cue_effect=1; shift ;;
     --crowd) crowd=1; shift ;;
-    -h|--help) sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "population.sh: unknown argument $1" >&2; exit 2 ;;
   esac
 done

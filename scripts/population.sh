@@ -9,8 +9,8 @@
 # muted twins included; 2 bad arguments or files. A line per finished run says where it stands.
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
-#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated]
-#                         [--cue-effect | --crowd] [--slurm ...]
+#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated|forecast]
+#                         [--realistic-timing] [--cue-effect | --crowd] [--slurm ...]
 #
 # The entry point of `scripts/coopnav population` (tools/exp/coopnav_exp/population.py: the
 # options, the job pool, Slurm); `scripts/population.sh --help` lists every option.

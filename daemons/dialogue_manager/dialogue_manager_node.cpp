@@ -23,6 +23,8 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.round2_latest_t_cross_s = round2_latest_t_cross_s;
   c.precautionary_dock = precautionary_dock;
   c.crossing_range_m = crossing_range_m;
+  dialogue::parseCooperationJudgement(judgement, c.judgement);  // validated by visit()
+  c.forecast_threshold = forecast_threshold;
   c.templates = templates;
   c.resolve_stand_offs = stand_off.resolve;
   c.go_first_when_not_docked = stand_off.go_first;

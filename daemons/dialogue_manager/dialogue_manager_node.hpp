@@ -104,6 +104,11 @@ struct DialogueManagerConfig {
   double round2_latest_t_cross_s{dialogue::DecisionConfig{}.round2_latest_t_cross_s};
   bool precautionary_dock{dialogue::DecisionConfig{}.precautionary_dock};
   double crossing_range_m{dialogue::DecisionConfig{}.crossing_range_m};
+  /// The judgement of cooperation round 2 and the stand-offs act on (dialogue::
+  /// CooperationJudgement): "cm" (the paper's IsContributing) or "forecast" (p_contributing >=
+  /// forecast_threshold).
+  std::string judgement{dialogue::toString(dialogue::DecisionConfig{}.judgement)};
+  double forecast_threshold{dialogue::DecisionConfig{}.forecast_threshold};
   CrowdConfigYaml crowd;
   StandOffConfigYaml stand_off;
   double crossed_hysteresis_m{dialogue::SessionConfig{}.crossed_hysteresis_m};
@@ -137,6 +142,8 @@ struct DialogueManagerConfig {
     v("round2_latest_t_cross_s", round2_latest_t_cross_s, Range{0.0, 60.0});
     v("precautionary_dock", precautionary_dock);
     v("crossing_range_m", crossing_range_m, Range{0.5, 50.0});
+    v("judgement", judgement, OneOf{{"cm", "forecast"}});
+    v("forecast_threshold", forecast_threshold, Range{0.0, 1.0});
     v("crowd", crowd);
     v("stand_off", stand_off);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});

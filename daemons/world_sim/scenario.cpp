@@ -251,6 +251,7 @@ sim::WorldSpec toWorldSpec(const Scenario& sc) {
   w.settings.standstill_distance_m = sc.standstill_distance_m;
   w.robot = sc.robot;
   w.humans = sc.humans;
+  sim::parseAvoidanceTiming(sc.avoidance_timing, w.avoidance_timing);  // validated on load
   return w;
 }
 

@@ -427,6 +427,9 @@ struct Scenario {
   bool publish_human_goals{true};
   UnmappedObstaclesSpec unmapped_obstacles;
   LaserSpec laser;
+  /// When the people who yield of their own accord start to: "trigger" (their behaviour's fixed
+  /// trigger) or "realistic" (an onset drawn per person from real walkers; sim::AvoidanceTiming).
+  std::string avoidance_timing{sim::toString(sim::AvoidanceTiming::kTrigger)};
   std::string source;  ///< file the scenario came from (for messages)
 
   /// Every key of a scenario file (format: docs/scenario-format.md). map.file is read as written;
@@ -449,6 +452,7 @@ struct Scenario {
     TrackerParamsYaml tracker_yaml{&tracker};
     v("tracker", tracker_yaml);
     v("publish_human_goals", publish_human_goals);
+    v("avoidance_timing", avoidance_timing, OneOf{{"trigger", "realistic"}});
     v("unmapped_obstacles", unmapped_obstacles);
     v("laser", laser);
     RobotSpecYaml robot_yaml{&robot};

@@ -153,9 +153,12 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     // Unknown cells are walls for the simulator as for the distance server (open.pgm's pillar).
     field_ = std::make_shared<GridDistanceField>(std::move(map.grid), UnknownPolicy::kObstacle);
     world_sim::checkScenarioAgainstMap(scenario_, *field_);
+    sim::WorldSpec spec = world_sim::toWorldSpec(scenario_);
+    if (config_.avoidance_timing != "scenario")
+      sim::parseAvoidanceTiming(config_.avoidance_timing, spec.avoidance_timing);
+    spec.onset = config_.realistic_onset;
     sim_ = std::make_unique<sim::Simulation>(
-        world_sim::toWorldSpec(scenario_), field_.get(),
-        sim::dualBandAdapterFactory(config_.human_planner.config, field_));
+        spec, field_.get(), sim::dualBandAdapterFactory(config_.human_planner.config, field_));
     std::vector<std::int32_t> ids;
     for (const auto& h : scenario_.humans) ids.push_back(h.id);
     // Its own random streams from the seed: the humans' draws are the same with it on or off.
@@ -230,6 +233,13 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
         tp.position_sigma_m, tp.velocity_window_steps, tp.miss_probability, tp.drop_after_s,
         tp.id_switches, tp.range_m > 0.0 ? fmt(tp.range_m) : std::string("unlimited"));
   if (!publish_human_goals_) log().info("world_sim: the humans' goals are not published");
+  const auto onsets = sim_->onsets();
+  for (std::size_t i = 0; i < onsets.size(); ++i)
+    if (onsets[i])
+      log().info(
+          "world_sim: human {} avoids from {} s before the closest approach (realistic "
+          "timing)",
+          scenario_.humans[i].id, fmt(*onsets[i]));
   runtime_.setRunning("scenario " + scenario_.name + ", " + mode +
                       (lockstep_ && gate_ ? ", waiting for " + who : ""));
 }

@@ -109,6 +109,12 @@ struct WorldSimConfig {
   /// JSON object a line (docs/scenario-format.md "Cue outcomes"): what a population tabulates of
   /// what the simulated humans heard. Relative to the working directory; created empty at start.
   std::string cue_outcomes_file{""};
+  /// scenario: the scenario's avoidance_timing decides; trigger / realistic override it (e.g.
+  /// --set avoidance_timing=realistic for a whole population).
+  std::string avoidance_timing{"scenario"};
+  /// The onset distribution of realistic timing (defaults and their source:
+  /// lib/include/coopnav/sim/behaviour.hpp, RealisticOnsetParams).
+  sim::RealisticOnsetParams realistic_onset;
 
   /// Caps on what a bus peer can make this daemon hold or do (runtime/limits.hpp).
   InputLimits limits;
@@ -126,6 +132,9 @@ struct WorldSimConfig {
     v("publish_human_goals", publish_human_goals, OneOf{{"scenario", "true", "false"}});
     v("laser", laser, OneOf{{"scenario", "off"}});
     v("cue_outcomes_file", cue_outcomes_file);
+    v("avoidance_timing", avoidance_timing, OneOf{{"scenario", "trigger", "realistic"}});
+    world_sim::SimParamsYaml<sim::RealisticOnsetParams> onset_yaml{&realistic_onset};
+    v("realistic_onset", onset_yaml);
     v.require(!scenario.empty(), "scenario", "must name a scenario file");
     v("limits", limits);
   }

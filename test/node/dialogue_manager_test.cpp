@@ -53,6 +53,7 @@ struct Path {
   double cm_m{0.0};
   std::int8_t contributing{F};
   std::int8_t recording{path_assessment_t::REC_RECORDING};
+  double p_contributing{std::numeric_limits<double>::quiet_NaN()};  ///< the forecast; NaN unknown
 };
 
 struct Human {
@@ -152,6 +153,7 @@ class DialogueManagerTest : public ::testing::Test {
     m.gamma = 0.98;
     m.profile = "paper";
     m.tau_m = 0.4;
+    m.p_contributing = p.p_contributing;
     probe_.publish(channels::kPathAssessment, m);
   }
 
@@ -337,6 +339,46 @@ TEST_F(DialogueManagerTest, UnknownPredicatesNearTheCrossingDockAsAPrecautionSai
   EXPECT_EQ(u2[0].speech_act, utterance_t::ACT_INFORM_DIRECTION);
   EXPECT_EQ(u2[1].speech_act, utterance_t::ACT_REPEAT_DIRECTION);
   EXPECT_TRUE(utterancesOf(3).empty());
+}
+
+// judgement: forecast (config/dialogue_manager_forecast.yaml): round 2 reads p_contributing off
+// the wire, not IsContributing. Human 1 has not stepped aside yet (IsContributing false) but is
+// forecast to; human 2 stepped a little (true) and is forecast not to make room.
+TEST_F(DialogueManagerTest, TheForecastProfileDecidesRoundTwoOnPContributing) {
+  for (const bool forecast : {false, true}) {
+    utterances_.clear();
+    actions_.clear();
+    controls_.clear();
+    acks_.clear();
+    events_.clear();
+    if (forecast)
+      start({"-c", std::string(COOPNAV_SOURCE_DIR) + "/config/dialogue_manager_forecast.yaml"});
+    else
+      start();
+    primePeers();
+    const auto sits = [](double t) {
+      return std::vector<Sit>{{1, t, T, F, T, situation_t::DIR_LEFT, 0.6},
+                              {2, t, T, F, T, situation_t::DIR_LEFT, 0.6}};
+    };
+    const std::vector<Path> paths{{1, 0.05, F, path_assessment_t::REC_RECORDING, 0.8},
+                                  {2, 0.45, T, path_assessment_t::REC_RECORDING, 0.2}};
+    fullStep(1, sits(6.9), {});
+    fullStep(2, sits(3.9), paths);
+    settle();
+    const auto u1 = utterancesOf(1);
+    const auto u2 = utterancesOf(2);
+    ASSERT_EQ(u1.size(), 2u);
+    ASSERT_EQ(u2.size(), 2u);
+    // The paper docks for human 1 and asks human 2 for more; the forecast the other way round.
+    EXPECT_EQ(u1[1].speech_act,
+              forecast ? utterance_t::ACT_ASK_TO_MOVE_MORE : utterance_t::ACT_INFORM_DOCKING);
+    EXPECT_EQ(u2[1].speech_act,
+              forecast ? utterance_t::ACT_INFORM_DOCKING : utterance_t::ACT_ASK_TO_MOVE_MORE);
+    ASSERT_EQ(actions_.size(), 1u);
+    EXPECT_EQ(actions_[0].human_id, forecast ? 2 : 1);
+    EXPECT_EQ(actions_[0].action, robot_action_t::ACTION_DOCK);
+    dut_.reset();
+  }
 }
 
 TEST_F(DialogueManagerTest, WithoutThePrecautionUnknownPredicatesNeverLeadToADock) {

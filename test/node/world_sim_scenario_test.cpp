@@ -279,6 +279,20 @@ TEST(Scenario, TrackerAndGoalKeysLoadAndAreChecked) {
   EXPECT_NE(msg.find("'publish_human_goals'"), std::string::npos) << msg;
 }
 
+TEST(Scenario, AvoidanceTimingLoadsIntoTheWorldAndIsChecked) {
+  // Left out: each behaviour's own trigger.
+  EXPECT_EQ(toWorldSpec(parseScenario(kValid, "ok.yaml", ".")).avoidance_timing,
+            sim::AvoidanceTiming::kTrigger);
+  const std::string text =
+      replaced(kValid, "time_limit_s: 40.0\n", "time_limit_s: 40.0\navoidance_timing: realistic\n");
+  EXPECT_EQ(toWorldSpec(parseScenario(text, "ok.yaml", ".")).avoidance_timing,
+            sim::AvoidanceTiming::kRealistic);
+  const std::string msg =
+      errorOf(replaced(text, "avoidance_timing: realistic", "avoidance_timing: early"));
+  EXPECT_NE(msg.find("'avoidance_timing'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("realistic"), std::string::npos) << msg;
+}
+
 TEST(Scenario, RecordedHumansTakeTheirStartAndGoalFromTheirTracks) {
   const std::string path = std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/recorded_zara01.yaml";
   const Scenario sc = loadScenario(path);

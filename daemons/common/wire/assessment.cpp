@@ -288,6 +288,7 @@ dialogue::PathSnapshot pathSnapshotFromLcm(const path_assessment_t& msg) {
   dialogue::PathSnapshot s;
   s.cm_window_m = r.snapshot.cm_window_m;
   s.is_contributing = r.snapshot.is_contributing_window;
+  s.p_contributing = r.p_contributing;
   return s;
 }
 

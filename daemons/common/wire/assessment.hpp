@@ -69,7 +69,8 @@ path_assessment_t toLcm(const PathAssessmentRecord& r);
 /// than MAX_PROFILE_LENGTH or not [A-Za-z0-9_-], or a p_contributing that is neither NaN nor in
 /// [0, 1].
 PathAssessmentRecord fromLcm(const path_assessment_t& msg);
-/// What the decision logic reads from a path assessment (window since the last reset).
+/// What the decision logic reads from a path assessment (window since the last reset, and the
+/// forecast p_contributing, nullopt when NaN).
 dialogue::PathSnapshot pathSnapshotFromLcm(const path_assessment_t& msg);
 
 /// Paper §II-C, CM for another γ (the γ sweep figure), from the CA values a path assessment

@@ -18,6 +18,46 @@ Tristate lessThan(std::optional<double> a, std::optional<double> b) {
 
 }  // namespace
 
+const char* toString(CooperationJudgement j) {
+  switch (j) {
+    case CooperationJudgement::kCm:
+      return "cm";
+    case CooperationJudgement::kForecast:
+      return "forecast";
+  }
+  return "?";
+}
+
+bool parseCooperationJudgement(const std::string& s, CooperationJudgement& out) {
+  for (const CooperationJudgement j : {CooperationJudgement::kCm, CooperationJudgement::kForecast})
+    if (s == toString(j)) {
+      out = j;
+      return true;
+    }
+  return false;
+}
+
+Tristate judgeContributing(const DecisionConfig& config, const PathSnapshot& path) {
+  if (config.judgement == CooperationJudgement::kCm) return path.is_contributing;
+  if (!path.p_contributing || std::isnan(*path.p_contributing)) return Tristate::kUnknown;
+  return toTristate(*path.p_contributing >= config.forecast_threshold);
+}
+
+std::string describeContributing(const DecisionConfig& config, const PathSnapshot& path) {
+  const Tristate v = judgeContributing(config, path);
+  const char* head = v == Tristate::kTrue    ? "contributing"
+                     : v == Tristate::kFalse ? "!contributing"
+                                             : "contributing unknown";
+  if (config.judgement == CooperationJudgement::kCm) return head;
+  std::array<char, 64> why{};
+  if (v == Tristate::kUnknown)
+    std::snprintf(why.data(), why.size(), " (p_contributing unknown)");
+  else
+    std::snprintf(why.data(), why.size(), " (p %.2f %s %.2f)", *path.p_contributing,
+                  v == Tristate::kTrue ? ">=" : "<", config.forecast_threshold);
+  return std::string("forecast ") + head + why.data();
+}
+
 const char* toString(SpeechAct a) {
   switch (a) {
     case SpeechAct::kInformDirection:
@@ -224,9 +264,10 @@ void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, Deci
   // Made room, and the passage fits: the robot's plan needs nothing more of the person now, or
   // they moved the d_h it needed (CM >= d_h), or they are moving aside while the robot has room
   // of its own.
-  const bool made_room =
-      s.human_needs_to_contribute == Tristate::kFalse || still == Tristate::kFalse ||
-      (in.path.is_contributing == Tristate::kTrue && s.robot_is_constrained == Tristate::kFalse);
+  const bool made_room = s.human_needs_to_contribute == Tristate::kFalse ||
+                         still == Tristate::kFalse ||
+                         (judgeContributing(config_, in.path) == Tristate::kTrue &&
+                          s.robot_is_constrained == Tristate::kFalse);
   const double waited_s =
       what == StandOff::kMutualWait ? watch_.mutualWait_s() : watch_.dockWait_s();
   RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
@@ -349,22 +390,27 @@ void HumanDecision::round2(const DecisionInput& in, DecisionOutput& out) {
         say(SpeechAct::kRepeatDirection, s.dir, 2, out);
       }
     } else if (s.robot_is_constrained == Tristate::kTrue) {
-      // Read IsContributing, then reset the recorder (the snapshot was read before the reset).
-      const Tristate contributing = in.path.is_contributing;
+      // Read IsContributing (or the forecast: DecisionConfig::judgement), then reset the
+      // recorder (the snapshot was read before the reset).
+      const Tristate contributing = judgeContributing(config_, in.path);
+      const std::string judged =
+          "still & robot_constrained & " + describeContributing(config_, in.path);
       out.recorder_commands.push_back(RecorderCommand::kReset);
       if (contributing == Tristate::kTrue) {
-        r.branch = "still & robot_constrained & contributing -> ask to move more";
+        r.branch = judged + " -> ask to move more";
         if (s.dir == Side::kUndefined) {
           r.reason = "Dir undefined: no side to speak";
         } else {
           say(SpeechAct::kAskToMoveMore, opposite(s.dir), 2, out);
         }
       } else if (contributing == Tristate::kFalse) {
-        r.branch = "still & robot_constrained & !contributing -> dock";
+        r.branch = judged + " -> dock";
         dock(out, false, s.room_plan);
       } else {
-        r.branch = "still & robot_constrained & contributing unknown";
-        r.reason = "IsContributing unknown: no dock, silent";
+        r.branch = judged;
+        r.reason = config_.judgement == CooperationJudgement::kCm
+                       ? "IsContributing unknown: no dock, silent"
+                       : "p_contributing unknown: no dock, silent";
       }
     } else {
       r.branch = "still & robot_constrained unknown";
@@ -398,7 +444,7 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
                                       DecisionOutput& out) {
   const SituationSnapshot& s = in.situation;
   const Tristate robot = s.robot_is_constrained;
-  const Tristate contributing = in.path.is_contributing;
+  const Tristate contributing = judgeContributing(config_, in.path);
   const bool any_unknown =
       still == Tristate::kUnknown || robot == Tristate::kUnknown ||
       (robot == Tristate::kTrue && still == Tristate::kTrue && contributing == Tristate::kUnknown);
@@ -408,7 +454,7 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
       contributing == Tristate::kTrue)
     return false;
   r.branch = describe(still, "still") + " & " + describe(robot, "robot_constrained") + " & " +
-             describe(contributing, "contributing") + " -> degraded: precautionary dock";
+             describeContributing(config_, in.path) + " -> degraded: precautionary dock";
   std::string unknown;
   auto add = [&unknown](const std::string& what) {
     unknown += (unknown.empty() ? "" : ", ") + what;
@@ -416,7 +462,8 @@ bool HumanDecision::precautionaryDock(const DecisionInput& in, Tristate still, R
   if (robot == Tristate::kUnknown) add("RobotIsConstrained");
   if (!in.path.cm_window_m) add("CM");
   if (!s.d_h_m) add("d_h");
-  if (contributing == Tristate::kUnknown) add("IsContributing");
+  if (contributing == Tristate::kUnknown)
+    add(config_.judgement == CooperationJudgement::kCm ? "IsContributing" : "p_contributing");
   r.reason = unknown + " unknown near the crossing" + (s.reason.empty() ? "" : ": " + s.reason);
   r.degraded = true;
   // As a flowchart dock: the recorder restarts, so that round 3 judges the human from here.

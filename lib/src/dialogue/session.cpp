@@ -328,7 +328,8 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
            "step " + std::to_string(stamp.step) + " human " + std::to_string(id) +
                " round 2 on CM " + formatOptional(in.path.cm_window_m) + " m against d_h " +
                formatOptional(situation.d_h_m) + " m, IsContributing " +
-               tristateName(in.path.is_contributing) + ", RobotIsConstrained " +
+               tristateName(in.path.is_contributing) + ", p_contributing " +
+               formatOptional(in.path.p_contributing) + ", RobotIsConstrained " +
                tristateName(situation.robot_is_constrained) +
                (p.heard_by_s
                     ? " (" + fixed(in.t_s - *p.heard_by_s, 2) + " s after round 1's words ended)"

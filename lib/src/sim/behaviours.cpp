@@ -197,8 +197,9 @@ class MinimalBehaviour final : public HumanBehaviour {
 /// 0.3–0.45 s before the crossing).
 class FacilitatingBehaviour final : public HumanBehaviour {
  public:
-  FacilitatingBehaviour(const FacilitatingParams& p, std::unique_ptr<HumanPlannerAdapter> planner)
-      : p_(p), yield_(p.yield), planner_(std::move(planner)) {}
+  FacilitatingBehaviour(const FacilitatingParams& p, std::unique_ptr<HumanPlannerAdapter> planner,
+                        std::optional<double> onset_s)
+      : p_(p), yield_(p.yield), planner_(std::move(planner)), onset_s_(onset_s) {}
   Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
     if (planner_) {
       if (auto v = planner_->plan(ctx)) {
@@ -208,8 +209,10 @@ class FacilitatingBehaviour final : public HumanBehaviour {
     }
     const auto enc = estimateEncounter(ctx);
     if (yield_.active() && yield_.released(ctx, enc)) yield_.release();
-    if (!yield_.active() && enc && engaging(*enc, p_.yield) &&
-        (enc->t_closest_s < p_.trigger_ttc_s || enc->distance_m < p_.trigger_distance_m)) {
+    const bool triggered = enc && (onset_s_ ? enc->t_closest_s < *onset_s_
+                                            : enc->t_closest_s < p_.trigger_ttc_s ||
+                                                  enc->distance_m < p_.trigger_distance_m);
+    if (!yield_.active() && enc && engaging(*enc, p_.yield) && triggered) {
       yield_.engage(ctx, *enc, sideAwayFrom(enc->robot_lateral_m), p_.yield.offset_m);
     }
     mode_ = yield_.active() ? "yield" : "follow";
@@ -222,17 +225,19 @@ class FacilitatingBehaviour final : public HumanBehaviour {
   FacilitatingParams p_;
   Yield yield_;
   std::unique_ptr<HumanPlannerAdapter> planner_;
+  std::optional<double> onset_s_;  ///< realistic timing: replaces both triggers
   std::string mode_{"follow"};
 };
 
 class LateFacilitatingBehaviour final : public HumanBehaviour {
  public:
-  explicit LateFacilitatingBehaviour(const LateFacilitatingParams& p)
-      : p_(p), avoid_(p.minimal), yield_(p.yield) {}
+  LateFacilitatingBehaviour(const LateFacilitatingParams& p, std::optional<double> onset_s)
+      : p_(p), avoid_(p.minimal), yield_(p.yield), onset_s_(onset_s) {}
   Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
     const auto enc = estimateEncounter(ctx);
     if (yield_.active() && yield_.released(ctx, enc)) yield_.release();
-    if (!yield_.active() && enc && engaging(*enc, p_.yield) && enc->t_closest_s < p_.trigger_ttc_s)
+    if (!yield_.active() && enc && engaging(*enc, p_.yield) &&
+        enc->t_closest_s < onset_s_.value_or(p_.trigger_ttc_s))
       yield_.engage(ctx, *enc, sideAwayFrom(enc->robot_lateral_m), p_.yield.offset_m);
     const double minimal_m = avoid_.update(ctx, enc);
     // Yielding supersedes the sidestep, but never by less than the sidestep already taken.
@@ -251,6 +256,7 @@ class LateFacilitatingBehaviour final : public HumanBehaviour {
   LateFacilitatingParams p_;
   MinimalAvoidance avoid_;
   Yield yield_;
+  std::optional<double> onset_s_;  ///< realistic timing: replaces trigger_ttc_s
   double offset_m_{0.0};
 };
 
@@ -259,17 +265,31 @@ class LateFacilitatingBehaviour final : public HumanBehaviour {
 /// and when it starts acting (ctx.cues).
 class ResponsiveBehaviour final : public HumanBehaviour {
  public:
-  explicit ResponsiveBehaviour(const ResponsiveParams& p)
-      : p_(p), avoid_(p.minimal), yield_(p.yield) {}
+  ResponsiveBehaviour(const ResponsiveParams& p, std::optional<double> onset_s)
+      : p_(p), avoid_(p.minimal), yield_(p.yield), onset_s_(onset_s) {}
   Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
     const auto enc = estimateEncounter(ctx);
     if (yield_.active() && yield_.released(ctx, enc)) {
       // The robot is behind: the encounter is over, and so is what was said for it.
       yield_.release();
       going_on_ = false;
+      told_side_.reset();
     }
     if (ctx.cues != nullptr) {
-      for (const Cue& c : *ctx.cues) act(c, ctx, enc);
+      for (const Cue& c : *ctx.cues) {
+        // Realistic timing: told which side the robot takes, a person keeps to the other one
+        // when walkers start to step aside (its onset), not as soon as it heard.
+        if (onset_s_ && c.kind == CueKind::kKeepSide) {
+          told_side_ = c;
+          continue;
+        }
+        if (c.kind == CueKind::kRobotMakesRoom) told_side_.reset();
+        act(c, ctx, enc);
+      }
+    }
+    if (told_side_ && enc && enc->t_closest_s < *onset_s_) {
+      act(*told_side_, ctx, enc);
+      told_side_.reset();
     }
     const double minimal_m = avoid_.update(ctx, enc);
     // The shift it was told to make supersedes the sidestep, never by less than the sidestep.
@@ -314,6 +334,8 @@ class ResponsiveBehaviour final : public HumanBehaviour {
   ResponsiveParams p_;
   MinimalAvoidance avoid_;
   Yield yield_;
+  std::optional<double> onset_s_;  ///< realistic timing (AvoidanceTiming::kRealistic)
+  std::optional<Cue> told_side_;   ///< a statement heard, kept until the onset
   bool going_on_{false};
   double offset_m_{0.0};
 };
@@ -424,9 +446,9 @@ std::unique_ptr<HumanBehaviour> makeModel(const BehaviourConfig& config,
     case BehaviourType::kSocialForce:
       return std::make_unique<SocialForceBehaviour>(config.social_force);
     case BehaviourType::kLateFacilitating:
-      return std::make_unique<LateFacilitatingBehaviour>(config.late_facilitating);
+      return std::make_unique<LateFacilitatingBehaviour>(config.late_facilitating, config.onset_s);
     case BehaviourType::kResponsive:
-      return std::make_unique<ResponsiveBehaviour>(config.responsive);
+      return std::make_unique<ResponsiveBehaviour>(config.responsive, config.onset_s);
     case BehaviourType::kFacilitating: {
       std::unique_ptr<HumanPlannerAdapter> planner;
       if (config.facilitating.planner == "band") {
@@ -436,7 +458,8 @@ std::unique_ptr<HumanBehaviour> makeModel(const BehaviourConfig& config,
               "which this build does not provide; use planner: analytic");
         planner = planner_factory(config.facilitating);
       }
-      return std::make_unique<FacilitatingBehaviour>(config.facilitating, std::move(planner));
+      return std::make_unique<FacilitatingBehaviour>(config.facilitating, std::move(planner),
+                                                     config.onset_s);
     }
     case BehaviourType::kRecorded:
       return makeRecordedBehaviour(config.recorded);
@@ -553,6 +576,25 @@ const char* toString(BehaviourType t) {
       return "recorded";
   }
   return "?";
+}
+
+const char* toString(AvoidanceTiming t) {
+  switch (t) {
+    case AvoidanceTiming::kTrigger:
+      return "trigger";
+    case AvoidanceTiming::kRealistic:
+      return "realistic";
+  }
+  return "?";
+}
+
+bool parseAvoidanceTiming(const std::string& s, AvoidanceTiming& out) {
+  for (const AvoidanceTiming t : {AvoidanceTiming::kTrigger, AvoidanceTiming::kRealistic})
+    if (s == toString(t)) {
+      out = t;
+      return true;
+    }
+  return false;
 }
 
 std::vector<std::string> behaviourTypeNames() {

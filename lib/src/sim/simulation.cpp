@@ -29,7 +29,24 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("invalid world spec: " + what);
 }
 
+/// The behaviours that step aside of their own accord at some time (AvoidanceTiming).
+bool yieldsOfItsOwn(BehaviourType t) {
+  return t == BehaviourType::kFacilitating || t == BehaviourType::kLateFacilitating ||
+         t == BehaviourType::kResponsive;
+}
+
 }  // namespace
+
+double drawOnset(const RealisticOnsetParams& p, Rng& rng) {
+  return std::min(p.max_s, p.median_s * std::exp(p.log_sd * rng.normal(0.0, 1.0)));
+}
+
+std::vector<std::optional<double>> Simulation::onsets() const {
+  std::vector<std::optional<double>> out;
+  out.reserve(humans_.size());
+  for (const Human& h : humans_) out.push_back(h.spec.behaviour.onset_s);
+  return out;
+}
 
 const char* toString(SimStatus s) {
   switch (s) {
@@ -100,7 +117,14 @@ Simulation::Simulation(const WorldSpec& spec, const DistanceMap* map,
     h.preferred_speed_m_s = hs.speed_m_s;
     if (hs.speed_stddev_m_s > 0.0)
       h.preferred_speed_m_s = std::max(0.1, h.rng.normal(hs.speed_m_s, hs.speed_stddev_m_s));
-    h.behaviour = makeBehaviour(hs.behaviour, planner_factory);
+    BehaviourConfig behaviour = hs.behaviour;
+    if (spec.avoidance_timing == AvoidanceTiming::kRealistic && yieldsOfItsOwn(behaviour.type)) {
+      constexpr std::uint64_t kOnsetStreams = std::uint64_t{1} << 41;
+      Rng onset_rng = Rng::forStream(spec.seed, kOnsetStreams + static_cast<std::uint64_t>(hs.id));
+      behaviour.onset_s = drawOnset(spec.onset, onset_rng);
+      h.spec.behaviour.onset_s = behaviour.onset_s;
+    }
+    h.behaviour = makeBehaviour(behaviour, planner_factory);
     humans_.push_back(std::move(h));
   }
   const std::size_t n = humans_.size() + 2;  // robot, humans, wall

@@ -179,12 +179,16 @@ TEST(ConversionsAssessmentTest, PContributingTravelsAsAProbabilityOrNaN) {
   auto r = pathRecord({0.1, 0.2});
   EXPECT_TRUE(std::isnan(toLcm(r).p_contributing));  // unknown
   EXPECT_FALSE(fromLcm(toLcm(r)).p_contributing.has_value());
+  EXPECT_FALSE(pathSnapshotFromLcm(toLcm(r)).p_contributing.has_value());
   for (const double p : {0.0, 0.37, 1.0}) {
     r.p_contributing = p;
     const path_assessment_t m = toLcm(r);
     EXPECT_EQ(m.p_contributing, p);
     ASSERT_TRUE(fromLcm(m).p_contributing.has_value());
     EXPECT_EQ(*fromLcm(m).p_contributing, p);
+    // ... and reaches the decision logic (dialogue::PathSnapshot, the forecast judgement).
+    ASSERT_TRUE(pathSnapshotFromLcm(m).p_contributing.has_value());
+    EXPECT_EQ(*pathSnapshotFromLcm(m).p_contributing, p);
   }
   path_assessment_t bad = toLcm(r);
   for (const double p : {-1e-9, 1.0 + 1e-9, 2.0, -std::numeric_limits<double>::infinity(),

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -390,6 +391,146 @@ TEST(Decision, PrecautionaryDockOnlyInRoundTwo) {
   in.crossed = true;
   out = dut.step(in);
   EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+}
+
+// The judgement of cooperation (DecisionConfig::judgement) at rounds 1 and 2: the paper's
+// IsContributing (CM > τ) or the forecast p_contributing against forecast_threshold.
+DecisionConfig withJudgement(CooperationJudgement j) {
+  DecisionConfig c;
+  c.judgement = j;
+  return c;
+}
+
+TEST(DecisionJudgement, RoundOneReadsNoJudgementUnderEither) {
+  // Round 1 decides on the situation alone: the same words whatever CM or the forecast say.
+  for (const auto j : {CooperationJudgement::kCm, CooperationJudgement::kForecast}) {
+    for (const double p : {0.05, 0.95}) {
+      HumanDecision dut(withJudgement(j));
+      DecisionInput in = round2Input(T, p > 0.5 ? F : T, 0.0, true);
+      in.situation.t_cross_s = 6.9;
+      in.path.p_contributing = p;
+      const DecisionOutput out = dut.step(in);
+      ASSERT_EQ(out.rounds.size(), 1u);
+      EXPECT_EQ(out.rounds[0].round, 1);
+      EXPECT_EQ(out.rounds[0].branch,
+                "needs & robot_constrained & !human_constrained -> ask to move away");
+      ASSERT_EQ(out.utterances.size(), 1u);
+      EXPECT_EQ(out.utterances[0].act, Act::kAskToMove);
+      EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kStart});
+    }
+  }
+}
+
+// Round 2, robot constrained, the person still short of d_h: the two judgements disagree in both
+// directions, and each decides on its own.
+TEST(DecisionJudgement, RoundTwoDecidesOnTheConfiguredJudgement) {
+  struct Case {
+    CooperationJudgement judgement;
+    Tristate is_contributing;  // the paper's, from CM > τ
+    std::optional<double> p;   // the forecast
+    bool asks_more;            // else docks
+    const char* branch;
+  };
+  const Case cases[] = {
+      // Not stepped aside yet (CM below τ), but the track says it will: the paper docks.
+      {CooperationJudgement::kCm, F, 0.8, false,
+       "still & robot_constrained & !contributing -> dock"},
+      {CooperationJudgement::kForecast, F, 0.8, true,
+       "still & robot_constrained & forecast contributing (p 0.80 >= 0.50) -> ask to move more"},
+      // Stepped a little (CM above τ), but the forecast says it will not make room.
+      {CooperationJudgement::kCm, T, 0.2, true,
+       "still & robot_constrained & contributing -> ask to move more"},
+      {CooperationJudgement::kForecast, T, 0.2, false,
+       "still & robot_constrained & forecast !contributing (p 0.20 < 0.50) -> dock"},
+      // The threshold itself counts as contributing.
+      {CooperationJudgement::kForecast, F, 0.5, true,
+       "still & robot_constrained & forecast contributing (p 0.50 >= 0.50) -> ask to move more"},
+  };
+  for (const Case& c : cases) {
+    HumanDecision dut(withJudgement(c.judgement));
+    dut.step(neutral(10.0, 6.9));
+    DecisionInput in = round2Input(T, c.is_contributing, 0.1, true);
+    in.t_s = 13.0;
+    in.path.p_contributing = c.p;
+    const DecisionOutput out = dut.step(in);
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_EQ(out.rounds[0].round, 2);
+    EXPECT_EQ(out.rounds[0].branch, c.branch);
+    EXPECT_FALSE(out.rounds[0].degraded);
+    EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kReset});
+    ASSERT_EQ(out.utterances.size(), 1u) << c.branch;
+    if (c.asks_more) {
+      EXPECT_EQ(out.utterances[0].act, Act::kAskToMoveMore);
+      EXPECT_EQ(out.utterances[0].direction, R);  // away from Dir (left)
+      EXPECT_TRUE(out.robot_actions.empty());
+    } else {
+      EXPECT_EQ(out.utterances[0].act, Act::kInformDocking);
+      EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+    }
+  }
+}
+
+TEST(DecisionJudgement, AnUnknownForecastIsAnUnknownJudgement) {
+  for (const std::optional<double> p : {std::optional<double>{}, std::optional<double>{NAN}}) {
+    // With the precaution: docks, degraded, naming p_contributing (not IsContributing, known).
+    HumanDecision dut(withJudgement(CooperationJudgement::kForecast));
+    dut.step(neutral(10.0, 6.9));
+    DecisionInput in = round2Input(T, T, 0.1, true);
+    in.t_s = 13.0;
+    in.path.p_contributing = p;
+    DecisionOutput out = dut.step(in);
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_TRUE(out.rounds[0].degraded);
+    EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+    EXPECT_NE(out.rounds[0].reason.find("p_contributing"), std::string::npos);
+    EXPECT_EQ(out.rounds[0].reason.find("IsContributing"), std::string::npos);
+    // Without it: the flowchart's silence on an unknown, said why.
+    DecisionConfig silent = withJudgement(CooperationJudgement::kForecast);
+    silent.precautionary_dock = false;
+    HumanDecision quiet(silent);
+    quiet.step(neutral(10.0, 6.9));
+    out = quiet.step(in);
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_TRUE(out.utterances.empty());
+    EXPECT_TRUE(out.robot_actions.empty());
+    EXPECT_EQ(out.rounds[0].reason, "p_contributing unknown: no dock, silent");
+  }
+  // The paper's judgement ignores the forecast altogether.
+  HumanDecision paper;
+  paper.step(neutral(10.0, 6.9));
+  DecisionInput in = round2Input(T, F, 0.1, true);
+  in.t_s = 13.0;
+  const DecisionOutput out = paper.step(in);
+  EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+  EXPECT_FALSE(out.rounds[0].degraded);
+}
+
+TEST(DecisionJudgement, RoundThreeThanksOnWhatWasDoneUnderEither) {
+  // After the crossing the measure is known: round 3 reads IsContributing under both.
+  for (const auto j : {CooperationJudgement::kCm, CooperationJudgement::kForecast}) {
+    HumanDecision dut(withJudgement(j));
+    dut.step(neutral(10.0, 6.9));
+    DecisionInput in = neutral(17.0, 0.0);
+    in.crossed = true;
+    in.path.is_contributing = T;
+    in.path.p_contributing = 0.1;
+    const DecisionOutput out = dut.step(in);
+    ASSERT_EQ(out.utterances.size(), 1u);
+    EXPECT_EQ(out.utterances[0].act, Act::kThank);
+  }
+}
+
+TEST(DecisionJudgement, NamesParseBack) {
+  for (const auto j : {CooperationJudgement::kCm, CooperationJudgement::kForecast}) {
+    CooperationJudgement back = j == CooperationJudgement::kCm ? CooperationJudgement::kForecast
+                                                               : CooperationJudgement::kCm;
+    ASSERT_TRUE(parseCooperationJudgement(toString(j), back));
+    EXPECT_EQ(back, j);
+  }
+  CooperationJudgement out = CooperationJudgement::kCm;
+  EXPECT_FALSE(parseCooperationJudgement("CM", out));
+  EXPECT_FALSE(parseCooperationJudgement("", out));
+  EXPECT_EQ(DecisionConfig{}.judgement, CooperationJudgement::kCm);  // the paper's by default
 }
 
 TEST(Decision, CrossingAfterADockResumesAndStops) {

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "coopnav/sim/simulation.hpp"
 #include "corridor_map.hpp"
@@ -24,6 +27,7 @@ struct HeadOn {
   std::uint64_t seed{1};
   double speed_stddev_m_s{0.0};
   double velocity_noise_m_s{0.0};
+  AvoidanceTiming timing{AvoidanceTiming::kTrigger};
 };
 
 struct Trace {
@@ -34,6 +38,7 @@ struct Trace {
   std::vector<AgentState> last;
   int human_wall_collisions{0};
   std::vector<CueOutcome> cues;
+  std::optional<double> onset_s;  ///< the human's realistic onset (Simulation::onsets)
 
   double maxAbsDev() const {
     double m = 0.0;
@@ -59,6 +64,7 @@ Trace runHeadOn(const HeadOn& h) {
   test::CorridorMap map(0.0, h.corridor_width_m);
   WorldSpec w;
   w.seed = h.seed;
+  w.avoidance_timing = h.timing;
   w.settings.time_limit_s = 30.0;
   w.robot.start = {0.0, yc + h.robot_lane_m, 0.0};
   w.robot.goal = {24.0, yc + h.robot_lane_m, 0.0};
@@ -91,6 +97,7 @@ Trace runHeadOn(const HeadOn& h) {
   }
   tr.status = sim.status();
   tr.min_clearance_m = sim.summary().min_robot_human_clearance_m;
+  tr.onset_s = sim.onsets().at(0);
   return tr;
 }
 
@@ -375,6 +382,101 @@ TEST(LateFacilitatingHuman, StartsYieldingAboutThreeSecondsBefore) {
   EXPECT_LT(tr.onsetLead(), 3.0);
   EXPECT_GE(tr.maxAbsDev(), 0.4);
   EXPECT_NE(tr.status, SimStatus::kCollision);
+}
+
+// Realistic avoidance timing (AvoidanceTiming::kRealistic): an onset drawn per person from the
+// real walkers' (RealisticOnsetParams) replaces the fixed triggers.
+TEST(RealisticTiming, FacilitatingYieldsAtItsOnsetNotFiveSecondsBefore) {
+  HeadOn h;
+  h.robot_lane_m = 0.3;  // this robot never avoids: dead on, a yield begun late cannot clear it
+  h.behaviour = config(BehaviourType::kFacilitating);
+  EXPECT_GE(runHeadOn(h).onsetLead(), 3.0);  // the fixed trigger: t_ca < 5 s or within 7 m
+  h.behaviour.onset_s = 2.0;
+  const Trace tr = runHeadOn(h);
+  // It starts when t_ca falls below 2 s; the first 5 cm of the shift take a few tenths.
+  EXPECT_LE(tr.onsetLead(), 2.0);
+  EXPECT_GE(tr.onsetLead(), 1.4);
+  EXPECT_NE(tr.status, SimStatus::kCollision);
+}
+
+TEST(RealisticTiming, LateFacilitatingYieldsAtItsOnset) {
+  HeadOn h;
+  h.robot_lane_m = 0.3;
+  h.behaviour = config(BehaviourType::kLateFacilitating);
+  h.behaviour.onset_s = 2.5;
+  const Trace late = runHeadOn(h);
+  h.behaviour.onset_s = 1.0;
+  const Trace later = runHeadOn(h);
+  EXPECT_LE(late.onsetLead(), 2.5);
+  EXPECT_GE(late.onsetLead(), 1.9);
+  EXPECT_LT(later.onsetLead(), late.onsetLead() - 1.0);
+}
+
+TEST(RealisticTiming, ToldTheRobotsSideAResponsivePersonKeepsToTheOtherFromItsOnset) {
+  HeadOn h;
+  h.robot_lane_m = -0.6;  // the robot passes on the human's left (-y) and says so
+  h.behaviour = responsive();
+  h.behaviour.onset_s = 1.5;
+  h.cues.push_back(cue(CueKind::kKeepSide, Side::kRight, kHeard_s));
+  const Trace told = runHeadOn(h);
+  ASSERT_EQ(told.cues.size(), 1u);
+  ASSERT_TRUE(told.cues[0].complies);
+  // Heard at ~9.6 m: under the trigger it would shift a second later; here only at its onset.
+  EXPECT_LT(told.maxAbsDevBefore(told.crossing_t_s - 2.0), 0.05);
+  EXPECT_LE(told.onsetLead(), 1.5);
+  // Begun late, the shift to inform_offset_m (0.4 m) is not complete when the robot passes.
+  EXPECT_GT(maxDev(told), 0.25);
+  EXPECT_LE(maxDev(told), h.behaviour.responsive.inform_offset_m + 0.05);
+  // A request is acted on after the reaction time, as under the trigger.
+  h.cues = {cue(CueKind::kMoveToSide, Side::kRight, kHeard_s)};
+  const Trace asked = runHeadOn(h);
+  EXPECT_GT(asked.onsetLead(), 3.0);
+}
+
+TEST(RealisticTiming, OnsetDrawsFollowTheFittedLogNormal) {
+  const RealisticOnsetParams p;
+  Rng rng = Rng::forStream(46, 1);
+  std::vector<double> d;
+  for (int i = 0; i < 4000; ++i) d.push_back(drawOnset(p, rng));
+  std::sort(d.begin(), d.end());
+  EXPECT_NEAR(d[2000], p.median_s, 0.08);
+  // Quartiles of the log-normal: median ×/÷ exp(0.674 σ) = 1.11, 2.64 s (the real walkers'
+  // empirical quartiles, at 2.5 Hz: 1.2, 2.4 s).
+  EXPECT_NEAR(d[1000], p.median_s * std::exp(-0.674 * p.log_sd), 0.08);
+  EXPECT_NEAR(d[3000], p.median_s * std::exp(0.674 * p.log_sd), 0.15);
+  EXPECT_LE(d.back(), p.max_s);
+  EXPECT_GT(d.front(), 0.0);
+}
+
+TEST(RealisticTiming, EachPersonDrawsItsOwnOnsetAndNothingElseChanges) {
+  HeadOn h;
+  h.velocity_noise_m_s = 0.05;
+  h.timing = AvoidanceTiming::kRealistic;
+  h.behaviour = config(BehaviourType::kFacilitating);
+  const Trace a = runHeadOn(h);
+  ASSERT_TRUE(a.onset_s.has_value());
+  EXPECT_EQ(runHeadOn(h).dev_m, a.dev_m);  // same seed, same person
+  EXPECT_LE(a.onsetLead(), *a.onset_s + 0.1);
+  h.seed = 2;
+  const Trace b = runHeadOn(h);
+  ASSERT_TRUE(b.onset_s.has_value());
+  EXPECT_NE(*a.onset_s, *b.onset_s);
+  // A minimal person has no onset to draw, and its walk (noise included) is the trigger run's.
+  h.behaviour = config(BehaviourType::kMinimal);
+  const Trace minimal = runHeadOn(h);
+  EXPECT_FALSE(minimal.onset_s.has_value());
+  h.timing = AvoidanceTiming::kTrigger;
+  EXPECT_EQ(runHeadOn(h).dev_m, minimal.dev_m);
+}
+
+TEST(RealisticTiming, NamesParseBack) {
+  for (const auto t : {AvoidanceTiming::kTrigger, AvoidanceTiming::kRealistic}) {
+    AvoidanceTiming back = AvoidanceTiming::kTrigger;
+    ASSERT_TRUE(parseAvoidanceTiming(toString(t), back));
+    EXPECT_EQ(back, t);
+  }
+  AvoidanceTiming out = AvoidanceTiming::kTrigger;
+  EXPECT_FALSE(parseAvoidanceTiming("fixed", out));
 }
 
 TEST(SocialForceHuman, AvoidsTheRobot) {

@@ -41,6 +41,7 @@ PROG = "population"
 TRACKER_NOISE_ARGS = ["--set", "tracker.position_sigma_m=0.05", "--set",
                       "tracker.miss_probability=0.05", "--set", "tracker.id_switches=1"]
 GOALS_WITHHELD_ARGS = ["--set", "publish_human_goals=false"]
+REALISTIC_TIMING_ARGS = ["--set", "avoidance_timing=realistic"]
 MUTED_ARGS = ["--set", "muted=true"]
 # What the aggregation reads of what the humans heard (daemons/world_sim/README.md).
 CUE_OUTCOMES_FILE = "cue_outcomes.jsonl"
@@ -210,9 +211,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "one id switch")
     parser.add_argument("--goals-withheld", action="store_true",
                         help="the humans' goals are not published; the band source infers them")
+    parser.add_argument("--realistic-timing", action="store_true",
+                        help="people who yield of their own accord start at an onset drawn from "
+                             "real walkers' (world_sim avoidance_timing=realistic)")
     parser.add_argument("--profile", default=os.environ.get("COOPNAV_PROFILE", "paper"),
-                        metavar="paper|calibrated",
-                        help="the path assessment profile (as scripts/run.sh)")
+                        metavar="PROFILE",
+                        help="a profile of config/system.yaml: paper, calibrated or forecast "
+                             "(as scripts/run.sh)")
     kind = parser.add_mutually_exclusive_group()
     kind.add_argument("--cue-effect", action="store_true",
                       help="every head-on human responsive, every encounter also run muted")
@@ -232,6 +237,8 @@ def run_options(args: argparse.Namespace) -> RunOptions:
         world += TRACKER_NOISE_ARGS
     if args.goals_withheld:
         world += GOALS_WITHHELD_ARGS
+    if args.realistic_timing:
+        world += REALISTIC_TIMING_ARGS
     return RunOptions(args.profile, tuple(world),
                       float(os.environ.get("COOPNAV_POP_RUN_TIMEOUT_S", "900")))
 
@@ -327,8 +334,10 @@ def check_arguments(args: argparse.Namespace) -> str | None:
     if args.jobs > max_jobs and not args.slurm:
         print(f"{PROG}: -j {args.jobs} capped to {max_jobs} (4 runs per core)", file=sys.stderr)
         args.jobs = max_jobs
-    if args.profile not in ("paper", "calibrated"):
-        return f"--profile must be paper or calibrated, not '{args.profile}'"
+    from . import system as system_mod
+    profiles = system_mod.load().profiles
+    if args.profile not in profiles:
+        return f"--profile must be {' or '.join(profiles)}, not '{args.profile}'"
     return None
 
 

@@ -97,6 +97,25 @@ struct TextTemplates {
 /// Renders the template of act with {dir} replaced (every occurrence). dir kUndefined -> "".
 std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir);
 
+/// Which judgement of the person's cooperation the decisions before the crossing act on (round
+/// 2's IsContributing and the stand-off resolution's "made room"). Round 1 reads none (the
+/// flowchart decides it on the situation alone, and the path assessor's window and forecast
+/// start with its recorder START); round 3, after the crossing, always reads the paper's
+/// IsContributing, the measure of what was done.
+enum class CooperationJudgement : std::int8_t {
+  /// Paper §II-C: IsContributing = CM > τ over the window since the last reset (the path
+  /// assessor's is_contributing). It measures a side step once made: real walkers start theirs
+  /// 0.8–2.4 s before the closest approach, after round 2 (issue 46).
+  kCm = 0,
+  /// The path assessor's forecast p_contributing (assessment/forecast.hpp: the probability that
+  /// the person will have stepped >= 0.3 m aside by the crossing) against
+  /// DecisionConfig::forecast_threshold; unknown while p_contributing is (NaN on the wire).
+  kForecast = 1,
+};
+const char* toString(CooperationJudgement j);
+/// "cm" or "forecast"; false when neither.
+bool parseCooperationJudgement(const std::string& s, CooperationJudgement& out);
+
 /// Decision tuning. Defaults in this one place.
 struct DecisionConfig {
   double round1_t_cross_s{7.0};  ///< [s] round 1 when t_CROSS first falls to <= this (§II-D)
@@ -125,6 +144,16 @@ struct DecisionConfig {
   /// zone (Hall 1966: social distance 1.2–3.6 m), taken between centres, so bodies are nearer than
   /// that.
   double crossing_range_m{3.6};
+  /// The judgement of cooperation round 2 and the stand-off resolution act on (see
+  /// CooperationJudgement). kCm: the paper's.
+  CooperationJudgement judgement{CooperationJudgement::kCm};
+  /// With kForecast: contributing when p_contributing >= this. 0.5: the forecast is a logistic
+  /// model fitted by maximum likelihood on the 172 real head-on pairs (config/
+  /// path_assessor_forecast.yaml), so its probabilities are calibrated on them, and 0.5 is where
+  /// making room and not are equally likely there (the Bayes decision for equal costs; its
+  /// held-out accuracy at 2 s before the crossing is 0.677, tools/ctl/README.md "Judgement in
+  /// time"). Fixed from that data, not from any scenario.
+  double forecast_threshold{0.5};
   TextTemplates templates;
   /// Resolve a stand-off (StandOffWatch) once round 1 has fired and until the crossing: a
   /// mutual wait or a dock the person does not come to pass ends, within a bounded time, in a
@@ -158,7 +187,19 @@ struct SituationSnapshot {
 struct PathSnapshot {
   std::optional<double> cm_window_m;             ///< [m] nullopt = no samples
   Tristate is_contributing{Tristate::kUnknown};  ///< CM > τ over the same window
+  /// The forecast that the human will have made room by the crossing, in [0, 1]; nullopt =
+  /// unknown (no forecast profile, or too little track since the recorder START).
+  std::optional<double> p_contributing;
 };
+
+/// IsContributing as the decisions before the crossing judge it under `config.judgement`: the
+/// path's is_contributing (kCm), or p_contributing >= forecast_threshold (kForecast; unknown
+/// while p_contributing is unknown or NaN).
+Tristate judgeContributing(const DecisionConfig& config, const PathSnapshot& path);
+/// What that judgement read, for a round's branch: "contributing" / "!contributing" /
+/// "contributing unknown", with the forecast's probability and threshold under kForecast (e.g.
+/// "forecast contributing (p 0.71 >= 0.50)").
+std::string describeContributing(const DecisionConfig& config, const PathSnapshot& path);
 
 struct DecisionInput {
   double t_s{0.0};  ///< [s] decision time (the situation's time), any monotonic time base

@@ -290,6 +290,41 @@ struct BodyCheckParams {
   }
 };
 
+/// When a person who yields of its own accord starts to (scenario key `avoidance_timing`).
+enum class AvoidanceTiming : std::uint8_t {
+  /// The behaviour's fixed trigger: facilitating at t_ca < trigger_ttc_s or a robot within
+  /// trigger_distance_m, late_facilitating at t_ca < trigger_ttc_s, responsive at once (after
+  /// its reaction time) on the robot's words.
+  kTrigger,
+  /// At an onset drawn per person from what real walkers do (RealisticOnsetParams):
+  /// facilitating and late_facilitating start to yield once t_ca falls below it; a responsive
+  /// person told the robot's side keeps to the other side from then on (a statement says where,
+  /// not when), while a request is still acted on after the reaction time.
+  kRealistic,
+};
+const char* toString(AvoidanceTiming t);
+/// "trigger" or "realistic"; false when neither.
+bool parseAvoidanceTiming(const std::string& s, AvoidanceTiming& out);
+
+/// The onset of avoidance of real walkers in head-on encounters: seconds before the closest
+/// approach at which a walker starts to step aside, log-normal. Fitted on the 306 walkers with an
+/// onset among the 344 of the 172 real head-on pairs (test/data/pedestrians/headon_pairs.json,
+/// `onset_a_t`/`onset_b_t`; UCY zara01 and students03): the log-mean and log-sd of the 288
+/// onsets > 0 (the 18 at 0 are the 2.5 Hz annotation's, not a log-normal's), median
+/// exp(0.538) = 1.71 s, log-sd 0.638; the largest measured onset, 6.8 s, cuts the draws. The
+/// empirical quartiles are 1.2, 2.0 and 2.4 s.
+struct RealisticOnsetParams {
+  double median_s{1.71};  ///< [s] before the closest approach
+  double log_sd{0.64};
+  double max_s{6.8};  ///< [s] draws are cut here
+  template <class V>
+  void visit(V& v) {
+    v.number("median_s", median_s, 0.0, 30.0);
+    v.number("log_sd", log_sd, 0.0, 3.0);
+    v.number("max_s", max_s, 0.0, 60.0);
+  }
+};
+
 enum class BehaviourType : std::uint8_t {
   kMinimal,
   kOblivious,
@@ -319,6 +354,11 @@ struct BehaviourConfig {
   FacilitatingParams facilitating;
   RecordedParams recorded;
   BodyCheckParams body_check;  ///< every type but kOblivious and kRecorded
+  /// [s] AvoidanceTiming::kRealistic: this person's onset, drawn by the simulator (time to
+  /// closest approach below which it starts to yield; replaces the fixed trigger of
+  /// facilitating and late_facilitating, and times a responsive person's keeping to a side it
+  /// was told). nullopt: the behaviour's own trigger.
+  std::optional<double> onset_s;
 };
 
 /// Plans a human's motion with an external planner (the planner-backed facilitating mode).

@@ -80,9 +80,17 @@ struct SimSettings {
   double standstill_distance_m{0.1};  ///< [m] moving less than this is standing still
 };
 
+/// [s] One onset of avoidance: median · exp(log_sd · z), z ~ N(0, 1), cut at max_s.
+double drawOnset(const RealisticOnsetParams& p, Rng& rng);
+
 struct WorldSpec {
   std::uint64_t seed{0};
   SimSettings settings;
+  /// kRealistic: each facilitating, late_facilitating and responsive human gets an onset drawn
+  /// from `onset` (BehaviourConfig::onset_s), from a stream of its own (seed, id), so its other
+  /// draws are the same as under kTrigger.
+  AvoidanceTiming avoidance_timing{AvoidanceTiming::kTrigger};
+  RealisticOnsetParams onset;
   RobotSpec robot;
   std::vector<HumanSpec> humans;
 };
@@ -182,6 +190,9 @@ class Simulation {
   /// Robot velocity in its body frame.
   const Velocity2& robotBodyVelocity() const { return robot_body_vel_; }
   const WorldSpec& spec() const { return spec_; }
+  /// Per human, in spec order: its avoidance onset (WorldSpec::avoidance_timing kRealistic), or
+  /// nullopt (the behaviour's own trigger).
+  std::vector<std::optional<double>> onsets() const;
 
  private:
   struct Human {

@@ -34,7 +34,7 @@ def test_the_repository_description_loads():
     assert s.lockstep_names() == ["band_source", "situation_assessor", "path_assessor",
                                   "dialogue_manager"]
     assert s.world.name == "world_sim"
-    assert set(s.profiles) == {"paper", "calibrated"}
+    assert set(s.profiles) == {"paper", "calibrated", "forecast"}
 
 
 def test_every_paper_scenario_waits_for_exactly_the_lockstep_daemons(source_dir: Path):
@@ -90,12 +90,18 @@ def test_command_lines(tmp_path: Path):
     build = tmp_path / "b"
     cfg = s.config_dir
     scen = Path("/x/narrow_minimal.yaml")
-    # The order scripts/scenario.sh gave: config, map, profile, state, extra, URL.
+    # The order scripts/scenario.sh gave: config, map, kinematics, profile, state, extra, URL.
+    # A scenario that cannot be read declares no kinematics: the default, differential.
     assert s.command("band_source", scenario=scen, state_dir=Path("/st"),
                      extra=["--set", "a=1"], lcm_url="udpm://u", build=build) == [
         str(build / "daemons/band_source/coopnav_band_source"), "-c",
-        str(cfg / "band_source.yaml"), "--set", f"map_file={scen}", "--state-dir", "/st",
-        "--set", "a=1", "--lcm-url", "udpm://u"]
+        str(cfg / "band_source.yaml"), "--set", f"map_file={scen}", "--set",
+        "planner.robot.holonomic=false", "--state-dir", "/st", "--set", "a=1", "--lcm-url",
+        "udpm://u"]
+    # The band source plans for the robot the scenario declares.
+    holo = tmp_path / "holo.yaml"
+    holo.write_text("robot: {kinematics: holonomic}\n")
+    assert "planner.robot.holonomic=true" in s.command("band_source", scenario=holo)
     # Stateless: no journal; the calibrated profile's config and the dialogue manager's profile.
     assert "--state-dir" not in s.command("obstacle_distance_server", scenario=scen,
                                           state_dir=Path("/st"))

@@ -337,7 +337,7 @@ def check_arguments(args: argparse.Namespace) -> str | None:
     from . import system as system_mod
     profiles = system_mod.load().profiles
     if args.profile not in profiles:
-        return f"--profile must be {' or '.join(profiles)}, not '{args.profile}'"
+        return f"--profile must be {system_mod.one_of(profiles)}, not '{args.profile}'"
     return None
 
 

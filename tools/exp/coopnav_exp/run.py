@@ -384,7 +384,7 @@ def main(args: argparse.Namespace) -> int:
             err(f"no scenario file '{sc}'")
             return 2
     if args.profile not in s.profiles:
-        err(f"--profile must be {' or '.join(s.profiles)}, not '{args.profile}'")
+        err(f"--profile must be {system_mod.one_of(s.profiles)}, not '{args.profile}'")
         return 2
     prepare(build=not args.no_build)
     if args.out is None:

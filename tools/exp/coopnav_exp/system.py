@@ -132,6 +132,12 @@ class System:
         return cmd
 
 
+def one_of(names) -> str:
+    """'a, b or c': the choices of an option, in a message."""
+    names = list(names)
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
+
+
 def scenario_kinematics(scenario: Path) -> str:
     """The robot's kinematics a scenario declares (robot.kinematics; docs/scenario-format.md: the
     default is differential). An unreadable file gives the default: world_sim loads the file fully

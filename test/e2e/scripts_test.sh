@@ -30,7 +30,7 @@ expect_usage() {
 }
 
 for opt in --n --seed -j --out --profile; do  # population.sh: coopnav population's argparse
-  expect_usage "population.sh $opt without a value" "argument $opt: expected one argument" \
+  expect_usage "population.sh $opt without a value" "$opt needs a value" \
     bash "$src/scripts/population.sh" --no-build "$opt"
 done
 for opt in --out --profile; do

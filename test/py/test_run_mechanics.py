@@ -107,7 +107,8 @@ def test_start_order_command_lines_hooks_and_nothing_left(fake, tmp_path):
     st = str(tmp_path / "o/state")
     assert by["coopnav_band_source"] == [
         "-c", str(s.config_dir / "band_source.yaml"), "--set", f"map_file={scenario}",
-        "--state-dir", st, "--set", "a=1", "--lcm-url", url]
+        "--set", "planner.robot.holonomic=true", "--state-dir", st, "--set", "a=1",
+        "--lcm-url", url]
     assert by["coopnav_path_assessor"] == [
         "-c", str(s.config_dir / "path_assessor_calibrated.yaml"), "--state-dir", st,
         "--lcm-url", url]

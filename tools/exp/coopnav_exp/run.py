@@ -454,12 +454,13 @@ def main(args: argparse.Namespace) -> int:
         sys.stdout.buffer.write(table.stdout)
         sys.stdout.flush()
         # COOPNAV_FIGURES=0: no figures (matplotlib, ~1.5 s of CPU a scenario), e.g. in tests.
-        if os.environ.get("COOPNAV_FIGURES", "1") != "0":
+        figures = os.environ.get("COOPNAV_FIGURES", "1") != "0"
+        if figures:
             subprocess.run([sys.executable, str(system_mod.ROOT / "scripts" / "coopnav"), "figures",
                             *(str(p.parent) for p in summaries)], stdout=subprocess.DEVNULL,
                            check=False)
-        print(f"run directory: {out} (logs, transcripts, summary.json, trace.json, figures "
-              "*.png *.svg)")
+        print(f"run directory: {out} (logs, transcripts, summary.json"
+              + (", trace.json, figures *.png *.svg)" if figures else ")"))
     if failed == 0 and ended_badly:
         for line in ended_badly:
             err(line)

@@ -142,7 +142,8 @@ class Session {
   SessionOutput step(const SessionInput& in);
 
   /// The first step is joined late (a restart that lost its state): the people of `in` may have
-  /// heard rounds this session does not know of, so nothing is decided for them. The note says so.
+  /// heard rounds this Session holds no record of, so nothing is decided for them; the returned
+  /// note names them.
   SessionNote joinLate(const SessionInput& in);
 
   /// The message clock was resynchronised at `utime`: the times kept per person belong to the old

@@ -2,7 +2,8 @@
 # libFuzzer targets of test/fuzz (test/fuzz/README.md). Builds them into build-fuzz/ (clang-14,
 # ASan + UBSan + coverage) and runs each on its committed corpus.
 #
-#   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15)
+#   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15),
+#                                        COOPNAV_FUZZ_JOBS (nproc) targets at a time
 #   scripts/fuzz.sh --long  [TARGET...]  each target for COOPNAV_FUZZ_LONG_RUNS executions (10M),
 #                                        or COOPNAV_FUZZ_LONG_S seconds if set and reached first
 #   scripts/fuzz.sh --seed               regenerate the generated seeds and copy the repo's configs,
@@ -219,27 +220,43 @@ case "$mode" in
   --short | --long)
     [ "${COOPNAV_FUZZ_SKIP_BUILD:-0}" = 1 ] || fuzz_build
     failed=()
-    for t in "${selected[@]}"; do
-      set +e
-      if [ "$mode" = --short ]; then
-        run_target "$t" -max_total_time="$SHORT_S"
-      else
-        # Long runs share the machine: lowest priority, one target at a time, COOPNAV_FUZZ_WORKERS
-        # processes each.
-        # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
-        # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
-        # a 60 s pause, ended a 10M run at 4.3M).
-        NICE=(nice -n 19)
-        # No allocation stacks in ASan's reports of a long run: their depot only grows (yaml-cpp's
-        # recursion makes ever new stacks) until storing one is a third of the time (fuzz_config:
-        # 2750 -> 600 exec/s after 17 min). A finding is re-run with full stacks to report it.
-        export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
+    if [ "$mode" = --short ]; then
+      # The short runs are independent single-threaded fuzzers: one per core at a time, each
+      # with its output kept apart and printed in target order when all have ended.
+      out=$(mktemp -d)
+      coopnav_trap 'rm -rf "$out"' EXIT
+      for t in "${selected[@]}"; do
+        while [ "$(jobs -rp | wc -l)" -ge "${COOPNAV_FUZZ_JOBS:-$(nproc)}" ]; do wait -n || :; done
+        (
+          set +e
+          run_target "$t" -max_total_time="$SHORT_S" >"$out/$t.log" 2>&1
+          echo $? >"$out/$t.rc"
+        ) &
+      done
+      wait
+      for t in "${selected[@]}"; do
+        cat "$out/$t.log"
+        [ "$(cat "$out/$t.rc" 2>/dev/null || echo 1)" -ne 0 ] && failed+=("$t")
+      done
+    else
+      # Long runs share the machine: lowest priority, one target at a time, COOPNAV_FUZZ_WORKERS
+      # processes each.
+      # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
+      # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
+      # a 60 s pause, ended a 10M run at 4.3M).
+      NICE=(nice -n 19)
+      # No allocation stacks in ASan's reports of a long run: their depot only grows (yaml-cpp's
+      # recursion makes ever new stacks) until storing one is a third of the time (fuzz_config:
+      # 2750 -> 600 exec/s after 17 min). A finding is re-run with full stacks to report it.
+      export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
+      for t in "${selected[@]}"; do
+        set +e
         run_target "$t" -runs="$LONG_RUNS" -max_total_time="$LONG_S"
-      fi
-      rc=$?
-      set -e
-      [ $rc -ne 0 ] && failed+=("$t")
-    done
+        rc=$?
+        set -e
+        [ $rc -ne 0 ] && failed+=("$t")
+      done
+    fi
     if [ ${#failed[@]} -gt 0 ]; then
       echo "fuzz: findings in ${failed[*]} (inputs in $FUZZ_BUILD_DIR/findings/)" >&2
       exit 1

@@ -34,6 +34,7 @@ from typing import Iterable
 from . import stats
 
 METRICS_FORMAT = "coopnav-metrics/1"
+RUN_METRICS_FILE = "metrics.json"  # what every run writes beside its summary.json (run.run_one)
 
 # (key, kind, label): "rate" = a proportion of runs (Wilson), "mean" = a mean (bootstrap).
 RUN_METRICS: list[tuple[str, str, str]] = [
@@ -159,6 +160,11 @@ def find_metrics(paths: Iterable[Path], ctl: Path, rescore: bool = False,
         jsons = {p for p in root.rglob("*.metrics.json")}
         for log in sorted(root.rglob("*.lcm")):
             beside = log.with_name(log.stem + ".metrics.json")
+            # run_one's own: DIR/metrics.json beside the run's summary.json and log.
+            own = log.with_name(RUN_METRICS_FILE)
+            if not rescore and beside not in jsons and own.is_file():
+                jsons.add(own)
+                continue
             if rescore or beside not in jsons:
                 jsons.discard(beside)  # a stale file of a log that no longer scores is not kept
                 if score(log) is not None:

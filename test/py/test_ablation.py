@@ -3,7 +3,6 @@ the scenario of a variant without the assessors, and the tables and paired tests
 per-run metrics (values checked by hand)."""
 
 import json
-import math
 from pathlib import Path
 
 import pytest
@@ -214,3 +213,35 @@ def test_bad_arguments_are_refused(capsys):
     assert cli.main(["ablation", "--variants", "paper,nope", "--no-build"]) == 2
     err = capsys.readouterr().err
     assert "--encounters needs a positive count" in err and "no variant 'nope'" in err
+
+
+def test_resume_keeps_only_finished_runs_of_the_same_scenario_and_variant(tmp_path):
+    s = system.load()
+    (tmp_path / "scenarios").mkdir()
+    for n in ("pop_0000", "pop_0001"):
+        (tmp_path / "scenarios" / f"{n}.yaml").write_text(SCENARIO.replace("pop_0000", n))
+    variants = ablation.choose_variants(s, "planner_only,muted")
+    opts = population.RunOptions("paper", (), 300.0)
+    specs = ablation.run_specs(tmp_path, variants, ["pop_0000", "pop_0001"], s, opts)
+    for sp in specs:  # every run finished but muted/pop_0001 (no metrics)
+        sp.out_dir.mkdir(parents=True)
+        (sp.out_dir / "world_sim.exit").write_text("0\n")
+        if sp.name != "muted/pop_0001":
+            (sp.out_dir / "metrics.json").write_text("{}")
+    plan = {"seed": 1, "realistic_timing": False,
+            "variants": [ablation.variant_entry(v) for v in variants]}
+    before = ablation.scenario_digests(tmp_path)
+    kept = ablation.kept_runs(tmp_path, specs, before, plan, variants, [])
+    assert kept == {"planner_only/pop_0000", "muted/pop_0000", "planner_only/pop_0001"}
+    # A scenario generated otherwise now (another generator): its runs go again.
+    (tmp_path / "scenarios" / "pop_0000.yaml").write_text(SCENARIO + "# changed\n")
+    assert ablation.kept_runs(tmp_path, specs, before, plan, variants, []) == {
+        "planner_only/pop_0001"}
+    # A variant defined otherwise, other world options, or no plan: nothing of it is kept.
+    changed = dict(plan, variants=[dict(plan["variants"][0], args={"world_sim": ["x"]}),
+                                   plan["variants"][1]])
+    before = ablation.scenario_digests(tmp_path)
+    assert ablation.kept_runs(tmp_path, specs, before, changed, variants, []) == {
+        "muted/pop_0000"}
+    assert ablation.kept_runs(tmp_path, specs, before, plan, variants, ["--set", "x"]) == set()
+    assert ablation.kept_runs(tmp_path, specs, before, None, variants, []) == set()

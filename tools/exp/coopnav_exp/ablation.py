@@ -18,7 +18,10 @@ Runs go to DIR/runs/<variant>/<encounter>, JOBS at a time, each on an LCM port o
 (docs/slurm.md). A variant that leaves lockstep daemons out runs the encounter's scenario with them
 removed from its lockstep participants (DIR/scenarios-<variant>/, byte for byte the same file
 otherwise). The tables hold no wall time, path or date: the same seed gives the same files
-whether the runs ran here or on a cluster. `--aggregate DIR` only tabulates an existing DIR.
+whether the runs ran here or on a cluster. `--aggregate DIR` only tabulates an existing DIR;
+`--resume` keeps the runs DIR already holds for the same seed, variant definition and scenario
+bytes (an interrupted study goes on; a larger --encounters of the same seed extends one, the
+generator giving the first encounters the same files).
 
 Exit status: 0 tables written; 2 bad arguments, a daemon that rejects its config, a failed
 generation or build; 3 a run left no metrics (the tables are written without it, the missing runs
@@ -29,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
 import io
 import json
 import math
@@ -116,6 +120,50 @@ def run_specs(out: Path, variants: Sequence[system_mod.Variant], encounters: Seq
             specs.append(pop.RunSpec(f"{v.name}/{enc}", scenario, out / "runs" / v.name / enc,
                                      v.profile, args, options.timeout_s, tuple(v.absent)))
     return specs
+
+
+def _digest(path: Path) -> str | None:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def scenario_digests(out: Path) -> dict[str, str]:
+    """The digest of each encounter's scenario file in DIR/scenarios (before generating again)."""
+    d = out / "scenarios"
+    return {p.stem: h for p in sorted(d.glob("*.yaml")) if (h := _digest(p)) is not None} \
+        if d.is_dir() else {}
+
+
+def variant_entry(v: system_mod.Variant) -> dict:
+    """A variant as the plan records it (what a kept run must have been run with)."""
+    return {"name": v.name, "description": v.description, "profile": v.profile,
+            "absent": list(v.absent), "args": {k: list(a) for k, a in v.args.items()}}
+
+
+def kept_runs(out: Path, specs: Sequence[pop.RunSpec], before: dict[str, str],
+              old_plan: dict | None, variants: Sequence[system_mod.Variant],
+              timing_args: Sequence[str]) -> set[str]:
+    """--resume: the runs already done in DIR that need not run again: each left its metrics and
+    exit status, its encounter's scenario file is byte for byte the one generated now (`before`:
+    the digests of the files it ran), and its variant and the world's options are the plan's."""
+    if not old_plan:
+        return set()
+    old_variants = {v["name"]: v for v in old_plan.get("variants", [])}
+    if bool(old_plan.get("realistic_timing")) != bool(timing_args):
+        return set()
+    same = {v.name for v in variants if old_variants.get(v.name) == variant_entry(v)}
+    kept = set()
+    for sp in specs:
+        variant, enc = sp.name.split("/", 1)
+        source = out / "scenarios" / f"{enc}.yaml"
+        if (variant in same and before.get(enc) is not None
+                and before.get(enc) == _digest(source)
+                and (sp.out_dir / metrics.RUN_METRICS_FILE).is_file()
+                and (sp.out_dir / "world_sim.exit").is_file()):
+            kept.add(sp.name)
+    return kept
 
 
 # ---- aggregation (pure: the same files give the same tables)
@@ -384,6 +432,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--realistic-timing", action="store_true",
                         help="people who yield of their own accord start at an onset drawn from "
                              "real walkers' (world_sim avoidance_timing=realistic)")
+    parser.add_argument("--resume", action="store_true",
+                        help="keep the runs DIR already holds for the same seed, variant and "
+                             "scenario file (an interrupted study, or more --encounters)")
     parser.add_argument("--aggregate", type=Path, default=None, metavar="DIR",
                         help="only tabulate DIR (its runs as they are)")
     parser.add_argument("--no-figures", dest="figures", action="store_false",
@@ -460,6 +511,12 @@ def main(args: argparse.Namespace) -> int:
     out = (args.out or pop.ROOT / "runs" / f"ablation-{seed}")
     out.mkdir(parents=True, exist_ok=True)
     out = out.resolve()
+    old_plan = None
+    if args.resume and (out / PLAN_FILE).is_file():
+        old_plan = json.loads((out / PLAN_FILE).read_text())
+        if old_plan.get("seed") != seed:
+            return _fail(f"--resume: {out} holds seed {old_plan.get('seed')}, not {seed}")
+    before = scenario_digests(out) if args.resume else {}
     gen = argparse.Namespace(n=n, seed=seed, cue_effect=False, crowd=False)
     if pop.generate(gen, out) != 0:
         return _fail("coopnav_population generate failed")
@@ -467,21 +524,23 @@ def main(args: argparse.Namespace) -> int:
     realistic = pop.REALISTIC_TIMING_ARGS if args.realistic_timing else []
     options = pop.RunOptions("paper", tuple(realistic),
                              float(os.environ.get("COOPNAV_POP_RUN_TIMEOUT_S", "900")))
+    specs = run_specs(out, variants, encounters, s, options)
+    kept = kept_runs(out, specs, before, old_plan, variants, realistic)
     (out / PLAN_FILE).write_text(json.dumps({
         "seed": seed, "encounters": encounters, "realistic_timing": args.realistic_timing,
-        "variants": [{"name": v.name, "description": v.description, "profile": v.profile,
-                      "absent": list(v.absent), "args": {k: list(a) for k, a in v.args.items()}}
-                     for v in variants]}, indent=1) + "\n")
-    specs = run_specs(out, variants, encounters, s, options)
-    if args.slurm:
+        "variants": [variant_entry(v) for v in variants]}, indent=1) + "\n")
+    if kept:
+        print(f"{PROG}: --resume: {len(kept)} runs already done are kept", flush=True)
+        specs = [sp for sp in specs if sp.name not in kept]
+    if args.slurm and specs:
         from . import slurm
         rc = slurm.run_specs(args, out, specs, jobs)
         if rc != 0 or args.slurm_no_wait:
             if args.slurm_no_wait and rc == 0:
                 print(f"{PROG}: then scripts/coopnav ablation --aggregate {out}")
             return rc
-    else:
-        print(f"{PROG}: {len(encounters)} encounters × {len(variants)} variants = {len(specs)} "
+    elif specs:
+        print(f"{PROG}: {len(encounters)} encounters × {len(variants)} variants: {len(specs)} "
               f"runs, {jobs} at a time, in {out}", flush=True)
         wall_s = pop.run_all(out, specs, jobs, int(os.environ.get("COOPNAV_POP_PORT_BASE",
                                                                   "7400")), options.timeout_s)

@@ -1,4 +1,4 @@
-"""A population (or an ablation) on a Slurm cluster: the runs as an sbatch array job (docs/slurm.md).
+"""A population or an ablation on a Slurm cluster: the runs as an sbatch array job (docs/slurm.md).
 
 `scripts/coopnav population --slurm ...` generates the scenario files where it is started (a
 login node; DIR must be on a file system the compute nodes share), submits one array job of

@@ -306,7 +306,7 @@ def agreement_figure(runs: list[dict], stem: Path, *, title: str = "",
 
     colours = {True: "#2ca02c", False: "#d62728", None: "#7f7f7f"}
     names = {True: "contributing", False: "not contributing", None: "no verdict"}
-    fig, axes = plt.subplots(1, 3, figsize=(12.0, 3.8))
+    fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.2))
     for ax, (xs, ys, verdicts), what in ((axes[0], resp, "Responsibility"),
                                          (axes[1], eng, "Engagement")):
         for v in (True, False, None):
@@ -315,7 +315,7 @@ def agreement_figure(runs: list[dict], stem: Path, *, title: str = "",
                 ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=14, alpha=0.7,
                            color=colours[v], label=f"{names[v]} ({len(pts)})")
         rho = stats.bootstrap_spearman(xs, ys, n_boot=n_boot, seed=seed)
-        ax.set_title(f"person's {what} share vs CM: Spearman rho {_fmt(_num(rho.value))} "
+        ax.set_title(f"person's {what} share vs CM\nSpearman rho {_fmt(_num(rho.value))} "
                      f"[{_fmt(_num(rho.lo))}, {_fmt(_num(rho.hi))}], n {rho.n}", fontsize=8)
         ax.set_xlabel(f"person's {what} share (of resolving the conflict)", fontsize=8)
         ax.set_ylabel("CM over the interaction [m]", fontsize=8)
@@ -328,9 +328,9 @@ def agreement_figure(runs: list[dict], stem: Path, *, title: str = "",
     fpr, tpr = roc_points(scores, labels)
     a = stats.bootstrap_auc(scores, labels, n_boot=n_boot, seed=seed)
     if fpr:
-        ax.plot(fpr, tpr, color="#1f77b4", drawstyle="steps-post")
+        ax.plot(fpr, tpr, color="#1f77b4")  # straight between thresholds: area = AUC
     ax.plot([0, 1], [0, 1], color="#7f7f7f", lw=0.8, ls="--")
-    ax.set_title(f"Responsibility share for CM's verdict: AUC {_fmt(_num(a.value))} "
+    ax.set_title(f"Responsibility share for CM's verdict\nAUC {_fmt(_num(a.value))} "
                  f"[{_fmt(_num(a.lo))}, {_fmt(_num(a.hi))}], n {a.n}", fontsize=8)
     ax.set_xlabel("false positive rate", fontsize=8)
     ax.set_ylabel("true positive rate", fontsize=8)

@@ -174,14 +174,13 @@ def write_dir(out: Path, variants: dict[str, list[dict]], missing: dict[str, str
 def test_outputs_are_deterministic_and_name_missing_runs(tmp_path, capsys):
     out = tmp_path / "a"
     write_dir(out, {"planner_only": PLANNER, "paper": PAPER}, missing={"paper": ENC[5]})
-    args = ["ablation", "--aggregate", str(out), "--n-boot", "300"]
+    # (The figures: py_test_ablation_e2e draws them; matplotlib takes seconds.)
+    args = ["ablation", "--aggregate", str(out), "--n-boot", "300", "--no-figures"]
     assert cli.main(args) == 3  # a run left no metrics
     captured = capsys.readouterr()
     assert "1 runs left no metrics: paper/pop_0005" in captured.err
     first = {p: (out / p).read_bytes() for p in ("ablation.json", "ablation.csv", "ablation.md")}
-    assert (out / "ablation_metrics.png").is_file() and (out / "ablation_paired.svg").is_file()
-    assert (out / "agreement_paper.png").is_file()
-    assert not (out / "agreement_planner_only.png").exists()  # no CM without the assessor
+    assert not list(out.glob("*.png"))
     # The same folder elsewhere (a cluster's copy): the same bytes.
     other = tmp_path / "b"
     write_dir(other, {"planner_only": PLANNER, "paper": PAPER}, missing={"paper": ENC[5]})

@@ -3,7 +3,8 @@ planner alone, the paper's system), 2 runs at a time, as a user runs it.
 
 Fails when a run leaves no metrics, when the planner-only runs start an assessor or the dialogue
 manager or say anything, when a run lacks its own metrics.json / metrics.csv beside its
-summary.json, or when tabulating the same folder again does not give the same bytes."""
+summary.json, when a figure is missing, or when tabulating the same folder again does not give
+the same bytes."""
 
 from __future__ import annotations
 
@@ -31,8 +32,7 @@ def coopnav(*args: str) -> subprocess.CompletedProcess:
 def test_two_encounters_planner_only_against_paper(tmp_path):
     out = tmp_path / "abl"
     p = coopnav("ablation", "--no-build", "--encounters", "2", "--seed", "3", "--variants",
-                "paper,planner_only", "-j", "2", "--out", str(out), "--n-boot", "200",
-                "--no-figures")
+                "paper,planner_only", "-j", "2", "--out", str(out), "--n-boot", "200")
     assert p.returncode == 0, f"ablation exited {p.returncode}"
     doc = json.loads((out / "ablation.json").read_text())
     assert list(doc["result"]["tables"]) == ["planner_only", "paper"]
@@ -56,6 +56,10 @@ def test_two_encounters_planner_only_against_paper(tmp_path):
         assert all(p.get("cm_interaction_m") is None for p in persons)
         summary = json.loads((po / "summary.json").read_text())["scenarios"][0]
         assert summary["dialogue_checks"]["said"] == 0
+    for stem in ("ablation_metrics", "ablation_paired", "agreement_paper"):
+        for ext in ("png", "svg"):
+            assert (out / f"{stem}.{ext}").stat().st_size > 1000, f"{stem}.{ext}"
+    assert not (out / "agreement_planner_only.png").exists()  # no CM without the assessor
     # The paired rows compare the same two encounters.
     rows = [r for r in doc["result"]["paired"] if r["key"] == "success"]
     assert len(rows) == 1 and rows[0]["n_pairs"] == 2 and rows[0]["variant"] == "paper"

@@ -411,7 +411,8 @@ def write_outputs(out: Path, doc: dict, *, draw: bool = True) -> list[Path]:
         for v in plan["variants"]:
             runs, _ = load_variant_runs(out, v["name"], plan["encounters"])
             files += metrics.agreement_figure(runs, out / f"agreement_{v['name']}",
-                                              title=f"{v['name']}, {len(runs)} encounters")
+                                              title=f"{v['name']}, {len(runs)} encounters",
+                                              seed=doc["bootstrap_seed"], n_boot=doc["n_boot"])
     return files
 
 

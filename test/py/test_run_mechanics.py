@@ -2,7 +2,7 @@
 in, each command line (profile, journal, extra arguments, loss relays, absent daemons), the
 hooks, a daemon dying at start, world_sim's exit status and timeout, and nothing left running.
 The stand-ins log their argv and act as their role does (a recorder writes its file, coopnav_ctl
-answers wait-ready and summarize)."""
+answers wait-ready, summarize and metrics)."""
 
 import json
 import os
@@ -32,6 +32,9 @@ if name == "coopnav_ctl":
         Path(out).write_text(json.dumps({"scenarios": [{
             "final_state": "GOAL_REACHED", "sim_time_s": 1.0,
             "faults": {"crossing_distance_unknown": unknown}}]}))
+    if sys.argv[1] == "metrics":
+        out = sys.argv[sys.argv.index("--json") + 1]
+        Path(out).write_text(json.dumps({"format": "coopnav-metrics/1", "runs": []}))
     if sys.argv[1] == "wait-ready":
         time.sleep(float(os.environ.get("FAKE_READY_S", "0.2")))
     sys.exit(0)
@@ -92,13 +95,18 @@ def test_start_order_command_lines_hooks_and_nothing_left(fake, tmp_path):
     c = calls(tmp_path)
     names = sorted(x[0] for x in c)
     # The recorder and the daemons (the absent one not), wait-ready, the world once they are
-    # ready, then summarize.
+    # ready, then summarize and the metrics (scored with the scenario as the map).
     assert names == sorted(["coopnav_record", "coopnav_band_source", "coopnav_situation_assessor",
                             "coopnav_path_assessor", "coopnav_dialogue_manager", "coopnav_ctl",
-                            "coopnav_world_sim", "coopnav_ctl"])
+                            "coopnav_world_sim", "coopnav_ctl", "coopnav_ctl"])
     t = {(x[0], x[3] if x[0] == "coopnav_ctl" else ""): x[1] for x in c}
     assert t[("coopnav_ctl", "wait-ready")] < t[("coopnav_world_sim", "")] < \
-        t[("coopnav_ctl", "summarize")]
+        t[("coopnav_ctl", "summarize")] < t[("coopnav_ctl", "metrics")]
+    scored = next(x for x in c if x[0] == "coopnav_ctl" and x[3] == "metrics")
+    assert scored[4:] == [str(tmp_path / "o/scen.lcm"), "--map", str(scenario), "--json",
+                          str(tmp_path / "o/metrics.json"), "--csv",
+                          str(tmp_path / "o/metrics.csv")]
+    assert r.metrics == tmp_path / "o/metrics.json"
     ready = next(x for x in c if x[0] == "coopnav_ctl" and x[3] == "wait-ready")
     assert ready[4:8] == ["band_source", "situation_assessor", "path_assessor",
                           "dialogue_manager"]

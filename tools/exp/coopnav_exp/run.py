@@ -53,6 +53,7 @@ class RunResult:
     log: Path  # the .lcm (may be missing when the run failed at start)
     summary: Path | None  # summary.json (coopnav_ctl summarize), None if there is none
     name: str = ""
+    metrics: Path | None = None  # metrics.json (coopnav_ctl metrics; metrics.csv beside it)
     died: list[str] = field(default_factory=list)  # daemons not running when world_sim ended
     start_error: str | None = None
 
@@ -258,7 +259,19 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                                     "--out", str(summary_path)], out_dir / "summarize.log")
         if rc == 0 and summary_path.is_file():
             result.summary = summary_path
+        result.metrics = write_metrics(s, log, scenario, out_dir)
     return result
+
+
+def write_metrics(s: system_mod.System, log: Path, scenario: Path, out_dir: Path) -> Path | None:
+    """The field's metrics of the run (docs/metrics.md), scored from its log with the scenario as
+    the map: out_dir/metrics.json and metrics.csv (`coopnav_ctl metrics`, its output in
+    metrics.log). Returns the JSON's path, None when the log could not be scored."""
+    json_path, csv_path = out_dir / "metrics.json", out_dir / "metrics.csv"
+    rc = supervise.call_logged([str(s.tool("ctl")), "metrics", str(log), "--map", str(scenario),
+                                "--json", str(json_path), "--csv", str(csv_path)],
+                               out_dir / "metrics.log")
+    return json_path if rc == 0 and json_path.is_file() else None
 
 
 def outcome_failure(entry: dict | None) -> str | None:

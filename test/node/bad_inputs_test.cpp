@@ -159,12 +159,7 @@ class Dut {
   bool ready_{false};
 };
 
-std::string tempPath(const std::string& file) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("coopnav_bad_inputs_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / file).string();
-}
+std::string tempPath(const std::string& file) { return (test::scratchDir() / file).string(); }
 
 std::string writeFile(const std::string& name, const std::string& text) {
   const std::string p = tempPath(name);

@@ -557,7 +557,7 @@ TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheScene
 
 TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("viewer_replay_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratchDir() / "viewer_replay";
   fs::create_directories(dir);
   const std::string log_path = (dir / "run.lcm").string();
   {
@@ -653,7 +653,7 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
 
 TEST(ViewerReplayTest, CheckpointsAreBoundedAndADeviceOrFifoIsRefusedAtOnce) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("viewer_replay2_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratchDir() / "viewer_replay2";
   fs::create_directories(dir);
   const std::string log_path = (dir / "run.lcm").string();
   {

@@ -159,12 +159,13 @@ def live(env):
                 print(f"  the page drew {' '.join(LIVE_WANT)} "
                       f"({time.monotonic() - start:.0f} s into the run)")
                 seen["ok"] = True
-                # Soon after round 1: a screenshot and the DOM of the live page.
+                # Soon after round 1 (the DOM first: the robot's band is gone once it docks):
+                # the DOM and a screenshot of the live page.
                 page = f"http://127.0.0.1:{http}/?once=1&ack=0"
-                browser(out, "--virtual-time-budget=4000", f"--screenshot={out}/viewer_live.png",
-                        page)
                 with open(out / "live_dom.html", "wb") as f:
                     browser(out, "--virtual-time-budget=4000", "--dump-dom", page, stdout=f)
+                browser(out, "--virtual-time-budget=4000", f"--screenshot={out}/viewer_live.png",
+                        page)
                 return
             time.sleep(0.2)
 

@@ -489,6 +489,7 @@ TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheScene
   const int port = http->port();
   std::atomic<bool> stop{false};
   std::vector<int> idle;
+  idle.reserve(300);
   for (int i = 0; i < 300; ++i) idle.push_back(connectTo(port));
   std::thread slowloris([&] {
     std::vector<int> socks(40, -1);

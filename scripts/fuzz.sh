@@ -37,9 +37,10 @@ WORKERS="${COOPNAV_FUZZ_WORKERS:-1}"
 
 NICE=()
 INTERRUPTED=0
-TARGETS=(fuzz_lcm_band_source fuzz_lcm_situation_assessor fuzz_lcm_path_assessor
-  fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_lcm_sequence
-  fuzz_run_log fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
+# The daemons and the world in config/system.yaml's start order (one LCM fuzzer each).
+mapfile -t DAEMONS < <("$COOPNAV_ROOT/scripts/coopnav" system daemons --with-world)
+TARGETS=("${DAEMONS[@]/#/fuzz_lcm_}" fuzz_lcm_sequence fuzz_run_log fuzz_map_yaml fuzz_map_pgm
+  fuzz_map_bt fuzz_config fuzz_scenario)
 
 fuzz_build() {
   command -v clang++-14 >/dev/null || {
@@ -58,16 +59,16 @@ fuzz_build() {
 fuzz_seed() {
   local c="$FUZZ_SRC/corpus"
   "$FUZZ_BUILD_DIR/test/fuzz/fuzz_seed_gen" "$c"
-  # Configs: selector byte (the daemon, as fuzz_config.cpp numbers them) + the repo's YAML without
-  # its comment and blank lines (every key and value kept, a first comment names the file). The
-  # files are 75-95 % comments (band_source.yaml: 10 KB, above fuzz_config's -max_len of 4096);
-  # one seed keeps them all, so the parser's comment paths stay seeded (test/fuzz/README.md).
+  # Configs: selector byte (the daemon: fuzz_config.cpp numbers them in system.yaml's start order,
+  # the world last) + the repo's YAML without its comment and blank lines (every key and value
+  # kept, a first comment names the file). The files are 75-95 % comments (band_source.yaml:
+  # 10 KB, above fuzz_config's -max_len of 4096); one seed keeps them all, so the parser's comment
+  # paths stay seeded (test/fuzz/README.md).
   local i=0 d
   mkdir -p "$c/fuzz_config"
   # Only the copies are replaced: regression_*.yaml are crash inputs kept by hand.
   find "$c/fuzz_config" -name '*.yaml' ! -name 'regression_*' -delete
-  for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
-    world_sim; do
+  for d in "${DAEMONS[@]}"; do
     { printf "\\$(printf '%03o' "$i")"; echo "# config/$d.yaml without its comment lines"
       grep -v -E '^[[:space:]]*(#|$)' "$COOPNAV_ROOT/config/$d.yaml"; } >"$c/fuzz_config/$d.yaml"
     i=$((i + 1))

@@ -1,4 +1,4 @@
-// coopnav_robot_side: the robot's ROS 2 nodes, for test/e2e/ros2_bridge_test.sh and by hand. A
+// coopnav_robot_side: the robot's ROS 2 nodes, for test/py/test_ros2_bridge.py and by hand. A
 // DDS participant written directly on Cyclone DDS with ROS 2's names, types (the bridge's IDL)
 // and QoS, fed by world_sim's world on its own LCM bus:
 //   world COOPNAV_AGENT_STATES -> /odom (nav_msgs/Odometry, odom frame, twist in the base frame)

@@ -37,7 +37,6 @@ ctl="$COOPNAV_BUILD_DIR/tools/coopnav_ctl"
 # The robot's start pose in narrow_minimal: the odom frame's origin in the map.
 ox=11.0 oy=1.575 oyaw=0.0
 cmd_timeout_s=0.5
-robot_radius_m=0.47  # the scenario's robot (CoHAN's PR2 footprint, docs/scenario-format.md)
 
 start_pipeline() {  # the five daemons and the bridge on the pipeline bus
   local d args
@@ -49,8 +48,7 @@ start_pipeline() {  # the five daemons and the bridge on the pipeline bus
   done
   coopnav_spawn "$tmp/ros2_bridge.log" "$bridge" -c "$cfg/ros2_bridge.yaml" --lcm-url "$pipe_bus" \
     --set "domain_id=$domain" --set "odom_to_map_x_m=$ox" --set "odom_to_map_y_m=$oy" \
-    --set "odom_to_map_yaw_rad=$oyaw" --set "cmd_timeout_s=$cmd_timeout_s" \
-    --set "robot_radius_m=$robot_radius_m"
+    --set "odom_to_map_yaw_rad=$oyaw" --set "cmd_timeout_s=$cmd_timeout_s"
   "$ctl" --lcm-url "$pipe_bus" wait-ready obstacle_distance_server band_source situation_assessor \
     path_assessor dialogue_manager ros2_bridge --timeout-s 60 ||
     { tail -5 "$tmp"/*.log; echo "FAIL: the pipeline did not come up"; exit 1; }

@@ -2,14 +2,16 @@
 # A guard that sees what the map does not (issue 45), end to end through scripts/run.sh: a box
 # stands in open.pgm's 2.25 m corridor, in the robot's way, and is not on the robot's map; only
 # world_sim's simulated laser (COOPNAV_SCAN) shows it to the band source.
-#  1. unmapped_box_corridor, the box alone: no collision, a clearance > 0 from the box; the robot
-#     stops 0.25 m short of it and the run ends in STANDSTILL (run.sh exit 3): its global path is
-#     planned on the static map, through the box, and the band held to it does not leave it far
-#     enough; the guard holds the robot. Safe, but no progress: when the robot learns to go round,
-#     this check must change to GOAL_REACHED.
-#  2. unmapped_box_encounter, the box where the robot meets a minimal human: no collision, no
-#     contact with the human, clearance > 0 from the box (it passes, or stops and waits).
-#  3. The control: the first scenario with the laser off (world_sim --set laser=off): the robot,
+#  1. unmapped_box_corridor, the box alone, 1.4 m free beside it: the robot's global path, planned
+#     again round the laser's returns, goes round the box; it reaches its goal (run.sh exit 0)
+#     with no collision and a clearance > 0 from the box.
+#  2. unmapped_box_blocked, a box leaving 0.7 m for the 0.94 m robot: no room beside it; the robot
+#     turns back well before it (clearance > 1 m) for open.pgm's parallel corridor, the way round,
+#     and never squeezes towards the gap; the run ends at its time limit (run.sh exit 3) on the way.
+#  3. unmapped_box_encounter, the box where the robot meets a minimal human whose lane is the way
+#     round: no collision, no contact with the human, clearance > 0 from the box, and both reach
+#     their goals (exit 0).
+#  4. The control: the first scenario with the laser off (world_sim --set laser=off): the robot,
 #     blind to the box, drives into it (the run ends in COLLISION). So the first run's clearance
 #     is the scan's doing.
 set -euo pipefail
@@ -22,8 +24,8 @@ scen="$src/test/data/scenarios"
 port=$COOPNAV_TEST_PORT_BASE
 
 run() {  # run NAME OUT EXPECTED_RC [world_sim args]
-  # run.sh exits 3 when a run ends in a contact, a standstill or the time limit: the box alone
-  # (a standstill short of it) and the blind control (a collision) expect it, the encounter 0.
+  # run.sh exits 3 when a run ends in a contact, a standstill or the time limit: the box with no
+  # room beside it (the time limit, on the way round) and the blind control (a collision) expect it.
   local name=$1 out=$2 expected=$3 rc=0
   COOPNAV_RUN_PORT_BASE=$port COOPNAV_DAEMON_ARGS_world_sim="${4:-}" bash "$src/scripts/run.sh" \
     --no-build --out "$out" "$scen/$name.yaml" >"$out.out" 2>&1 || rc=$?
@@ -50,13 +52,20 @@ check() {  # check LABEL CONDITION...
 }
 positive() { awk -v x="$1" 'BEGIN { exit !(x != "" && x > 0) }'; }
 
-run unmapped_box_corridor "$tmp/box" 3
+run unmapped_box_corridor "$tmp/box" 0
 c1="$(box_clearance "$tmp/box" unmapped_box_corridor)"
 echo "box alone: $(ended "$tmp/box" unmapped_box_corridor); clearance to the box $c1 m"
 check "box alone: no collision" [ "$(field "$tmp/box" x collision)" = false ]
 check "box alone: clearance to the box > 0 ($c1 m)" positive "$c1"
-check "box alone: the robot stopped short of it (STANDSTILL)" \
-  grep -q "STANDSTILL" <<<"$(field "$tmp/box" x final_state)"
+check "box alone: the robot went round it to its goal (GOAL_REACHED)" \
+  grep -q "GOAL_REACHED" <<<"$(field "$tmp/box" x final_state)"
+
+run unmapped_box_blocked "$tmp/blocked" 3
+c0="$(box_clearance "$tmp/blocked" unmapped_box_blocked)"
+echo "no room beside it: $(ended "$tmp/blocked" unmapped_box_blocked); clearance to the box $c0 m"
+check "no room beside it: no collision" [ "$(field "$tmp/blocked" x collision)" = false ]
+check "no room beside it: the robot kept away from the gap (clearance $c0 m > 1 m)" \
+  awk -v x="$c0" 'BEGIN { exit !(x != "" && x > 1.0) }'
 
 run unmapped_box_encounter "$tmp/enc" 0
 c2="$(box_clearance "$tmp/enc" unmapped_box_encounter)"
@@ -67,6 +76,8 @@ check "box and human: no collision" [ "$(field "$tmp/enc" x collision)" = false 
 check "box and human: no contact with the human" \
   bash -c "! grep -q '\"contact\": *{' '$tmp/enc/summary.json'"
 check "box and human: clearance to the box > 0 ($c2 m)" positive "$c2"
+check "box and human: the robot went round it to its goal (GOAL_REACHED)" \
+  grep -q "GOAL_REACHED" <<<"$(field "$tmp/enc" x final_state)"
 
 run unmapped_box_corridor "$tmp/blind" 3 "--set laser=off"
 c3="$(box_clearance "$tmp/blind" unmapped_box_corridor)"
@@ -75,4 +86,4 @@ check "control: without the scan the robot drives into the box" \
   grep -q "COLLISION\|collision" <<<"$(ended "$tmp/blind" unmapped_box_corridor) $(field "$tmp/blind" x final_state)"
 
 [ "$fail" = 0 ] || exit 1
-echo "unmapped box: seen by the laser, kept clear of, alone and with a person"
+echo "unmapped box: seen by the laser, gone round where there is room, never squeezed past where there is none, alone and with a person"

@@ -497,13 +497,6 @@ double minDistanceToPoints(const Band& b, const std::vector<Eigen::Vector2d>& pt
   return m;
 }
 
-double termCost(const PlanResult& r, const std::string& name) {
-  for (const TermCost& t : r.term_costs)
-    if (t.name == name) return t.cost;
-  ADD_FAILURE() << "no cost term " << name;
-  return 0.0;
-}
-
 TEST(DualBandPlannerTest, ObstaclePointsReachTheObstacleTermAndPushTheBandOffABox) {
   auto map = BoxMap::corridor(0.0, 20.0, 0.0, 6.0);
   auto req = test::headOn(3.0, 11.0, 3.0, 17.0);

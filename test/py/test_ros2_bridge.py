@@ -13,7 +13,7 @@ narrow_minimal: what is said each round and the dock / resume); the utterances a
 arrive on the DDS side; then, in a second run, SIGKILL of band_source while the robot drives makes
 the watchdog put zero on /cmd_vel within cmd_timeout_s (+ one watchdog period + slack).
 All DDS on the loopback interface (test/dds/cyclonedds_loopback.xml) in domain 74. Skipped when
-the bridge was not built (no Cyclone DDS).
+the bridge was not built (no Cyclone DDS). A third test runs the laser and /people the same way.
 """
 
 from __future__ import annotations
@@ -37,7 +37,6 @@ SCENARIO = SOURCE_DIR / "config/scenarios/narrow_minimal.yaml"
 DOMAIN = 74
 ODOM_ORIGIN = ("11.0", "1.575", "0.0")  # the robot's start pose in narrow_minimal: odom's origin
 CMD_TIMEOUT_S = 0.5
-ROBOT_RADIUS_M = 0.47  # the scenario's robot (CoHAN's PR2 footprint, docs/scenario-format.md)
 WATCHDOG_SLACK_S = 0.05 + 0.25  # one watchdog period and scheduling
 
 
@@ -57,33 +56,33 @@ def dds(tmp_path):
             print(f"--- {p.log}\n" + "\n".join(p.log_tail(3)))
 
 
-def start_pipeline(d: dict) -> None:
+def start_pipeline(d: dict, scenario: Path = SCENARIO, bridge_args: tuple = ()) -> None:
     """system.yaml's daemons and the bridge on the pipeline bus, until each reports."""
     s, sup, tmp = d["system"], d["sup"], d["tmp"]
     for name in s.names():
-        sup.start(name, s.command(name, scenario=SCENARIO, lcm_url=d["pipe_bus"]),
+        sup.start(name, s.command(name, scenario=scenario, lcm_url=d["pipe_bus"]),
                   tmp / f"{name}.log", env=d["env"])
     sup.start("ros2_bridge", [
         str(BRIDGE), "-c", str(s.config_dir / "ros2_bridge.yaml"), "--lcm-url", d["pipe_bus"],
         "--set", f"domain_id={DOMAIN}", "--set", f"odom_to_map_x_m={ODOM_ORIGIN[0]}",
         "--set", f"odom_to_map_y_m={ODOM_ORIGIN[1]}", "--set",
         f"odom_to_map_yaw_rad={ODOM_ORIGIN[2]}", "--set", f"cmd_timeout_s={CMD_TIMEOUT_S}",
-        "--set", f"robot_radius_m={ROBOT_RADIUS_M}"], tmp / "ros2_bridge.log",
+        *bridge_args], tmp / "ros2_bridge.log",
         env=d["env"])
     names = s.names() + ["ros2_bridge"]
     sup.wait_ready([str(s.tool("ctl")), "--lcm-url", d["pipe_bus"], "wait-ready", *names,
                     "--timeout-s", "60"], names, env=d["env"])
 
 
-def start_robot_side(d: dict, out: Path) -> None:
+def start_robot_side(d: dict, out: Path, extra: tuple = ()) -> None:
     d["sup"].start("robot_side", [
         str(ROBOT_SIDE), "--lcm-url", d["robot_bus"], "--domain", str(DOMAIN), "--odom-origin",
-        *ODOM_ORIGIN, "--sim-cues-from", d["pipe_bus"]], out, append=False, env=d["env"])
+        *ODOM_ORIGIN, "--sim-cues-from", d["pipe_bus"], *extra], out, append=False, env=d["env"])
     time.sleep(1)  # DDS discovery between robot_side and the bridge (volatile topics)
 
 
-def world_command(d: dict) -> list[str]:
-    return d["system"].command("world_sim", scenario=SCENARIO, lcm_url=d["robot_bus"], extra=[
+def world_command(d: dict, scenario: Path = SCENARIO) -> list[str]:
+    return d["system"].command("world_sim", scenario=scenario, lcm_url=d["robot_bus"], extra=[
         "--set", "mode=real_time", "--set", "publish_human_goals=false"])
 
 
@@ -165,3 +164,57 @@ def test_the_watchdog_zeroes_cmd_vel_when_band_source_dies(dds):
     assert gap <= CMD_TIMEOUT_S + WATCHDOG_SLACK_S, "the watchdog was late"
     assert "zero on /cmd_vel" in (tmp / "ros2_bridge.log").read_text(), \
         "the bridge did not log the watchdog"
+
+
+def test_the_scan_and_people_go_through_dds(dds):
+    """The laser and /people in closed loop: unmapped_box_encounter (a box the robot's map does
+    not hold, and a person walking the way round it), the humans on /people (people_msgs/People,
+    the bridge's humans_from: people) instead of /tracked_agents, the world's simulated laser on
+    /scan (sensor_msgs/LaserScan, best effort). The scans robot_side wrote reach the pipeline's
+    COOPNAV_SCAN unchanged (same stamp, rays and ranges), most of them; the person of /people is
+    in the pipeline's agent states (id from the name); the robot, seeing the box only through the
+    forwarded scan, touches neither the box nor the person and reaches its goal (the world's
+    recorded run, summarized)."""
+    from test_run_unmapped_box import unmapped_clearance_m
+
+    d, tmp, s = dds, dds["tmp"], dds["system"]
+    scenario = SOURCE_DIR / "test/data/scenarios/unmapped_box_encounter.yaml"
+    log = tmp / "world.lcm"
+    d["sup"].start("recorder", [str(s.tool("recorder")), "-f", "-c", s.recorder_channels,
+                                "--lcm-url", d["robot_bus"], str(log)], tmp / "record.log")
+    start_pipeline(d, scenario, ("--set", "humans_from=people"))
+    out = tmp / "robot_side.out"
+    start_robot_side(d, out, ("--people", "--echo-pipeline"))
+    world = d["sup"].start("world_sim", world_command(d, scenario), tmp / "world_sim.log",
+                           env=d["env"])
+    try:
+        rc = world.popen.wait(timeout=300)
+    except subprocess.TimeoutExpired:
+        rc = 124
+    supervise.wait_quiet(log)
+    d["sup"].stop_all()
+    assert rc == 0, f"world_sim exited {rc}"
+
+    lines = [line.split() for line in out.read_text().splitlines()]
+    written = {f[1]: f[2:5] for f in lines if f and f[0] == "SCAN"}
+    forwarded = [f for f in lines if f and f[0] == "PIPE_SCAN"]
+    differ = [f for f in forwarded if written.get(f[1]) != f[2:5]]
+    print(f"scans: {len(written)} written on /scan, {len(forwarded)} on COOPNAV_SCAN, "
+          f"{len(differ)} differ")
+    assert len(written) >= 50, "too few scans written"
+    assert len(forwarded) * 10 >= len(written) * 9, "most scans must reach COOPNAV_SCAN"
+    assert not differ, f"forwarded scans differ from those written: {differ[:3]}"
+    with_person = sum(1 for f in lines if f[:1] == ["PIPE_HUMANS"] and f[-1:] == ["1"])
+    print(f"pipeline agent states with human 1 (from /people): {with_person}")
+    assert with_person >= 20, "the person of /people is not in the pipeline's agent states"
+
+    summary = tmp / "summary.json"
+    subprocess.run([str(s.tool("ctl")), "summarize", str(log), "--scenario", scenario.stem,
+                    "--out", str(summary)], check=True)
+    from conftest import scenarios_of
+    r = scenarios_of(summary)[scenario.stem]
+    clearance = unmapped_clearance_m(scenario, tmp, log)
+    print(f"{r['final_state']} at t = {r['sim_time_s']} s; clearance to the box {clearance:.3f} m")
+    assert r["final_state"] == "GOAL_REACHED", r["detail"]
+    assert not r["collision"] and r["contact"] is None, r["detail"]
+    assert clearance > 0.0

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <vector>
 
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
@@ -420,6 +421,21 @@ int Runtime::msUntilNextTimer() const {
   return best;
 }
 
+void Runtime::addReadable(int fd, std::function<void()> fn) {
+  readables_.push_back({fd, std::move(fn)});
+}
+
+void Runtime::runReadables(const pollfd* fds) {
+  for (std::size_t i = 0; i < readables_.size(); ++i) {
+    if (!(fds[i].revents & (POLLIN | POLLERR | POLLHUP))) continue;
+    try {
+      readables_[i].fn();
+    } catch (const std::exception& e) {
+      log().error("{}: input handler failed: {}", name_, e.what());
+    }
+  }
+}
+
 int Runtime::spinFor(int timeout_ms) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   int handled = 0;
@@ -432,6 +448,18 @@ int Runtime::spinFor(int timeout_ms) {
     pump(kPumpBudget);
     if (handleNext()) {
       ++handled;
+      continue;
+    }
+    if (!readables_.empty()) {
+      // LCM's fd and the other inputs' in one wait; LCM then reads without blocking.
+      std::vector<pollfd> fds{{lcm_->getFileno(), POLLIN, 0}};
+      for (const auto& r : readables_) fds.push_back({r.fd, POLLIN, 0});
+      const int n = ::poll(fds.data(), fds.size(), wait_ms);
+      if (n < 0 && errno != EINTR) return handled;
+      if (n > 0) runReadables(fds.data() + 1);
+      if (n > 0 && (fds[0].revents & POLLIN)) lcm_->handleTimeout(0);
+      if (n > 0) continue;
+      if (std::chrono::steady_clock::now() >= deadline) return handled;
       continue;
     }
     // handleTimeout(0) is a non-blocking poll; a negative timeout would return -1 at once.
@@ -461,20 +489,21 @@ int Runtime::run() {
   g_starting.store(false);
   publishStatus();
   log().info("{}: ready (pid {})", name_, ::getpid());
-  pollfd fds[3];
-  fds[0] = {lcm_->getFileno(), POLLIN, 0};
-  fds[1] = {g_signal_pipe[0], POLLIN, 0};
-  fds[2] = {stop_pipe_[0], POLLIN, 0};
+  // LCM, the signal and stop pipes, then the other inputs (addReadable).
+  std::vector<pollfd> fds{
+      {lcm_->getFileno(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stop_pipe_[0], POLLIN, 0}};
+  for (const auto& r : readables_) fds.push_back({r.fd, POLLIN, 0});
   while (!stop_ && !g_signalled.load()) {
     runDueTimers();
     // Messages still waiting in the queues (a wake-up handles at most 1000): do not sleep.
-    const int n = ::poll(fds, 3, inbox_->waiting > 0 ? 0 : msUntilNextTimer());
+    const int n = ::poll(fds.data(), fds.size(), inbox_->waiting > 0 ? 0 : msUntilNextTimer());
     if (n < 0) {
       if (errno == EINTR) continue;
       log().error("{}: poll failed: {}", name_, std::strerror(errno));
       return kExitRuntime;
     }
     if ((fds[1].revents & POLLIN) || (fds[2].revents & POLLIN)) break;
+    if (n > 0) runReadables(fds.data() + 3);
     if ((fds[0].revents & POLLIN) || inbox_->waiting > 0) {
       // Move what LCM received into the bounded queues, then handle the oldest, again and again
       // (at most 1000 per wake-up, so that a burst does not starve the status timer): LCM's own

@@ -22,6 +22,8 @@
 #include "coopnav/channels.hpp"
 #include "runtime/limits.hpp"
 
+struct pollfd;  // <poll.h>
+
 namespace coopnav {
 
 class step_ack_t;
@@ -135,6 +137,11 @@ class Runtime {
 
   /// Runs `fn` every `period` of monotonic time from the loop (liveness work only).
   void addTimer(std::chrono::milliseconds period, std::function<void()> fn);
+  /// Runs `fn` from the loop (run() and spinFor()) whenever `fd` is readable: an input that is
+  /// not LCM wakes the loop itself (the ROS 2 bridge's DDS listener writes a self-pipe), so its
+  /// handlers run on the loop's thread like every other. `fn` must read what made fd readable.
+  /// The fd stays the caller's (it must outlive this runtime's loop).
+  void addReadable(int fd, std::function<void()> fn);
   /// poll()'s timeout [ms] for the next timer due in `until_due`: rounded up to whole
   /// milliseconds (0 only when due), so that the loop sleeps until the timer is due instead of
   /// polling without a timeout through the last fraction of a millisecond; at most 1000.
@@ -208,6 +215,14 @@ class Runtime {
   std::shared_ptr<Inbox> inbox_;  ///< shared by every runtime on lcm_ (memq://)
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<Timer> timers_;
+  struct Readable {
+    int fd;
+    std::function<void()> fn;
+  };
+  std::vector<Readable> readables_;
+  /// Runs the handler of each of readables_ whose pollfd (`fds`, one per readable, in order)
+  /// poll() found readable.
+  void runReadables(const ::pollfd* fds);
   RuntimeCounters counters_;
   std::int8_t state_{0};
   std::string detail_;

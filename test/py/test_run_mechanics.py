@@ -33,12 +33,15 @@ if name == "coopnav_ctl":
             "final_state": "GOAL_REACHED", "sim_time_s": 1.0,
             "faults": {"crossing_distance_unknown": unknown}}]}))
     if sys.argv[1] == "wait-ready":
+        if "--announce" in sys.argv:
+            print("listening", flush=True)
         time.sleep(float(os.environ.get("FAKE_READY_S", "0.2")))
     sys.exit(0)
 if name == "coopnav_world_sim":
     time.sleep(float(os.environ.get("FAKE_WORLD_S", "0.3")))
     sys.exit(int(os.environ.get("FAKE_WORLD_EXIT", "0")))
 if name == "coopnav_record":
+    print(f"coopnav_record: recording '{sys.argv[3]}' into {sys.argv[-1]}", flush=True)
     Path(sys.argv[-1]).write_bytes(b"log")
 if name == os.environ.get("FAKE_DIE", ""):
     print("bad map: resolution_m", flush=True)
@@ -91,17 +94,25 @@ def test_start_order_command_lines_hooks_and_nothing_left(fake, tmp_path):
     assert seen == [("during", True), ("after", False)]
     c = calls(tmp_path)
     names = sorted(x[0] for x in c)
-    # The recorder and the daemons (the absent one not), wait-ready, the world once they are
-    # ready, then summarize.
+    # The recorder, wait-ready (listening before the daemons start: it hears each one's first
+    # status), the daemons (the absent one not), the world once they are ready, then summarize.
     assert names == sorted(["coopnav_record", "coopnav_band_source", "coopnav_situation_assessor",
                             "coopnav_path_assessor", "coopnav_dialogue_manager", "coopnav_ctl",
                             "coopnav_world_sim", "coopnav_ctl"])
     t = {(x[0], x[3] if x[0] == "coopnav_ctl" else ""): x[1] for x in c}
-    assert t[("coopnav_ctl", "wait-ready")] < t[("coopnav_world_sim", "")] < \
+    assert t[("coopnav_record", "")] < t[("coopnav_ctl", "wait-ready")] < \
+        t[("coopnav_band_source", "")] < t[("coopnav_world_sim", "")] < \
         t[("coopnav_ctl", "summarize")]
     ready = next(x for x in c if x[0] == "coopnav_ctl" and x[3] == "wait-ready")
-    assert ready[4:8] == ["band_source", "situation_assessor", "path_assessor",
-                          "dialogue_manager"]
+    assert ready[4:] == ["band_source", "situation_assessor", "path_assessor",
+                         "dialogue_manager", "--timeout-s", "60", "--announce"]
+    # Where the wall time went: phases that add up to the run's, the world's fake waits in them
+    # (FAKE_READY_S 0.2 to be ready, FAKE_WORLD_S 0.3 to run; the fake world logs no stamps,
+    # so its start, run and exit are one: world_exit).
+    tm = json.loads((tmp_path / "o/timing.json").read_text())
+    assert abs(sum(tm["phases_s"].values()) - tm["total_s"]) < 0.01
+    assert tm["phases_s"]["daemons_ready"] >= 0.15
+    assert tm["phases_s"]["world_exit"] >= 0.25
     by = {x[0]: x[3:] for x in c}
     url = run.lcm_url(41000)
     st = str(tmp_path / "o/state")

@@ -1,5 +1,6 @@
 // coopnav_ctl: small commands the scripts and users need, in C++ so they start in milliseconds.
-//   coopnav_ctl wait-ready NAME... [--timeout-s S]     wait for each daemon's status message
+//   coopnav_ctl wait-ready NAME... [--timeout-s S] [--announce]  wait for each daemon's status
+//   message (--announce: print "listening" once subscribed, so the daemons can start after)
 //   coopnav_ctl wait-step NAME --log LOG | --step K [--timeout-s S]  wait until NAME acknowledged
 //   LOG's last step (or step K)
 //   coopnav_ctl query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
@@ -22,13 +23,18 @@
 namespace coopnav {
 namespace {
 
-int waitReady(const std::string& url, const std::vector<std::string>& names, double timeout_s) {
+int waitReady(const std::string& url, const std::vector<std::string>& names, double timeout_s,
+              bool announce) {
   Runtime rt("coopnav_ctl", url);
   std::set<std::string> missing(names.begin(), names.end());
   rt.subscribe<daemon_status_t>(channels::kStatus, [&](const daemon_status_t& s, std::int64_t) {
     if (s.state == daemon_status_t::STATE_RUNNING || s.state == daemon_status_t::STATE_DEGRADED)
       missing.erase(s.name);
   });
+  // The socket is joined (Runtime's constructor) and the subscription made: a launcher that
+  // starts the daemons after this line hears each one's first status, sent the moment it is
+  // ready, instead of the next one a status period later.
+  if (announce) std::cout << "listening" << std::endl;
   const auto end = std::chrono::steady_clock::now() +
                    std::chrono::milliseconds(static_cast<long>(timeout_s * 1000));
   while (!missing.empty() && std::chrono::steady_clock::now() < end) rt.spinFor(20);
@@ -119,6 +125,8 @@ int main(int argc, char** argv) {
   double timeout_s = 30.0;
   wait->add_option("names", names)->required();
   wait->add_option("--timeout-s", timeout_s);
+  bool announce = false;
+  wait->add_flag("--announce", announce, "print a line once listening (start the daemons then)");
 
   auto* wait_step = app.add_subcommand(
       "wait-step", "wait until a daemon acknowledged the last lockstep step of a log, or --step");
@@ -149,7 +157,7 @@ int main(int argc, char** argv) {
   }
   coopnav::setLogLevel("warn");
   try {
-    if (*wait) return coopnav::waitReady(url, names, timeout_s);
+    if (*wait) return coopnav::waitReady(url, names, timeout_s, announce);
     if (*wait_step) return coopnav::waitStep(url, step_name, step_log, step_number, step_timeout_s);
     if (*q) return coopnav::query(url, nearest, side, ray, range_m);
     if (trace) return trace.run();

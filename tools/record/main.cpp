@@ -11,9 +11,10 @@
 // the logger at nice 19 against four busy loops). Here the subscription queue is unlimited; the
 // kernel socket buffer (recv_buf_size in the URL) holds what arrives meanwhile.
 //
-// Each batch of messages is flushed to the file once the queue is drained, so that a launcher can
-// tell from the file size that the recorder has caught up (tools/exp: supervise.wait_quiet).
-// SIGINT / SIGTERM drain what is queued, close the file and print how many events were written.
+// Each batch of messages is flushed to the file once the queue is drained. The line "recording
+// ..." on stderr says it is subscribed (a launcher starts the run after it). SIGINT / SIGTERM
+// drain what is queued, close the file and print how many events were written: a launcher stops
+// it as soon as the run is over (tools/exp: run_one), without waiting for the log to go quiet.
 #include <poll.h>
 
 #include <CLI/CLI.hpp>

@@ -16,6 +16,7 @@
 #include <limits>
 #include <memory>
 #include <stdexcept>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -190,7 +191,10 @@ class Runtime {
   };
   void dispatch(const std::function<void()>& body, const std::string& channel);
   /// Another process of this daemon's name on the bus (its status messages): DEGRADED while heard.
+  /// A peer heard for the first time is answered with this daemon's status at once, once the
+  /// daemon is up (not STARTING): answerNewPeers, after each wake-up's messages are moved.
   void onPeerStatus(const void* data, std::size_t size);
+  void answerNewPeers();
   void checkDuplicate();
   void publishStatus();
   void runDueTimers();
@@ -230,6 +234,9 @@ class Runtime {
   std::int32_t duplicate_pid_{0};  ///< 0: no other process of this name heard
   std::chrono::steady_clock::time_point duplicate_heard_{};
   std::string duplicate_detail_;
+  /// Peers whose status was heard (answered once each, at most kMaxPeersAnswered names).
+  std::set<std::string> peers_heard_;
+  bool answer_status_{false};  ///< a new peer was heard: publish the status now
 };
 
 /// Decodes one received payload as Msg the way every subscription does: a payload that does not

@@ -1,7 +1,9 @@
 #pragma once
 /// @file The lifecycle every coopnav daemon shares: LCM construction with a provider check,
 /// a poll loop on the LCM fd plus a signal self-pipe, clean exit on SIGINT/SIGTERM, a status
-/// message once a second, safe decoding with counters, and lockstep step acknowledgements.
+/// message once a second (and at once to a peer heard for the first time, so that a process
+/// started later, e.g. the world waiting for its participants, need not wait a period), safe
+/// decoding with counters, and lockstep step acknowledgements.
 ///
 /// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
 /// request timeouts) use the monotonic clock: they are about liveness, never about decisions.

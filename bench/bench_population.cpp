@@ -126,8 +126,8 @@ int main() {
   bool same = !table.empty();
 
   const double per_core_hour = n * 3600.0 / (now.wall_s * jobs);
-  const double share = now.figures.count("simulation_share") ? now.figures.at("simulation_share")
-                                                             : 0.0;
+  const double share =
+      now.figures.count("simulation_share") ? now.figures.at("simulation_share") : 0.0;
   std::printf("RESULT population_encounters_per_core_hour %.1f\n", per_core_hour);
   std::printf("RESULT population_encounters_per_hour %.1f\n", n * 3600.0 / now.wall_s);
   std::printf("RESULT population_cpu_s_per_encounter %.3f\n", now.cpu_s / n);
@@ -135,8 +135,7 @@ int main() {
   if (now.figures.count("run_wall_mean_s"))
     std::printf("RESULT population_run_wall_mean_s %.3f\n", now.figures.at("run_wall_mean_s"));
   for (const auto& [k, v] : now.figures)
-    if (k.rfind("phase_mean_s.", 0) == 0)
-      std::printf("RESULT population_%s %.4f\n", k.c_str(), v);
+    if (k.rfind("phase_mean_s.", 0) == 0) std::printf("RESULT population_%s %.4f\n", k.c_str(), v);
 
   if (const char* ref = std::getenv("COOPNAV_BENCH_POP_REFERENCE")) {
     const std::string r(ref);
@@ -152,9 +151,8 @@ int main() {
     same = same && same_ref;
     std::printf("  population.json of this tree and the reference identical: %s\n",
                 same_ref ? "yes" : "NO");
-    const double ref_share = before.figures.count("simulation_share")
-                                 ? before.figures.at("simulation_share")
-                                 : 0.0;
+    const double ref_share =
+        before.figures.count("simulation_share") ? before.figures.at("simulation_share") : 0.0;
     std::printf("RESULT reference_encounters_per_core_hour %.1f\n",
                 n * 3600.0 / (before.wall_s * jobs));
     std::printf("RESULT reference_cpu_s_per_encounter %.3f\n", before.cpu_s / n);

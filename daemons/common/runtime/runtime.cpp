@@ -197,8 +197,9 @@ void Runtime::onPeerStatus(const void* data, std::size_t size) {
   // A process that just started (the world waiting for its participants' status, a launcher's
   // wait-ready) learns that this one is up at once, not up to a status period later. Once per
   // name, and for a bounded number of names: a flood of invented names is no flood of answers.
-  if (state_ != daemon_status_t::STATE_STARTING && s.name != name_ && s.state != daemon_status_t::STATE_STOPPING &&
-      peers_heard_.size() < kMaxPeersAnswered && peers_heard_.insert(s.name).second)
+  if (state_ != daemon_status_t::STATE_STARTING && s.name != name_ &&
+      s.state != daemon_status_t::STATE_STOPPING && peers_heard_.size() < kMaxPeersAnswered &&
+      peers_heard_.insert(s.name).second)
     answer_status_ = true;
   if (s.name != name_ || s.pid == static_cast<std::int32_t>(::getpid()) ||
       s.state == daemon_status_t::STATE_STOPPING)

@@ -17,8 +17,8 @@
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
 #include <memory>
-#include <stdexcept>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 

@@ -228,8 +228,8 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                     f"{s.timing.ready_timeout_s:g}", "--announce"],
                     timeout_s=s.timing.ready_timeout_s, env=env) if started else None
                 for d in started:
-                    sup.start(d, on_host(d) + commands[d], out_dir / f"{d}.log", env=env)
                     tl.spawned[d] = time.time()
+                    sup.start(d, on_host(d) + commands[d], out_dir / f"{d}.log", env=env)
                 tl.mark("spawned")
                 if waiter is not None:
                     sup.wait_ready(waiter, started)

@@ -60,6 +60,7 @@ struct Outcome {
 };
 
 Outcome runPopulation(const Tree& tree, int n, int jobs, const std::string& out, int port_base) {
+  std::fflush(nullptr);  // a forked child must not write what this process has buffered
   ::setenv("COOPNAV_BUILD_DIR", tree.build.c_str(), 1);
   ::setenv("COOPNAV_POP_PORT_BASE", std::to_string(port_base).c_str(), 1);
   const double cpu0 = cpuOfChildren_s();
@@ -77,6 +78,7 @@ Outcome runPopulation(const Tree& tree, int n, int jobs, const std::string& out,
   // This tree's reader of the timings, whichever tree ran the population.
   const std::string cmd = "PYTHONPATH='" + kSource + "/tools/exp' /usr/bin/python3 -m " +
                           "coopnav_exp.timing '" + out + "' 2>&1";
+  std::fflush(nullptr);
   if (FILE* p = ::popen(cmd.c_str(), "r")) {
     std::array<char, 512> line{};
     while (std::fgets(line.data(), line.size(), p)) {

@@ -98,6 +98,11 @@ void report(const char* label, const Tree& tree, int n, int jobs, const Outcome&
               tree.source.c_str(), tree.build.c_str(), n, jobs, o.wall_s, o.exit_code);
   std::printf("  encounters per core-hour %.1f; CPU %.2f s per encounter (all processes)\n",
               n * 3600.0 / (o.wall_s * jobs), o.cpu_s / n);
+  if (o.figures.count("worker_wall_sum_s"))
+    std::printf(
+        "  outside the runs' workers (generation, config checks, aggregation, slots idle at "
+        "the end): %.1f of %.1f slot-seconds\n",
+        o.wall_s * jobs - o.figures.at("worker_wall_sum_s"), o.wall_s * jobs);
   std::istringstream lines(o.breakdown);
   for (std::string l; std::getline(lines, l);)
     if (l.rfind("phase_mean_s.", 0) != 0) std::printf("  %s\n", l.c_str());
@@ -161,6 +166,11 @@ int main() {
     std::printf("RESULT reference_simulation_share %.4f\n", ref_share);
     std::printf("RESULT encounters_per_core_hour_ratio %.3f\n", before.wall_s / now.wall_s);
     std::printf("RESULT cpu_per_encounter_ratio %.3f\n", now.cpu_s / before.cpu_s);
+    // A run alone (its worker's stamps in both trees), without the population's fixed costs:
+    // what the ratio of encounters per core-hour tends to in a large population.
+    if (before.figures.count("worker_wall_sum_s") && now.figures.count("worker_wall_sum_s"))
+      std::printf("RESULT worker_wall_ratio %.3f\n",
+                  now.figures.at("worker_wall_sum_s") / before.figures.at("worker_wall_sum_s"));
     if (before.figures.count("run_wall_mean_s") && now.figures.count("run_wall_mean_s"))
       std::printf("RESULT run_wall_ratio %.3f\n",
                   now.figures.at("run_wall_mean_s") / before.figures.at("run_wall_mean_s"));

@@ -65,6 +65,7 @@ def test_a_population_breakdown_with_and_without_timing_files(tmp_path):
     assert b["phases_s"]["simulation"] == pytest.approx(3.0, abs=2e-3)
     text = timing.format_breakdown(b)
     assert "simulation_share 0.5000" in text and "not simulation" in text
+    assert "worker_wall_sum_s 6.000" in text
     # With a timing.json in every run, the detailed phases.
     doc = {"total_s": 4.0, "phases_s": dict.fromkeys(timing.PHASES, 0.0), "ready_s": {"x": 0.5}}
     doc["phases_s"].update(simulation=3.0, daemons_ready=1.0)

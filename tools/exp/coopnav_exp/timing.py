@@ -127,11 +127,10 @@ def run_timing(run_dir: Path, worker_log: Path | None = None) -> dict | None:
     running, ended = world_span(run_dir)
     if worker_log is None or running is None or ended is None:
         return None
-    start = first_stamp(worker_log, " on port ")
-    done = first_stamp(worker_log, " done, world_sim exit")
-    if start is None or done is None:
+    total = worker_wall_s(worker_log)
+    if total is None:
         return None
-    return {"total_s": done - start, "phases_s": {"simulation": ended - running}, "ready_s": {}}
+    return {"total_s": total, "phases_s": {"simulation": ended - running}, "ready_s": {}}
 
 
 def breakdown(runs: Iterable[dict]) -> dict:
@@ -147,15 +146,26 @@ def breakdown(runs: Iterable[dict]) -> dict:
     return out
 
 
+def worker_wall_s(worker_log: Path) -> float | None:
+    """A population worker's wall time from its log's stamps (its run and what it does around)."""
+    start = first_stamp(worker_log, " on port ")
+    done = first_stamp(worker_log, " done, world_sim exit")
+    return None if start is None or done is None else done - start
+
+
 def population_breakdown(pop_dir: Path) -> dict:
-    runs = []
+    runs, workers = [], 0.0
     for run_dir in sorted((pop_dir / "runs").iterdir()) if (pop_dir / "runs").is_dir() else []:
-        t = run_timing(run_dir, pop_dir / "workers" / f"{run_dir.name}.log")
+        log = pop_dir / "workers" / f"{run_dir.name}.log"
+        t = run_timing(run_dir, log)
         if t is not None:
             runs.append(t)
+        workers += worker_wall_s(log) or 0.0
     if not runs and (pop_dir / "timing.json").is_file():
         runs.append(run_timing(pop_dir))
-    return breakdown(runs)
+    b = breakdown(runs)
+    b["worker_wall_s"] = workers
+    return b
 
 
 def format_breakdown(b: dict) -> str:
@@ -175,6 +185,8 @@ def format_breakdown(b: dict) -> str:
         lines.append(f"  ready after start: {d:<26} {v:6.3f} s")
     lines.append(f"simulation_share {b['phases_s']['simulation'] / total:.4f}")
     lines.append(f"run_wall_mean_s {total / n:.3f}")
+    if b.get("worker_wall_s"):
+        lines.append(f"worker_wall_sum_s {b['worker_wall_s']:.3f}")
     for p in PHASES:
         if b["detailed"]:
             lines.append(f"phase_mean_s.{p} {b['phases_s'][p] / n:.4f}")

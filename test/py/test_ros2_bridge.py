@@ -103,7 +103,6 @@ def test_the_run_through_dds_makes_the_lcm_only_decisions(dds):
         rc = world.popen.wait(timeout=300)
     except subprocess.TimeoutExpired:
         rc = 124
-    supervise.wait_quiet(log)
     d["sup"].stop_all()
     print("\n".join(world.log_tail(2)))
     transcript = subprocess.run([str(s.tool("ctl")), "transcript", str(log), "--scenario",
@@ -191,7 +190,6 @@ def test_the_scan_and_people_go_through_dds(dds):
         rc = world.popen.wait(timeout=300)
     except subprocess.TimeoutExpired:
         rc = 124
-    supervise.wait_quiet(log)
     d["sup"].stop_all()
     assert rc == 0, f"world_sim exited {rc}"
 

@@ -1,5 +1,6 @@
 // coopnav_ctl's bus operations (command.hpp): what the launchers ask of a running system.
-//   wait-ready NAME... [--timeout-s S]                   each daemon's first status message
+//   wait-ready NAME... [--timeout-s S] [--announce]      each daemon's first status message
+//     (--announce: print "listening" once subscribed, so that the daemons can be started after)
 //   wait-step NAME --log LOG | --step K [--timeout-s S]  NAME acknowledged LOG's last step (or K)
 //   query --nearest X Y | --side X Y NX NY | --ray X Y DX DY ... [--range-m R]
 #include <algorithm>
@@ -28,6 +29,7 @@ class WaitReadyCommand final : public Command {
   explicit WaitReadyCommand(CLI::App& sub) {
     sub.add_option("names", names_)->required();
     sub.add_option("--timeout-s", timeout_s_);
+    sub.add_flag("--announce", announce_, "print a line once listening (start the daemons then)");
   }
 
   int run(const std::string& url) override {
@@ -37,6 +39,10 @@ class WaitReadyCommand final : public Command {
       if (s.state == daemon_status_t::STATE_RUNNING || s.state == daemon_status_t::STATE_DEGRADED)
         missing.erase(s.name);
     });
+    // The socket is joined (Runtime's constructor) and the subscription made: a launcher that
+    // starts the daemons after this line hears each one's first status, sent the moment it is
+    // ready, instead of the next one a status period later.
+    if (announce_) std::cout << "listening" << std::endl;
     const auto end = deadlineAfter(timeout_s_);
     while (!missing.empty() && std::chrono::steady_clock::now() < end) rt.spinFor(20);
     if (!missing.empty()) {
@@ -51,6 +57,7 @@ class WaitReadyCommand final : public Command {
  private:
   std::vector<std::string> names_;
   double timeout_s_{30.0};
+  bool announce_{false};
 };
 
 // A replay is over when the last participant has finished the log's last step: waiting for
@@ -65,6 +72,7 @@ class WaitStepCommand final : public Command {
     sub.add_option("--step", step_, "a step number instead of a log's last step")
         ->excludes(log_opt);
     sub.add_option("--timeout-s", timeout_s_);
+    sub.add_flag("--announce", announce_, "print a line once listening (start the daemons then)");
   }
 
   int run(const std::string& url) override {

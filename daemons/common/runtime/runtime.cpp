@@ -93,6 +93,8 @@ namespace {
 /// [messages] What one wake-up moves from LCM into the queues before handling the next message:
 /// a copy each, so that LCM's own queue stays short however slow a handler is.
 constexpr int kPumpBudget = 10000;
+// Peers a daemon answers the first status of (a run has seven processes; a busy bus a few more).
+constexpr std::size_t kMaxPeersAnswered = 64;
 
 }  // namespace
 
@@ -193,6 +195,13 @@ void Runtime::onPeerStatus(const void* data, std::size_t size) {
   } catch (const RejectedMessage&) {
     return;  // somebody else's problem: the daemons that consume status count it
   }
+  // A process that just started (the world waiting for its participants' status, a launcher's
+  // wait-ready) learns that this one is up at once, not up to a status period later. Once per
+  // name, and for a bounded number of names: a flood of invented names is no flood of answers.
+  if (state_ != daemon_status_t::STATE_STARTING && s.name != name_ &&
+      s.state != daemon_status_t::STATE_STOPPING && peers_heard_.size() < kMaxPeersAnswered &&
+      peers_heard_.insert(s.name).second)
+    answer_status_ = true;
   if (s.name != name_ || s.pid == static_cast<std::int32_t>(::getpid()) ||
       s.state == daemon_status_t::STATE_STOPPING)
     return;
@@ -204,6 +213,12 @@ void Runtime::onPeerStatus(const void* data, std::size_t size) {
   duplicate_detail_ = "another " + name_ + " runs on this bus (pid " + std::to_string(s.pid) +
                       "): every input is handled twice";
   setDegraded(duplicate_detail_);
+}
+
+void Runtime::answerNewPeers() {
+  if (!answer_status_) return;
+  answer_status_ = false;
+  if (!muted_) publishStatus();
 }
 
 void Runtime::checkDuplicate() {
@@ -446,6 +461,7 @@ int Runtime::spinFor(int timeout_ms) {
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
     wait_ms = std::max(0, std::min(wait_ms, msUntilNextTimer()));
     pump(kPumpBudget);
+    answerNewPeers();
     if (handleNext()) {
       ++handled;
       continue;
@@ -520,6 +536,7 @@ int Runtime::run() {
         pump(kPumpBudget);
       }
     }
+    answerNewPeers();
   }
   if (g_signalled.load()) log().info("{}: signal received, stopping", name_);
   state_ = daemon_status_t::STATE_STOPPING;

@@ -1,7 +1,9 @@
 #pragma once
 /// @file The lifecycle every coopnav daemon shares: LCM construction with a provider check,
 /// a poll loop on the LCM fd plus a signal self-pipe, clean exit on SIGINT/SIGTERM, a status
-/// message once a second, safe decoding with counters, and lockstep step acknowledgements.
+/// message once a second (and at once to a peer heard for the first time, so that a process
+/// started later, e.g. the world waiting for its participants, need not wait a period), safe
+/// decoding with counters, and lockstep step acknowledgements.
 ///
 /// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
 /// request timeouts) use the monotonic clock: they are about liveness, never about decisions.
@@ -15,6 +17,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -197,7 +200,10 @@ class Runtime {
   };
   void dispatch(const std::function<void()>& body, const std::string& channel);
   /// Another process of this daemon's name on the bus (its status messages): DEGRADED while heard.
+  /// A peer heard for the first time is answered with this daemon's status at once, once the
+  /// daemon is up (not STARTING): answerNewPeers, after each wake-up's messages are moved.
   void onPeerStatus(const void* data, std::size_t size);
+  void answerNewPeers();
   void checkDuplicate();
   void publishStatus();
   void runDueTimers();
@@ -245,6 +251,9 @@ class Runtime {
   std::int32_t duplicate_pid_{0};  ///< 0: no other process of this name heard
   std::chrono::steady_clock::time_point duplicate_heard_{};
   std::string duplicate_detail_;
+  /// Peers whose status was heard (answered once each, at most kMaxPeersAnswered names).
+  std::set<std::string> peers_heard_;
+  bool answer_status_{false};  ///< a new peer was heard: publish the status now
 };
 
 /// Decodes one received payload as Msg the way every subscription does: a payload that does not

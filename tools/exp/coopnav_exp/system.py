@@ -69,9 +69,7 @@ class Variant:
 @dataclass(frozen=True)
 class Timing:
     ready_timeout_s: float = 60.0
-    settle_s: float = 0.3
     stop_grace_s: float = 10.0
-    record_quiet_s: float = 0.3
 
 
 @dataclass(frozen=True)

@@ -72,7 +72,6 @@ class WaitStepCommand final : public Command {
     sub.add_option("--step", step_, "a step number instead of a log's last step")
         ->excludes(log_opt);
     sub.add_option("--timeout-s", timeout_s_);
-    sub.add_flag("--announce", announce_, "print a line once listening (start the daemons then)");
   }
 
   int run(const std::string& url) override {

@@ -55,6 +55,41 @@ TEST(StandOffWatch, BothStillAndNearWithTheCrossingNoCloserIsAMutualWaitAfterIts
   EXPECT_EQ(w.mutualWait_s(), 0.0);
 }
 
+// A robot whose planner and guard take turns in front of the person dithers in place: steps of
+// 0.00-0.10 m/s, 0.03 m/s on average. Still waiting; a robot that sets off is not.
+TEST(StandOffWatch, ARobotDitheringInPlaceIsStillWaitingOneSettingOffIsNot) {
+  StandOffWatch w;
+  auto dither = [](double u) {
+    StandOffInput in = still(u);
+    const int k = static_cast<int>(std::lround(u * 4.0)) % 4;
+    in.robot_speed_m_s = k == 1 ? 0.10 : (k == 3 ? 0.02 : 0.0);
+    return in;
+  };
+  const auto [s, t] = run(w, 0.0, 10.0, false, dither);
+  EXPECT_EQ(s, StandOff::kMutualWait);
+  EXPECT_NEAR(t, StandOffConfig{}.mutual_wait_s, 0.25 + 1e-9);
+  // Dithering faster on average than robot_still_m_s is moving.
+  StandOffWatch busy;
+  EXPECT_EQ(run(busy, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = still(u);
+                  in.robot_speed_m_s = static_cast<int>(std::lround(u * 4.0)) % 2 ? 0.12 : 0.0;
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+  // Setting off (one step above robot_dither_m_s) ends the wait at once.
+  StandOffWatch off;
+  EXPECT_EQ(run(off, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = still(u);
+                  if (static_cast<int>(std::lround(u * 4.0)) % 8 == 7) in.robot_speed_m_s = 0.2;
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+}
+
 TEST(StandOffWatch, TheCrossingGettingCloserIsNoMutualWait) {
   StandOffWatch w;
   // t_CROSS falls 0.3 s a second: every 0.5 s of it restarts the wait, which never lasts 3 s.

@@ -318,7 +318,7 @@ Json dialogueChecks(const RunLog& run) {
     // So are the words of the robot making room to end a stand-off (a dock, a wider place, a
     // retreat, a stop), said while the person's latest DOCK was decided on the stand-off (its
     // reason, as the dialogue manager writes it, "round 2: stand-off: ..."): a later stand-off
-    // makes room again, and is no group told twice.
+    // makes room again. Each answers a stand-off of its own: none is a group told twice.
     const bool making_room = u.speech_act == utterance_t::ACT_INFORM_DOCKING ||
                              u.speech_act == utterance_t::ACT_INFORM_WIDER_PLACE ||
                              u.speech_act == utterance_t::ACT_INFORM_RETREAT ||
@@ -355,7 +355,7 @@ Json dialogueChecks(const RunLog& run) {
         }
     }
     for (const utterance_t* e : earlier) {
-      if (e->round != u.round || stand_off_dock) continue;
+      if (e->round != u.round || ends_stand_off) continue;
       const auto& g = e->group_ids;
       const bool together =
           std::find(g.begin(), g.end(), u.human_id) != g.end() ||

@@ -62,7 +62,9 @@ StandOff StandOffWatch::update(const StandOffInput& in, bool docked) {
   // planner and guard take turns in front of a person never waits 3 s on end, and the stand-off is
   // never seen.)
   bool robot_still = in.robot_speed_m_s < config_.robot_still_m_s;
-  if (wait_since_s_ && !robot_still && in.robot_speed_m_s < config_.robot_dither_m_s) {
+  // Docked, the robot holds still: what moves it there is the guard evading a person closing
+  // in (squeezing past), which is no wait.
+  if (!docked && wait_since_s_ && !robot_still && in.robot_speed_m_s < config_.robot_dither_m_s) {
     // The mean over at least mutual_wait_s: one step of dithering just after the wait began
     // does not end it.
     const double over_s = std::max(in.t_s - *wait_since_s_, config_.mutual_wait_s);

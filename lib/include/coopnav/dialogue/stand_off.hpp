@@ -18,7 +18,8 @@ struct StandOffConfig {
   double robot_still_m_s{0.05};
   /// [m/s] ... and while no single step is above this: a robot that sets off ends the wait at
   /// once, one that dithers in place (its planner and guard taking turns, steps of a few cm/s
-  /// either way) does not.
+  /// either way) does not. Not while docked: a docked robot holds still, and what moves it is
+  /// the guard evading a person who closes in to squeeze past.
   double robot_dither_m_s{0.15};
   /// [m/s] A person waits below this speed: well under a walk (≥ 0.5 m/s), above the velocity
   /// noise of a tracked person standing still.

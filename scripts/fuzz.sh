@@ -2,7 +2,8 @@
 # libFuzzer targets of test/fuzz (test/fuzz/README.md). Builds them into build-fuzz/ (clang-14,
 # ASan + UBSan + coverage) and runs each on its committed corpus.
 #
-#   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15)
+#   scripts/fuzz.sh --short [TARGET...]  CI: each target for COOPNAV_FUZZ_SHORT_S seconds (15),
+#                                        COOPNAV_FUZZ_JOBS (nproc) targets at a time
 #   scripts/fuzz.sh --long  [TARGET...]  each target for COOPNAV_FUZZ_LONG_RUNS executions (10M),
 #                                        or COOPNAV_FUZZ_LONG_S seconds if set and reached first
 #   scripts/fuzz.sh --seed               regenerate the generated seeds and copy the repo's configs,
@@ -36,9 +37,10 @@ WORKERS="${COOPNAV_FUZZ_WORKERS:-1}"
 
 NICE=()
 INTERRUPTED=0
-TARGETS=(fuzz_lcm_band_source fuzz_lcm_situation_assessor fuzz_lcm_path_assessor
-  fuzz_lcm_dialogue_manager fuzz_lcm_obstacle_distance_server fuzz_lcm_world_sim fuzz_lcm_sequence
-  fuzz_run_log fuzz_map_yaml fuzz_map_pgm fuzz_map_bt fuzz_config fuzz_scenario)
+# The daemons and the world in config/system.yaml's start order (one LCM fuzzer each).
+mapfile -t DAEMONS < <("$COOPNAV_ROOT/scripts/coopnav" system daemons --with-world)
+TARGETS=("${DAEMONS[@]/#/fuzz_lcm_}" fuzz_lcm_sequence fuzz_run_log fuzz_map_yaml fuzz_map_pgm
+  fuzz_map_bt fuzz_config fuzz_scenario)
 
 fuzz_build() {
   command -v clang++-14 >/dev/null || {
@@ -57,16 +59,16 @@ fuzz_build() {
 fuzz_seed() {
   local c="$FUZZ_SRC/corpus"
   "$FUZZ_BUILD_DIR/test/fuzz/fuzz_seed_gen" "$c"
-  # Configs: selector byte (the daemon, as fuzz_config.cpp numbers them) + the repo's YAML without
-  # its comment and blank lines (every key and value kept, a first comment names the file). The
-  # files are 75-95 % comments (band_source.yaml: 10 KB, above fuzz_config's -max_len of 4096);
-  # one seed keeps them all, so the parser's comment paths stay seeded (test/fuzz/README.md).
+  # Configs: selector byte (the daemon: fuzz_config.cpp numbers them in system.yaml's start order,
+  # the world last) + the repo's YAML without its comment and blank lines (every key and value
+  # kept, a first comment names the file). The files are 75-95 % comments (band_source.yaml:
+  # 10 KB, above fuzz_config's -max_len of 4096); one seed keeps them all, so the parser's comment
+  # paths stay seeded (test/fuzz/README.md).
   local i=0 d
   mkdir -p "$c/fuzz_config"
   # Only the copies are replaced: regression_*.yaml are crash inputs kept by hand.
   find "$c/fuzz_config" -name '*.yaml' ! -name 'regression_*' -delete
-  for d in obstacle_distance_server band_source situation_assessor path_assessor dialogue_manager \
-    world_sim; do
+  for d in "${DAEMONS[@]}"; do
     { printf "\\$(printf '%03o' "$i")"; echo "# config/$d.yaml without its comment lines"
       grep -v -E '^[[:space:]]*(#|$)' "$COOPNAV_ROOT/config/$d.yaml"; } >"$c/fuzz_config/$d.yaml"
     i=$((i + 1))
@@ -219,27 +221,43 @@ case "$mode" in
   --short | --long)
     [ "${COOPNAV_FUZZ_SKIP_BUILD:-0}" = 1 ] || fuzz_build
     failed=()
-    for t in "${selected[@]}"; do
-      set +e
-      if [ "$mode" = --short ]; then
-        run_target "$t" -max_total_time="$SHORT_S"
-      else
-        # Long runs share the machine: lowest priority, one target at a time, COOPNAV_FUZZ_WORKERS
-        # processes each.
-        # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
-        # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
-        # a 60 s pause, ended a 10M run at 4.3M).
-        NICE=(nice -n 19)
-        # No allocation stacks in ASan's reports of a long run: their depot only grows (yaml-cpp's
-        # recursion makes ever new stacks) until storing one is a third of the time (fuzz_config:
-        # 2750 -> 600 exec/s after 17 min). A finding is re-run with full stacks to report it.
-        export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
+    if [ "$mode" = --short ]; then
+      # The short runs are independent single-threaded fuzzers: one per core at a time, each
+      # with its output kept apart and printed in target order when all have ended.
+      out=$(mktemp -d)
+      coopnav_trap 'rm -rf "$out"' EXIT
+      for t in "${selected[@]}"; do
+        while [ "$(jobs -rp | wc -l)" -ge "${COOPNAV_FUZZ_JOBS:-$(nproc)}" ]; do wait -n || :; done
+        (
+          set +e
+          run_target "$t" -max_total_time="$SHORT_S" >"$out/$t.log" 2>&1
+          echo $? >"$out/$t.rc"
+        ) &
+      done
+      wait
+      for t in "${selected[@]}"; do
+        cat "$out/$t.log"
+        [ "$(cat "$out/$t.rc" 2>/dev/null || echo 1)" -ne 0 ] && failed+=("$t")
+      done
+    else
+      # Long runs share the machine: lowest priority, one target at a time, COOPNAV_FUZZ_WORKERS
+      # processes each.
+      # Never pause one (SIGSTOP, e.g. for a benchmark): -timeout is wall time, so the input in
+      # progress when it resumes is reported as a timeout (fuzz_run_log: a 56 ms input, after
+      # a 60 s pause, ended a 10M run at 4.3M).
+      NICE=(nice -n 19)
+      # No allocation stacks in ASan's reports of a long run: their depot only grows (yaml-cpp's
+      # recursion makes ever new stacks) until storing one is a third of the time (fuzz_config:
+      # 2750 -> 600 exec/s after 17 min). A finding is re-run with full stacks to report it.
+      export ASAN_OPTIONS="${ASAN_OPTIONS:-malloc_context_size=0}"
+      for t in "${selected[@]}"; do
+        set +e
         run_target "$t" -runs="$LONG_RUNS" -max_total_time="$LONG_S"
-      fi
-      rc=$?
-      set -e
-      [ $rc -ne 0 ] && failed+=("$t")
-    done
+        rc=$?
+        set -e
+        [ $rc -ne 0 ] && failed+=("$t")
+      done
+    fi
     if [ ${#failed[@]} -gt 0 ]; then
       echo "fuzz: findings in ${failed[*]} (inputs in $FUZZ_BUILD_DIR/findings/)" >&2
       exit 1

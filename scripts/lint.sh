@@ -126,28 +126,8 @@ lint_tidy() {
   local sel units=()
   sel=$(LINT_SET="$(printf '%s\n' "${TIDY_SET[@]}")" \
     LINT_EXCLUDE="$(printf '%s\n' "${TIDY_EXCLUDE[@]}")" \
-    python3 - "$db" "$COOPNAV_ROOT" "$mode" "${files[@]}" <<'EOF'
-import json, os, re, sys
-db, root, mode, args = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
-include = [l for l in os.environ["LINT_SET"].split("\n") if l]
-exclude = [l for l in os.environ["LINT_EXCLUDE"].split("\n") if l]
-units = sorted({os.path.normpath(os.path.join(e["directory"], e["file"]))
-                for e in json.load(open(db))})
-rel = lambda u: os.path.relpath(u, root)
-if args:
-    want = {os.path.normpath(os.path.abspath(a)) for a in args}
-    missing = sorted(want - set(units))
-    for m in missing:
-        print("lint: not in the compile commands: " + m, file=sys.stderr)
-    if missing:
-        sys.exit(1)
-    units = [u for u in units if u in want]
-elif mode != "tidy-all":
-    units = [u for u in units
-             if any(re.fullmatch(p, rel(u)) for p in include)
-             and not any(re.fullmatch(p, rel(u)) for p in exclude)]
-print("\n".join(units))
-EOF
+    /usr/bin/python3 "$COOPNAV_ROOT/scripts/lint_units.py" "$db" "$COOPNAV_ROOT" "$mode" \
+      "${files[@]}"
   ) || return 1
   [ -n "$sel" ] && mapfile -t units <<<"$sel"
   if [ "${#units[@]}" -eq 0 ]; then

@@ -1,5 +1,5 @@
 # One scenario run for the bash scripts that still launch runs themselves (scripts/multihost.sh,
-# scripts/population.sh, e2e_viewer_test): a thin shell over `scripts/coopnav run-one`
+# scripts/population.sh): a thin shell over `scripts/coopnav run-one`
 # (tools/exp/coopnav_exp/run.py's run_one, which every launcher shares; config/system.yaml lists
 # the daemons). Sourced after lib.sh, not executed.
 #

@@ -55,10 +55,11 @@ else
 fi
 out="${out:-$COOPNAV_ROOT/runs/soak-$(date -u +%Y%m%dT%H%M%SZ)}"
 mkdir -p "$out"
-duration_s=$(python3 -c "print(float($minutes) * 60)")
-warmup_s=$(python3 -c "print(float($minutes) * 60 * 0.2)")
+duration_s=$(awk -v m="$minutes" 'BEGIN { printf "%.1f", m * 60 }')
+warmup_s=$(awk -v m="$minutes" 'BEGIN { printf "%.1f", m * 60 * 0.2 }')
 # World time of the side scenario: the whole run at F x, with margin; the robot gets no commands.
-sim_limit_s=$(python3 -c "print(min(86400, float($minutes) * 60 * float($factor) * 1.5 + 60))")
+sim_limit_s=$(awk -v m="$minutes" -v f="$factor" \
+  'BEGIN { t = m * 60 * f * 1.5 + 60; printf "%.1f", (t < 86400 ? t : 86400) }')
 scenario="$out/world_sim_soak.yaml"
 cat >"$scenario" <<EOF
 name: soak

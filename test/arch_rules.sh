@@ -9,7 +9,10 @@
 #  - a shell script (scripts/, test/, tools/) sets a trap with `trap` rather than coopnav_trap
 #    (scripts/lib.sh): bash can run a plain trap in a subshell that a signal reaches just after
 #    fork, which ran a test's cleanup under its running daemons (RETURN traps and resets with
-#    `trap -` are not affected; a line ending "# arch-rules: plain trap" is a deliberate one).
+#    `trap -` are not affected; a line ending "# arch-rules: plain trap" is a deliberate one);
+#  - a shell script (scripts/, test/, tools/) embeds Python (`python3 -c CODE`, `python3 -` or a
+#    heredoc fed to python): code in strings is neither linted nor tested; it belongs in a module
+#    (the experiment layer, tools/exp) or a script file of its own.
 # Usage: test/arch_rules.sh [SOURCE_DIR]   (default: the repository holding this script)
 #        test/arch_rules.sh --self-test    plants one violation of each rule in a scratch tree and
 #                                          checks that every one is reported (ctest arch_rules_self_test)
@@ -82,6 +85,15 @@ check_tree() {
         echo "ARCH RULE VIOLATED (a shell trap without coopnav_trap): $h"
       done <<<"$hits"
     fi
+    hits=$(cd "$root" && grep -rHnE --include='*.sh' \
+             -e '(^|[^A-Za-z0-9_.-])python3?([[:space:]]+-c[[:space:]]|[[:space:]]+-([[:space:]]|$)|[[:space:]].*<<)' \
+             "${dirs[@]}" | grep -vE '^[^:]+:[0-9]+:[[:space:]]*#')
+    if [ -n "$hits" ]; then
+      violations=1
+      while IFS= read -r h; do
+        echo "ARCH RULE VIOLATED (Python embedded in a shell script): $h"
+      done <<<"$hits"
+    fi
   fi
   return "$violations"
 }
@@ -110,6 +122,8 @@ EOF
 coopnav_trap 'rm -rf "$tmp"' EXIT
 trap - INT TERM
 f() { trap 'rm -rf "$d"' RETURN; }
+# python3 -c "print(1)" in a comment is fine, as is running a Python file:
+/usr/bin/python3 "$root/scripts/lint_units.py" "$db" | python3 tools/x.py -
 EOF
   if ! out=$(check_tree "$tmp"); then
     echo "self-test: a clean tree was refused:"; echo "$out"; return 1
@@ -130,12 +144,15 @@ EOF
   printf '#include "foo_node.hpp"\n' >"$tmp/daemons/common/v_name.cpp"
   printf "trap 'rm -rf \"\$tmp\"' EXIT\n" >"$tmp/scripts/v_trap.sh"
   printf 'x=1; %s cleanup INT TERM\n' trap >"$tmp/test/e2e/v_trap_inline.sh"
+  printf 'n=$(%s -c "print(2 * 3)")\n' python3 >"$tmp/scripts/v_py_c.sh"
+  printf '%s - "$1" <<%s\n' /usr/bin/python3 "'PY'" >"$tmp/test/e2e/v_py_heredoc.sh"
+  printf '  %s - "$port" >"$out" 2>&1 <<EOF &\n' python >"$tmp/test/e2e/v_py_redirect.sh"
   out=$(check_tree "$tmp") && { echo "self-test: violations were not reported"; return 1; }
   echo "$out"
   local f
   for f in v_lcm.cpp v_type.hpp v_channels.cpp v_spdlog.cpp v_steady.cpp v_system.cpp v_hrc.cpp \
            v_time.cpp v_gtod.cpp v_cgt.cpp v_path.cpp v_rel.hpp v_name.cpp v_trap.sh \
-           v_trap_inline.sh; do
+           v_trap_inline.sh v_py_c.sh v_py_heredoc.sh v_py_redirect.sh; do
     if ! grep -q "/$f:1:" <<<"$out"; then
       echo "self-test: the violation in $f was not reported"; rc=1
     fi
@@ -154,9 +171,9 @@ fi
 root=${1:-$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)}
 if check_tree "$root"; then
   echo "arch rules: lib/ has no LCM, lcmtype, spdlog or clock; daemons/common includes no daemon's" \
-    "header; shell traps go through coopnav_trap"
+    "header; shell traps go through coopnav_trap; no shell script embeds Python"
 else
   echo "arch rules violated (test/arch_rules.sh: lib/ is pure; daemons/common knows no daemon;" \
-    "shell traps go through coopnav_trap)"
+    "shell traps go through coopnav_trap; Python lives in .py files)"
   exit 1
 fi

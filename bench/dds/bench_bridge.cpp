@@ -2,14 +2,14 @@
 // a bare DDS round trip measured in the same run, all on the loopback interface
 // (test/dds/cyclonedds_loopback.xml unless CYCLONEDDS_URI is set) in a DDS domain of its own and
 // an LCM port of its own (ttl=0).
-//   in:   /odom written (DDS) -> COOPNAV_AGENT_STATES heard (LCM)  [one DDS hop, the poll, one LCM
-//   hop] out:  COOPNAV_ROBOT_CMD published (LCM) -> /cmd_vel read (DDS)  [one LCM hop, one DDS hop]
-//   bare: a Twist written -> echoed by a forked bare DDS process -> read back (two DDS hops)
+//   in:   /odom written (DDS) -> COOPNAV_AGENT_STATES heard (LCM)  [one DDS hop, the listener's
+//   wake-up, one LCM hop] out:  COOPNAV_ROBOT_CMD published (LCM) -> /cmd_vel read (DDS)  [one LCM
+//   hop, one DDS hop] bare: a Twist written -> echoed by a forked bare DDS process -> read back
+//   (two DDS hops)
 // Each sample is sent after the previous one arrived (ping-pong), so none queues, and after a
-// random pause of 0-5 ms (seeded) so that it arrives at any phase of the bridge's DDS poll timer,
-// as a robot's messages do (sent right after the previous answer, it would always wait a whole
-// poll period). Figures: p50 and p99 [ms]; RESULT lines also give each bridge p50 over the bare
-// round trip's p50.
+// random pause of 0-5 ms (seeded) so that it arrives at any phase of the bridge's timers (the
+// watchdog, the status), as a robot's messages do. Figures: p50 and p99 [ms]; RESULT lines also
+// give each bridge p50 over the bare round trip's p50.
 #include <dds/dds.h>
 #include <signal.h>
 #include <sys/wait.h>

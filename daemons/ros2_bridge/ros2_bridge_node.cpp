@@ -1,10 +1,14 @@
 #include "ros2_bridge_node.hpp"
 
 #include <dds/dds.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <utility>
@@ -36,15 +40,50 @@ dds_qos_t* sensorQos() {
   return q;
 }
 
+/// A sample arrived (Cyclone DDS's thread): one byte on the wake pipe. Non-blocking: a full
+/// pipe already wakes the loop, and nothing else is done on DDS's thread.
+void onDataAvailable(dds_entity_t, void* arg) {
+  const int fd = *static_cast<const int*>(arg);
+  const char c = 'd';
+  [[maybe_unused]] const auto n = ::write(fd, &c, 1);
+}
+
 }  // namespace
 
+/// The DDS entities, and the wake-up of the runtime's loop: every reader has a listener whose
+/// data-available callback writes the self-pipe `wake` that the loop polls (Runtime::addReadable),
+/// so a sample is taken as soon as it arrives, on the loop's thread, and nothing polls DDS.
 struct Ros2BridgeNode::Dds {
   dds_entity_t participant{0};
   dds_entity_t odom{0}, pose{0}, tracked{0}, people{0}, goal{0}, scan{0};
   dds_entity_t cmd_vel{0}, markers{0}, utterance{0};
+  int wake[2]{-1, -1};
+  dds_listener_t* listener{nullptr};
 
+  Dds() {
+    if (::pipe(wake) != 0) throw StartupError(std::string("wake pipe: ") + std::strerror(errno));
+    for (const int fd : wake) {
+      ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) | O_NONBLOCK);
+      ::fcntl(fd, F_SETFD, FD_CLOEXEC);
+    }
+    listener = dds_create_listener(&wake[1]);
+    dds_lset_data_available(listener, onDataAvailable);
+  }
   ~Dds() {
+    // The participant (and its readers, whose listeners write the pipe) goes first.
     if (participant > 0) dds_delete(participant);
+    if (listener != nullptr) dds_delete_listener(listener);
+    for (const int fd : wake)
+      if (fd >= 0) ::close(fd);
+  }
+  Dds(const Dds&) = delete;
+  Dds& operator=(const Dds&) = delete;
+
+  /// Empties the wake pipe (before the takes: a sample after them writes it again).
+  void drainWake() const {
+    char buf[256];
+    while (::read(wake[0], buf, sizeof buf) > 0) {
+    }
   }
 
   dds_entity_t endpoint(const std::string& name, const dds_topic_descriptor_t* desc, bool reader,
@@ -53,7 +92,7 @@ struct Ros2BridgeNode::Dds {
     const dds_entity_t topic = dds_create_topic(participant, desc, name.c_str(), nullptr, nullptr);
     if (topic < 0) throw StartupError("DDS topic " + name + ": " + dds_strretcode(topic));
     dds_qos_t* q = sensor ? sensorQos() : defaultQos();
-    const dds_entity_t e = reader ? dds_create_reader(participant, topic, q, nullptr)
+    const dds_entity_t e = reader ? dds_create_reader(participant, topic, q, listener)
                                   : dds_create_writer(participant, topic, q, nullptr);
     dds_delete_qos(q);
     if (e < 0)
@@ -152,7 +191,8 @@ Ros2BridgeNode::Ros2BridgeNode(const Config& config, Runtime& runtime)
   runtime.subscribe<utterance_t>(
       channels::kUtterance, [this](const utterance_t& m, std::int64_t) { onUtterance(m); }, 0,
       false);
-  runtime.addTimer(std::chrono::milliseconds(config.dds_poll_period_ms), [this] { pollDds(); });
+  runtime.addReadable(dds_->wake[0], [this] { pollDds(); });
+  pollDds();  // what arrived before the loop polls the pipe
   runtime.addTimer(
       std::chrono::milliseconds(static_cast<int>(std::lround(1000.0 / config.watchdog_hz))),
       [this] { watchdogTick(); });
@@ -169,6 +209,7 @@ double Ros2BridgeNode::monotonicNowS() const {
 }
 
 void Ros2BridgeNode::pollDds() {
+  dds_->drainWake();
   takeAll<ros2::Odometry>(dds_->odom, runtime_, "odometry",
                           [this](const ros2::Odometry& m) { onOdometry(m); });
   takeAll<ros2::PoseWithCovarianceStamped>(

@@ -64,7 +64,7 @@ struct Ros2BridgeConfig {
   double odom_to_map_y_m{0.0};
   double odom_to_map_yaw_rad{0.0};
   /// [m] the robot's disc radius in the agent states.
-  double robot_radius_m{0.34};
+  double robot_radius_m{0.47};
   /// [m] a human's disc radius when the tracker gives none.
   double human_radius_m{0.3};
   /// Where the humans come from: "tracked_agents" (cohan_msgs) or "people" (people_msgs).
@@ -82,7 +82,6 @@ struct Ros2BridgeConfig {
   /// [Hz] how often the watchdog checks, and repeats zero while the pipeline is quiet.
   double watchdog_hz{20.0};
   /// [ms] how often DDS is polled for samples (the bridge's inbound latency floor).
-  int dds_poll_period_ms{2};
   /// [s of message time] an utterance stays on the markers this long after its decision.
   double utterance_display_s{5.0};
   InputLimits limits;
@@ -107,7 +106,6 @@ struct Ros2BridgeConfig {
     v("laser_yaw_rad", laser_yaw_rad, Range{-7.0, 7.0});
     v("cmd_timeout_s", cmd_timeout_s, Range{0.01, 60.0});
     v("watchdog_hz", watchdog_hz, Range{1.0, 1000.0});
-    v("dds_poll_period_ms", dds_poll_period_ms, Range{1, 1000});
     v("utterance_display_s", utterance_display_s, Range{0.0, 600.0});
     v("limits", limits);
   }
@@ -122,7 +120,8 @@ class Ros2BridgeNode {
   Ros2BridgeNode(const Ros2BridgeNode&) = delete;
   Ros2BridgeNode& operator=(const Ros2BridgeNode&) = delete;
 
-  /// Takes every pending DDS sample and handles it (the poll timer calls this).
+  /// Takes every pending DDS sample and handles it (the loop calls this when a reader's listener
+  /// woke it).
   void pollDds();
   /// The watchdog tick (its timer calls this): zero on /cmd_vel while commands are stale.
   void watchdogTick();

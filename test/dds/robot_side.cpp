@@ -1,8 +1,9 @@
-// coopnav_robot_side: the robot's ROS 2 nodes, for test/e2e/ros2_bridge_test.sh and by hand. A
+// coopnav_robot_side: the robot's ROS 2 nodes, for test/py/test_ros2_bridge.py and by hand. A
 // DDS participant written directly on Cyclone DDS with ROS 2's names, types (the bridge's IDL)
 // and QoS, fed by world_sim's world on its own LCM bus:
 //   world COOPNAV_AGENT_STATES -> /odom (nav_msgs/Odometry, odom frame, twist in the base frame)
-//                                 and /tracked_agents (cohan_msgs/TrackedAgents, map frame)
+//                                 and /tracked_agents (cohan_msgs/TrackedAgents, map frame), or
+//                                 with --people /people (people_msgs/People, map frame)
 //   world COOPNAV_GOALS (the robot's) -> /goal_pose (geometry_msgs/PoseStamped)
 //   world COOPNAV_SCAN            -> /scan (sensor_msgs/LaserScan, base frame)
 //   /cmd_vel (geometry_msgs/Twist) -> world COOPNAV_ROBOT_CMD (the simulated base's command)
@@ -12,7 +13,10 @@
 // hear what it says; on a robot they see it and hear its speech stack (/coopnav/utterance), which
 // no ROS topic can stand for here.
 // Every /cmd_vel is printed "CMD <monotonic s> <vx> <vy> <omega>" so that a script can time the
-// watchdog. Stops on SIGINT/SIGTERM.
+// watchdog; every /scan written "SCAN <utime> <rays> <finite rays> <sum of finite ranges>".
+// --echo-pipeline (with --sim-cues-from): what the bridge made of them on the pipeline's bus,
+// "PIPE_SCAN ..." (as SCAN, of COOPNAV_SCAN) and "PIPE_HUMANS <utime> <ids>" (of
+// COOPNAV_AGENT_STATES), for a script to compare. Stops on SIGINT/SIGTERM.
 #include <dds/dds.h>
 #include <poll.h>
 
@@ -46,6 +50,8 @@ double nowS() {
 
 using namespace coopnav;
 
+void printScan(const char* tag, const laser_scan_t& m);
+
 struct RobotSide {
   dds_entity_t pp{0};
   dds_entity_t odom{0}, agents{0}, goal{0}, scan{0}, cmd{0}, markers{0}, utterance{0};
@@ -55,6 +61,7 @@ struct RobotSide {
   std::optional<goal_t> robot_goal;
   int states_seen{0};
   long markers_seen{0};
+  bool people{false};  ///< humans on /people (people_msgs) instead of /tracked_agents
 
   dds_entity_t make(const std::string& name, const dds_topic_descriptor_t* desc, bool reader,
                     bool sensor) {
@@ -81,7 +88,6 @@ struct RobotSide {
     char odom_frame[] = "odom";
     char map_frame[] = "map";
     char base[] = "base_link";
-    char empty[] = "";
     const ros2::Time stamp = ros2::utimeToStamp(m.utime);
     const ros2::Pose2 p = map_to_odom.apply({m.robot.x_m, m.robot.y_m, m.robot.theta_rad});
     ros2::Odometry o{};
@@ -96,6 +102,50 @@ struct RobotSide {
     o.twist.twist.angular.z = m.robot.omega_rad_s;
     dds_write(odom, &o);
 
+    if (people) {
+      writePeople(m, stamp);
+    } else {
+      writeTrackedAgents(m, stamp);
+    }
+
+    // The goal again every second of message time: a volatile topic, and rviz2 users click once.
+    if (robot_goal && states_seen++ % 10 == 0) {
+      ros2::PoseStamped g{};
+      g.header.stamp = stamp;
+      g.header.frame_id = map_frame;
+      g.pose.position = {robot_goal->x_m, robot_goal->y_m, 0.0};
+      g.pose.orientation =
+          ros2::quaternionOfYaw(std::isfinite(robot_goal->theta_rad) ? robot_goal->theta_rad : 0.0);
+      dds_write(goal, &g);
+    }
+  }
+
+  /// people_msgs/People: name "person_<id>" (the bridge takes the id from its digits), position
+  /// and velocity in the map frame; no radius (the bridge's human_radius_m).
+  void writePeople(const agent_states_t& m, const ros2::Time& stamp) {
+    char map_frame[] = "map";
+    std::vector<std::string> names(m.humans.size());
+    std::vector<people_msgs_msg_dds__Person_> list(m.humans.size());
+    for (std::size_t i = 0; i < m.humans.size(); ++i) {
+      const auto& h = m.humans[i];
+      names[i] = "person_" + std::to_string(h.id);
+      list[i] = {};
+      list[i].name = names[i].data();
+      list[i].position = {h.x_m, h.y_m, 0.0};
+      list[i].velocity = {h.vx_m_s, h.vy_m_s, 0.0};
+      list[i].reliability = 1.0;
+    }
+    ros2::People p{};
+    p.header.stamp = stamp;
+    p.header.frame_id = map_frame;
+    p.people = {static_cast<std::uint32_t>(list.size()), static_cast<std::uint32_t>(list.size()),
+                list.empty() ? nullptr : list.data(), false};
+    dds_write(agents, &p);
+  }
+
+  void writeTrackedAgents(const agent_states_t& m, const ros2::Time& stamp) {
+    char map_frame[] = "map";
+    char empty[] = "";
     std::vector<cohan_msgs_msg_dds__TrackedSegment_> segs(m.humans.size());
     std::vector<cohan_msgs_msg_dds__TrackedAgent_> list(m.humans.size());
     for (std::size_t i = 0; i < m.humans.size(); ++i) {
@@ -120,17 +170,6 @@ struct RobotSide {
     a.agents = {static_cast<std::uint32_t>(list.size()), static_cast<std::uint32_t>(list.size()),
                 list.empty() ? nullptr : list.data(), false};
     dds_write(agents, &a);
-
-    // The goal again every second of message time: a volatile topic, and rviz2 users click once.
-    if (robot_goal && states_seen++ % 10 == 0) {
-      ros2::PoseStamped g{};
-      g.header.stamp = stamp;
-      g.header.frame_id = map_frame;
-      g.pose.position = {robot_goal->x_m, robot_goal->y_m, 0.0};
-      g.pose.orientation =
-          ros2::quaternionOfYaw(std::isfinite(robot_goal->theta_rad) ? robot_goal->theta_rad : 0.0);
-      dds_write(goal, &g);
-    }
   }
 
   void onGoals(const goals_t& m) {
@@ -153,6 +192,7 @@ struct RobotSide {
                 static_cast<std::uint32_t>(ranges.size()), ranges.empty() ? nullptr : ranges.data(),
                 false};
     dds_write(scan, &s);
+    printScan("SCAN", m);
   }
 
   template <class Msg, class Fn>
@@ -194,6 +234,25 @@ struct RobotSide {
   }
 };
 
+/// "<tag> <utime> <rays> <finite rays> <sum of the finite ranges>": equal lines, equal scans.
+void printScan(const char* tag, const laser_scan_t& m) {
+  double sum = 0.0;
+  int finite = 0;
+  for (const float r : m.ranges_m) {
+    if (!std::isfinite(r)) continue;
+    sum += r;
+    ++finite;
+  }
+  std::printf("%s %lld %zu %d %.6f\n", tag, static_cast<long long>(m.utime), m.ranges_m.size(),
+              finite, sum);
+}
+
+void printPipelineHumans(const agent_states_t& m) {
+  std::printf("PIPE_HUMANS %lld", static_cast<long long>(m.utime));
+  for (const auto& h : m.humans) std::printf(" %d", h.id);
+  std::printf("\n");
+}
+
 /// A pipeline message passed to the world's bus as it is (--sim-cues-from).
 void forwardToWorld(const lcm::ReceiveBuffer* rb, const std::string& channel, lcm::LCM* world) {
   world->publish(channel, rb->data, rb->data_size);
@@ -213,6 +272,11 @@ int main(int argc, char** argv) {
       ->expected(3);
   app.add_option("--sim-cues-from", cues_url,
                  "pipeline bus whose bands and utterances the simulated people perceive");
+  bool people = false;
+  bool echo_pipeline = false;
+  app.add_flag("--people", people, "humans on /people (people_msgs/People), not /tracked_agents");
+  app.add_flag("--echo-pipeline", echo_pipeline,
+               "print the pipeline bus's COOPNAV_SCAN and humans (needs --sim-cues-from)");
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
@@ -232,7 +296,10 @@ int main(int argc, char** argv) {
   }
   try {
     r.odom = r.make("rt/odom", &nav_msgs_msg_dds__Odometry__desc, false, false);
-    r.agents = r.make("rt/tracked_agents", &cohan_msgs_msg_dds__TrackedAgents__desc, false, false);
+    r.people = people;
+    r.agents = people ? r.make("rt/people", &people_msgs_msg_dds__People__desc, false, false)
+                      : r.make("rt/tracked_agents", &cohan_msgs_msg_dds__TrackedAgents__desc, false,
+                               false);
     r.goal = r.make("rt/goal_pose", &geometry_msgs_msg_dds__PoseStamped__desc, false, false);
     r.scan = r.make("rt/scan", &sensor_msgs_msg_dds__LaserScan__desc, false, true);
     r.cmd = r.make("rt/cmd_vel", &geometry_msgs_msg_dds__Twist__desc, true, false);
@@ -272,6 +339,20 @@ int main(int argc, char** argv) {
     }
     for (const char* channel : {channels::kBands, channels::kUtterance})
       cues->subscribeFunction(channel, &forwardToWorld, &lcm);
+    if (echo_pipeline) {
+      cues->subscribeFunction<laser_scan_t, void*>(
+          channels::kScan,
+          [](const lcm::ReceiveBuffer*, const std::string&, const laser_scan_t* m, void*) {
+            printScan("PIPE_SCAN", *m);
+          },
+          nullptr);
+      cues->subscribeFunction<agent_states_t, void*>(
+          channels::kAgentStates,
+          [](const lcm::ReceiveBuffer*, const std::string&, const agent_states_t* m, void*) {
+            printPipelineHumans(*m);
+          },
+          nullptr);
+    }
   }
   std::printf("READY\n");
   std::fflush(stdout);

@@ -67,7 +67,6 @@ struct RobotSide {
 Ros2BridgeConfig testConfig() {
   Ros2BridgeConfig c;
   c.domain_id = kDomain;
-  c.dds_poll_period_ms = 1;
   c.cmd_timeout_s = 0.2;
   c.watchdog_hz = 50.0;
   c.odom_to_map_x_m = 10.0;  // odom's origin 10 m along the map's x

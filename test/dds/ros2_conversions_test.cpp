@@ -4,12 +4,15 @@
 #include "ros2_conversions.hpp"
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "config/config.hpp"
+#include "ros2_bridge_node.hpp"
 #include "runtime/runtime.hpp"
 
 namespace coopnav::ros2 {
@@ -322,3 +325,22 @@ TEST(Ros2Conversions, MarkersShowBandsAssessmentAndUtterance) {
 
 }  // namespace
 }  // namespace coopnav::ros2
+
+namespace coopnav {
+namespace {
+
+// One robot radius: the bridge's (agent states), the situation assessor's (clearances of the
+// robot's body) and the scenarios' robot (docs/scenario-format.md, 0.47 m: CoHAN's PR2) are the
+// same in the shipped files and in the bridge's in-class default.
+TEST(Ros2BridgeConfig, RobotRadiusIsTheRestOfTheConfigs) {
+  const std::string dir = std::string(COOPNAV_SOURCE_DIR) + "/config/";
+  const Ros2BridgeConfig bridge = loadConfig<Ros2BridgeConfig>(dir + "ros2_bridge.yaml");
+  const YAML::Node assessor = YAML::LoadFile(dir + "situation_assessor.yaml");
+  const double assessor_m = assessor["robot_radius_m"].as<double>();
+  EXPECT_DOUBLE_EQ(bridge.robot_radius_m, assessor_m);
+  EXPECT_DOUBLE_EQ(Ros2BridgeConfig{}.robot_radius_m, assessor_m);
+  EXPECT_DOUBLE_EQ(assessor_m, 0.47);
+}
+
+}  // namespace
+}  // namespace coopnav

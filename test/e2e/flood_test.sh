@@ -16,14 +16,7 @@ tool="$build/tools/coopnav_hostile"
 FLOOD_S="${COOPNAV_FLOOD_S:-2}"
 VM_LIMIT_MIB=2048
 STOP_MS_MAX=1000
-# [MiB] As e2e_hostile_test's RSS_CAP_MIB (docs/bad-inputs.md "Hostile publisher").
-declare -A RSS_CAP_MIB=(
-  [obstacle_distance_server]=64
-  [band_source]=64
-  [situation_assessor]=48
-  [path_assessor]=48
-  [dialogue_manager]=48
-)
+source "$src/test/e2e/rss_caps.sh"  # RSS_CAP_MIB, DAEMONS (config/system.yaml), DAEMON_BIN
 
 tmp="$(mktemp -d)"
 pid=""
@@ -37,12 +30,12 @@ field() { sed -n "s/^$1: //p" <<<"$2" | tail -1; }
 fail=0
 t_start=$(now_ms)
 
-for d in path_assessor band_source situation_assessor dialogue_manager obstacle_distance_server; do
+for d in "${DAEMONS[@]}"; do
   why=""
   log="$tmp/$d.log"
   (
     ulimit -v $((VM_LIMIT_MIB * 1024))
-    exec "$build/daemons/$d/coopnav_$d" --lcm-url "$url" -c "$src/config/$d.yaml"
+    exec "${DAEMON_BIN[$d]}" --lcm-url "$url" -c "$src/config/$d.yaml"
   ) >"$log" 2>&1 &
   pid=$!
   trc=0

@@ -17,19 +17,7 @@ url="${LCM_DEFAULT_URL:?}"
 tool="$build/tools/coopnav_hostile"
 [ -x "$tool" ] || { echo "FAIL: $tool not built"; exit 1; }
 
-# [MiB] Resident memory each daemon must stay under during any probe. Idle with the shipped
-# configs (RelWithDebInfo): distance server 27, band source 17, the others 7. The caps leave room
-# for what the attacks may legitimately fill (LCM's receive queue, the capped per-id state, the
-# ~100 B LCM keeps per channel name: 100 000 reply channels ~10 MiB at the distance server), and
-# are far below what the unbounded versions reached (hundreds of MiB to GiB).
-declare -A RSS_CAP_MIB=(
-  [obstacle_distance_server]=64
-  [band_source]=64
-  [situation_assessor]=48
-  [path_assessor]=48
-  [dialogue_manager]=48
-  [world_sim]=64
-)
+source "$src/test/e2e/rss_caps.sh"  # RSS_CAP_MIB, DAEMONS (config/system.yaml), DAEMON_BIN
 VM_LIMIT_MIB=2048
 STOP_MS_MAX=1000            # SIGTERM (or a stop signal) to exit
 STARTUP_EXIT_MS_MAX=1000    # start to exit of a start-up probe
@@ -55,7 +43,7 @@ start() {
   shift 2
   (
     ulimit -v $((VM_LIMIT_MIB * 1024))
-    exec "$build/daemons/$name/coopnav_$name" --lcm-url "$url" "$@"
+    exec "${DAEMON_BIN[$name]}" --lcm-url "$url" "$@"
   ) >"$log" 2>&1 &
   pid=$!
   running+=("$pid")

@@ -46,6 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size < 1) return 0;
   const std::uint8_t* yaml = data + 1;
   const std::size_t yaml_size = size - 1;
+  // The configs in config/system.yaml's start order, the world last (scripts/fuzz.sh --seed).
   switch (data[0] % 6) {
     case 0:
       loadLikeDaemon<ObstacleDistanceServerConfig>(yaml, yaml_size);

@@ -159,15 +159,10 @@ class Dut {
   bool ready_{false};
 };
 
-std::string tempPath(const std::string& file) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("coopnav_bad_inputs_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return (dir / file).string();
-}
+std::string tempPath(const std::string& file) { return (test::scratchDir() / file).string(); }
 
 std::string writeFile(const std::string& name, const std::string& text) {
-  const std::string p = tempPath(name);
+  std::string p = tempPath(name);
   std::ofstream(p, std::ios::binary) << text;
   return p;
 }
@@ -601,7 +596,7 @@ TEST_F(BadInputBandSource, ExactlyMaxHumansArePlannedUpToTheCapAndTheStepComplet
   crowd.humans.clear();
   for (int k = 0; k < 64; ++k) {
     crowd.humans.push_back(agent(k + 1, agent_state_t::KIND_HUMAN, 12.0 + 0.9 * (k % 8),
-                                 4.2 + 0.7 * (k / 8), M_PI, -1.0));
+                                 4.2 + 0.7 * static_cast<double>(k / 8), M_PI, -1.0));
   }
   crowd.num_humans = 64;
   ASSERT_TRUE(step(crowd));

@@ -721,8 +721,8 @@ TEST_F(DialogueManagerTest, BadConfigExitsTwo) {
 // ---- speech (no LCM): argument vector, never a shell; missing program ----
 
 std::string tempDir() {
-  char tmpl[] = "/tmp/coopnav_speech_XXXXXX";
-  return ::mkdtemp(tmpl);
+  std::string tmpl = (test::scratchDir() / "speech_XXXXXX").string();
+  return ::mkdtemp(tmpl.data());
 }
 
 TEST(SpeechOutputTest, RunsTheProgramWithAnArgumentVectorNeverAShell) {

@@ -96,6 +96,32 @@ TEST_F(RecordTest, KeepsEveryMessageSentWhileItWasStopped) {
   for (std::uint32_t i = 0; i < kMessages; ++i) EXPECT_EQ(seen[i], i) << "out of order at " << i;
 }
 
+// Stopped at once after the last message: it is recorded (the stop drains up to the marker the
+// recorder sends itself), and the marker is not, even by a recorder of every channel.
+TEST_F(RecordTest, AStopRightAfterTheLastMessageKeepsItAndRecordsNoMarker) {
+  lcm::LCM lcm(test::testLcmUrl());
+  ASSERT_TRUE(lcm.good());
+  test::ChildProcess other(recorderPath(), {"-f", "-c", ".*", "--lcm-url", test::testLcmUrl(),
+                                            (dir_ / "other.lcm").string()});
+  test::ChildProcess rec(recorderPath(), {"-f", "-c", ".*", "--lcm-url", test::testLcmUrl(), log_});
+  ASSERT_TRUE(waitRecording(lcm));
+  constexpr std::uint32_t kMessages = 200;
+  for (std::uint32_t i = 0; i < kMessages; ++i) lcm.publish("REC_DATA", &i, sizeof i);
+  rec.signal(SIGTERM);
+  ASSERT_EQ(rec.waitExit(milliseconds(10000)), 0);
+  other.signal(SIGTERM);
+  ASSERT_EQ(other.waitExit(milliseconds(10000)), 0);
+  std::uint32_t data = 0;
+  for (const auto& e : readAll()) {
+    EXPECT_NE(e.channel.rfind("coopnav_record/", 0), 0u) << e.channel;
+    if (e.channel == "REC_DATA") ++data;
+  }
+  EXPECT_EQ(data, kMessages);
+  ctl::LogEventReader reader((dir_ / "other.lcm").string());
+  ctl::RawEvent e;
+  while (reader.next(e)) EXPECT_NE(e.channel.rfind("coopnav_record/", 0), 0u) << e.channel;
+}
+
 TEST_F(RecordTest, RefusesToOverwriteWithoutForceAndABadUrl) {
   {
     std::FILE* f = std::fopen(log_.c_str(), "w");

@@ -3,6 +3,7 @@
 #include "runtime/runtime.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <string>
 #include <vector>
@@ -159,6 +160,51 @@ TEST(RuntimeTest, StepAcksCarryTheParticipantName) {
   ASSERT_EQ(acks.size(), 1u);
   EXPECT_EQ(acks[0].participant, "situation_assessor");
   EXPECT_EQ(acks[0].step, 1);
+}
+
+// A process that starts after the daemons (the world waiting for its participants) hears each
+// one's status when it says it is there, not up to a status period later: answered once per name,
+// only by a daemon that is up, never to its own name or a stopping peer.
+TEST(RuntimeTest, ANewPeersFirstStatusIsAnsweredOnceByADaemonThatIsUp) {
+  Runtime dut("path_assessor", test::testLcmUrl());
+  Runtime probe("probe", test::testLcmUrl());
+  int answers = 0;
+  probe.subscribe<daemon_status_t>(channels::kStatus, [&](const daemon_status_t& s, std::int64_t) {
+    if (s.name == "path_assessor" && s.pid == ::getpid()) ++answers;  // the dut's, not ours
+  });
+  auto say = [&](const std::string& name, std::int8_t state) {
+    daemon_status_t s{};
+    s.name = name;
+    s.pid = 4242;
+    s.state = state;
+    s.cycle_p50_ms = s.cycle_max_ms = 0.0;
+    probe.publish(channels::kStatus, s);
+    for (int i = 0; i < 5; ++i) {
+      dut.spinFor(5);
+      probe.spinFor(5);
+    }
+  };
+  say("world_sim", daemon_status_t::STATE_RUNNING);
+  EXPECT_EQ(answers, 0) << "a daemon still starting says nothing";
+  dut.setRunning("up");
+  say("band_source", daemon_status_t::STATE_RUNNING);
+  test::waitFor([&] { return answers >= 1; }, std::chrono::seconds(2),
+                [&] {
+                  dut.spinFor(5);
+                  probe.spinFor(5);
+                });
+  EXPECT_EQ(answers, 1);
+  say("band_source", daemon_status_t::STATE_RUNNING);        // heard before: no answer
+  say("path_assessor", daemon_status_t::STATE_RUNNING);      // its own name: the duplicate check's
+  say("dialogue_manager", daemon_status_t::STATE_STOPPING);  // leaving: nobody to tell
+  EXPECT_EQ(answers, 1);
+  say("world_sim", daemon_status_t::STATE_STARTING);  // new since the daemon is up
+  test::waitFor([&] { return answers >= 2; }, std::chrono::seconds(2),
+                [&] {
+                  dut.spinFor(5);
+                  probe.spinFor(5);
+                });
+  EXPECT_EQ(answers, 2);
 }
 
 TEST(RuntimeTest, DistanceClientGivesUpAfterItsAttemptsWhenNoServerAnswers) {

@@ -489,6 +489,7 @@ TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheScene
   const int port = http->port();
   std::atomic<bool> stop{false};
   std::vector<int> idle;
+  idle.reserve(300);
   for (int i = 0; i < 300; ++i) idle.push_back(connectTo(port));
   std::thread slowloris([&] {
     std::vector<int> socks(40, -1);
@@ -557,7 +558,7 @@ TEST(ViewerHttpTest, ASlowlorisIdleConnectionsAndAHeaderFloodHoldNeitherTheScene
 
 TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("viewer_replay_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratchDir() / "viewer_replay";
   fs::create_directories(dir);
   const std::string log_path = (dir / "run.lcm").string();
   {
@@ -653,7 +654,7 @@ TEST(ViewerReplayTest, ReplaysALogWithATimeline) {
 
 TEST(ViewerReplayTest, CheckpointsAreBoundedAndADeviceOrFifoIsRefusedAtOnce) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("viewer_replay2_" + std::to_string(::getpid()));
+  const fs::path dir = test::scratchDir() / "viewer_replay2";
   fs::create_directories(dir);
   const std::string log_path = (dir / "run.lcm").string();
   {

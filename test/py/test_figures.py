@@ -163,3 +163,13 @@ def test_a_name_from_the_log_never_leaves_the_directory(tmp_path, monkeypatch):
     paths = figures.write_run_figures(tr, out)
     assert paths and all(p.parent == out for p in paths)
     assert not (tmp_path / "escaped_trajectories.png").exists()
+
+
+def test_commands_other_than_figures_do_not_import_matplotlib(source_dir):
+    # matplotlib's import (~0.3 s) is paid where a figure is drawn, not by every command.
+    import subprocess
+    import sys
+    code = "import sys, coopnav_exp.cli; sys.exit('matplotlib' in sys.modules)"
+    p = subprocess.run([sys.executable, "-c", code],
+                       env={"PYTHONPATH": str(source_dir / "tools" / "exp")})
+    assert p.returncode == 0, "importing coopnav_exp.cli imported matplotlib"

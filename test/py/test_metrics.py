@@ -153,3 +153,42 @@ def test_a_log_that_cannot_be_scored_is_reported_not_lost(tmp_path, monkeypatch,
     assert captured.out.startswith("# 1 logs could not be scored")
     table = json.loads((tmp_path / "metrics_table.json").read_text())
     assert table["runs"] == 2 and len(table["unscored"]) == 1
+
+
+def test_a_runs_own_metrics_json_is_read_not_scored_again(tmp_path, monkeypatch):
+    # run_one writes DIR/metrics.json beside summary.json and the log.
+    log = tmp_path / "runs" / "pop_0000" / "pop_0000.lcm"
+    log.parent.mkdir(parents=True)
+    log.write_bytes(b"")
+    write(log.parent / "metrics.json", RUNS[:1])
+    calls = []
+    monkeypatch.setattr(metrics.subprocess, "run", lambda cmd, **kw: calls.append(cmd))
+    assert metrics.find_metrics([tmp_path], Path("ctl")) == [log.parent / "metrics.json"]
+    assert calls == []
+    assert metrics.load_runs(metrics.find_metrics([tmp_path], Path("ctl")))[0]["scenario"] == \
+        "pop_0000"
+
+
+def test_roc_points_enclose_the_auc():
+    scores = [0.9, 0.8, 0.8, 0.4, 0.3, 0.1]
+    labels = [True, True, False, True, False, False]
+    fpr, tpr = metrics.roc_points(scores, labels)
+    assert (fpr[0], tpr[0], fpr[-1], tpr[-1]) == (0.0, 0.0, 1.0, 1.0)
+    # Trapezoids (a tie moves both rates at once): the Mann-Whitney AUC, ties counting half.
+    area = sum((fpr[i + 1] - fpr[i]) * (tpr[i + 1] + tpr[i]) / 2 for i in range(len(fpr) - 1))
+    assert area == pytest.approx(stats.auc(scores, labels))
+    # By hand: 0.9 beats 3 negatives, 0.8 ties one and beats 2, 0.4 beats 2: 7.5 of 9 pairs.
+    assert area == pytest.approx(7.5 / 9)
+    assert metrics.roc_points([0.1, 0.2], [True, True]) == ([], [])
+
+
+def test_agreement_figure_is_drawn_only_where_there_is_cm(tmp_path):
+    files = metrics.agreement_figure(RUNS, tmp_path / "agreement", n_boot=50, title="t")
+    assert sorted(p.name for p in files) == ["agreement.png", "agreement.svg"]
+    assert all(p.stat().st_size > 1000 for p in files)
+    xs, ys, verdicts = metrics.agreement_points(RUNS)
+    # pop_0002's second person has no share: left out; the others in run order.
+    assert (xs, ys, verdicts) == ([0.9, 0.2, 0.5], [0.6, 0.1, 0.3], [True, False, True])
+    no_cm = [run("pop_0000", True, 30.0, [person(1, 0.9, None, None)])]
+    assert metrics.agreement_figure(no_cm, tmp_path / "none") == []
+    assert not (tmp_path / "none.png").exists()

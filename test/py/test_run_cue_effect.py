@@ -2,7 +2,10 @@
 corridor, narrow in the paper's sense of < 3 m, and a responsive person who hears and complies)
 run by scripts/run.sh twice, speaking and with the dialogue manager muted. Muted, the person
 keeps its line and the robot docks at round 2. Speaking, the person hears round 1's "I will pass
-on your right.", keeps to its other side, and the robot passes without docking."""
+on your right.", keeps to its other side, and the robot passes without docking. What each person
+heard comes from world_sim's cue outcomes (`cue_outcomes_file`, one JSON object a cue)."""
+
+import json
 
 from conftest import run_sh, said_lines, scenarios_of
 
@@ -11,19 +14,25 @@ NAME = "cue_narrow_responsive"
 
 def test_the_spoken_cue_turns_the_dock_into_a_pass(tmp_path, source_dir, port_base):
     scenario = source_dir / "test/data/scenarios" / f"{NAME}.yaml"
-    run_sh(source_dir, tmp_path / "speaking", scenario, port=port_base)
+    cues = {label: tmp_path / f"{label}_cue_outcomes.jsonl" for label in ("speaking", "muted")}
+    run_sh(source_dir, tmp_path / "speaking", scenario, port=port_base,
+           env={"COOPNAV_DAEMON_ARGS_world_sim": f"--set cue_outcomes_file={cues['speaking']}"})
     run_sh(source_dir, tmp_path / "muted", scenario, port=port_base + 10,
-           env={"COOPNAV_DAEMON_ARGS_dialogue_manager": "--set muted=true"})
+           env={"COOPNAV_DAEMON_ARGS_dialogue_manager": "--set muted=true",
+                "COOPNAV_DAEMON_ARGS_world_sim": f"--set cue_outcomes_file={cues['muted']}"})
+    heard = {}
     for label in ("speaking", "muted"):
         print(f"{label}:\n{said_lines(tmp_path / label / NAME / 'transcript.txt')}")
+        outcomes = [json.loads(l) for l in cues[label].read_text().splitlines()]
+        print(f"{label}: cue outcomes {outcomes}")
+        heard[label] = [o for o in outcomes if o["heard"]]
     bad = []
-    # The words reach the person only when said: heard in the speaking run, never in the muted
-    # one (world_sim's log of what each simulated person heard).
-    if "human 1 heard keep_side left at" not in (
-            tmp_path / "speaking" / NAME / "world_sim.log").read_text():
-        bad.append("speaking: world_sim did not log the person hearing it should keep left")
-    if "human 1 heard" in (tmp_path / "muted" / NAME / "world_sim.log").read_text():
-        bad.append("muted: a person heard a muted robot")
+    # The words reach the person only when said: heard in the speaking run, never in the muted one.
+    if not any(o["human_id"] == 1 and o["cue"] == "keep_side" and o["side"] == "left"
+               for o in heard["speaking"]):
+        bad.append("speaking: the person did not hear that it should keep left")
+    if heard["muted"]:
+        bad.append(f"muted: a person heard a muted robot: {heard['muted']}")
     speaking = scenarios_of(tmp_path / "speaking" / "summary.json")[NAME]
     muted = scenarios_of(tmp_path / "muted" / "summary.json")[NAME]
     for label, s in (("speaking", speaking), ("muted", muted)):

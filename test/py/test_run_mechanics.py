@@ -2,7 +2,7 @@
 in, each command line (profile, journal, extra arguments, loss relays, absent daemons), the
 hooks, a daemon dying at start, world_sim's exit status and timeout, and nothing left running.
 The stand-ins log their argv and act as their role does (a recorder writes its file, coopnav_ctl
-answers wait-ready and summarize)."""
+answers wait-ready, summarize and metrics)."""
 
 import json
 import os
@@ -32,13 +32,19 @@ if name == "coopnav_ctl":
         Path(out).write_text(json.dumps({"scenarios": [{
             "final_state": "GOAL_REACHED", "sim_time_s": 1.0,
             "faults": {"crossing_distance_unknown": unknown}}]}))
+    if sys.argv[1] == "metrics":
+        out = sys.argv[sys.argv.index("--json") + 1]
+        Path(out).write_text(json.dumps({"format": "coopnav-metrics/1", "runs": []}))
     if sys.argv[1] == "wait-ready":
+        if "--announce" in sys.argv:
+            print("listening", flush=True)
         time.sleep(float(os.environ.get("FAKE_READY_S", "0.2")))
     sys.exit(0)
 if name == "coopnav_world_sim":
     time.sleep(float(os.environ.get("FAKE_WORLD_S", "0.3")))
     sys.exit(int(os.environ.get("FAKE_WORLD_EXIT", "0")))
 if name == "coopnav_record":
+    print(f"coopnav_record: recording '{sys.argv[3]}' into {sys.argv[-1]}", flush=True)
     Path(sys.argv[-1]).write_bytes(b"log")
 if name == os.environ.get("FAKE_DIE", ""):
     print("bad map: resolution_m", flush=True)
@@ -91,17 +97,31 @@ def test_start_order_command_lines_hooks_and_nothing_left(fake, tmp_path):
     assert seen == [("during", True), ("after", False)]
     c = calls(tmp_path)
     names = sorted(x[0] for x in c)
-    # The recorder and the daemons (the absent one not), wait-ready, the world once they are
-    # ready, then summarize.
+    # The recorder, wait-ready (listening before the daemons start: it hears each one's first
+    # status), the daemons (the absent one not), the world once they are ready, then summarize
+    # and the metrics (scored with the scenario as the map).
     assert names == sorted(["coopnav_record", "coopnav_band_source", "coopnav_situation_assessor",
                             "coopnav_path_assessor", "coopnav_dialogue_manager", "coopnav_ctl",
-                            "coopnav_world_sim", "coopnav_ctl"])
+                            "coopnav_world_sim", "coopnav_ctl", "coopnav_ctl"])
     t = {(x[0], x[3] if x[0] == "coopnav_ctl" else ""): x[1] for x in c}
-    assert t[("coopnav_ctl", "wait-ready")] < t[("coopnav_world_sim", "")] < \
-        t[("coopnav_ctl", "summarize")]
+    assert t[("coopnav_ctl", "wait-ready")] < t[("coopnav_band_source", "")] < \
+        t[("coopnav_world_sim", "")] < \
+        t[("coopnav_ctl", "summarize")] < t[("coopnav_ctl", "metrics")]
+    scored = next(x for x in c if x[0] == "coopnav_ctl" and x[3] == "metrics")
+    assert scored[4:] == [str(tmp_path / "o/scen.lcm"), "--map", str(scenario), "--json",
+                          str(tmp_path / "o/metrics.json"), "--csv",
+                          str(tmp_path / "o/metrics.csv")]
+    assert r.metrics == tmp_path / "o/metrics.json"
     ready = next(x for x in c if x[0] == "coopnav_ctl" and x[3] == "wait-ready")
-    assert ready[4:8] == ["band_source", "situation_assessor", "path_assessor",
-                          "dialogue_manager"]
+    assert ready[4:] == ["band_source", "situation_assessor", "path_assessor",
+                         "dialogue_manager", "--timeout-s", "60", "--announce"]
+    # Where the wall time went: phases that add up to the run's, the world's fake waits in them
+    # (FAKE_READY_S 0.2 to be ready, FAKE_WORLD_S 0.3 to run; the fake world logs no stamps,
+    # so its start, run and exit are one: world_exit).
+    tm = json.loads((tmp_path / "o/timing.json").read_text())
+    assert abs(sum(tm["phases_s"].values()) - tm["total_s"]) < 0.01
+    assert tm["phases_s"]["launch"] + tm["phases_s"]["daemons_ready"] >= 0.15
+    assert tm["phases_s"]["world_exit"] >= 0.25
     by = {x[0]: x[3:] for x in c}
     url = run.lcm_url(41000)
     st = str(tmp_path / "o/state")
@@ -174,6 +194,9 @@ def test_faults_orchestration_with_stand_ins(fake, tmp_path, monkeypatch, capsys
     killed daemon is started again with its journal; the verdict table is written."""
     from coopnav_exp import cli
     monkeypatch.setenv("COOPNAV_FAULT_PORT_BASE", "41100")
+    # The world runs long enough for the restarted stand-in to start (and log its command line)
+    # on a loaded machine: the run stops as soon as the world exits.
+    monkeypatch.setenv("FAKE_WORLD_S", "1.5")
     rc = cli.main(["faults", "--no-build", "--out", str(tmp_path / "f"), "--scenarios",
                    "narrow_minimal", "--kill", "band_source", "--seed", "3"])
     out = capsys.readouterr().out

@@ -1,4 +1,5 @@
-"""A population on Slurm gives the tables of a local run, byte for byte (docs/slurm.md).
+"""A population (and an ablation) on Slurm gives the tables of a local run, byte for byte
+(docs/slurm.md).
 
 Starts a single-node Slurm cluster on this machine's loopback (munged, slurmctld, slurmd: see
 slurm_cluster.py), runs the same small population locally and as an sbatch array job of two
@@ -69,3 +70,30 @@ def test_slurm_tables_are_the_local_ones(cluster, tmp_path):
     runs = (tmp_path / "slurm" / "jobs.txt").read_text().splitlines()
     for line in runs:
         assert (tmp_path / "slurm" / "runs" / line.split("\t")[0] / "summary.json").exists()
+
+
+def ablation(args: list[str], env: dict[str, str]) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, str(COOPNAV), "ablation", "--no-build", "--encounters",
+                           "2", "--seed", "5", "--variants", "planner_only,paper", "--no-figures",
+                           "--n-boot", "200", *args], env=env, capture_output=True, text=True,
+                          timeout=600, check=False)
+
+
+def test_slurm_ablation_tables_are_the_local_ones(cluster, tmp_path):
+    # 2 encounters x 2 variants, as an array of 2 tasks: the same tables as here.
+    port_base = int(os.environ.get("COOPNAV_TEST_PORT_BASE", "7400"))
+    env = cluster.env()
+    env["COOPNAV_POP_PORT_BASE"] = str(port_base + 50)
+    local = ablation(["-j", "2", "--out", str(tmp_path / "local")], env)
+    assert local.returncode == 0, local.stdout + local.stderr
+    env["COOPNAV_POP_PORT_BASE"] = str(port_base + 150)
+    slurm = ablation(["--slurm", "--slurm-tasks", "2", "-j", "1", "--out",
+                      str(tmp_path / "slurm")], env)
+    out = slurm.stdout + slurm.stderr
+    assert "as Slurm job" in out, out + cluster.logs()
+    assert slurm.returncode == 0, out
+    assert len((tmp_path / "slurm" / "slurm" / "specs.jsonl").read_text().splitlines()) == 4
+    for name in ("ablation.json", "ablation.csv", "ablation.md", "ablation_plan.json"):
+        a = (tmp_path / "local" / name).read_bytes()
+        b = (tmp_path / "slurm" / name).read_bytes()
+        assert a == b, f"{name} differs between the local run and Slurm"

@@ -133,9 +133,32 @@ def test_ports_are_consecutive_blocks():
         supervise.Ports(80)
 
 
-def test_wait_quiet_returns_once_the_file_stops_growing(tmp_path: Path):
-    f = tmp_path / "log"
-    f.write_bytes(b"x")
+def test_wait_for_line_returns_at_once_when_the_line_is_there(tmp_path: Path):
+    f = tmp_path / "record.log"
+    f.write_text("coopnav_record: recording 'COOPNAV_.*' into x.lcm\n")
     t0 = time.monotonic()
-    supervise.wait_quiet(f, 0.05)
-    assert time.monotonic() - t0 < 1
+    assert supervise.wait_for_line(f, "coopnav_record: recording", 5.0)
+    assert time.monotonic() - t0 < 0.5
+    assert not supervise.wait_for_line(tmp_path / "none.log", "recording", 0.05)
+
+
+def test_a_waiter_started_first_listens_before_its_daemons_start(tmp_path: Path):
+    # The waiter prints a line once it listens, then waits for what it waits for (here a file
+    # the "daemon" writes): start_waiter returns in between, so nothing the daemon says is lost.
+    flag = tmp_path / "said"
+    waiter_src = textwrap.dedent(f"""
+        import os, sys, time
+        print("listening", flush=True)
+        while not os.path.exists({str(flag)!r}):
+            time.sleep(0.01)""")
+    with Supervisor(grace_s=1) as sup:
+        t0 = time.monotonic()
+        waiter = sup.start_waiter([PY, "-c", waiter_src], timeout_s=10)
+        assert waiter.poll() is None
+        sup.start("d", [PY, "-c", f"open({str(flag)!r}, 'w'); import time; time.sleep(30)"],
+                  tmp_path / "d.log")
+        sup.wait_ready(waiter, ["d"], poll_s=5.0)  # returns with the waiter, not after poll_s
+        assert time.monotonic() - t0 < 4.0
+        # A waiter that never listens (an old coopnav_ctl without --announce) is said at once.
+        with pytest.raises(StartError, match="did not start listening.*no such option"):
+            sup.start_waiter([PY, "-c", "import sys; sys.exit('no such option')"], timeout_s=10)

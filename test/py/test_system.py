@@ -58,7 +58,7 @@ def test_every_paper_scenario_waits_for_exactly_the_lockstep_daemons(source_dir:
     (lambda d: d["recorder"].update(channels=""), "recorder.channels", "must not be empty"),
     (lambda d: d["tools"].pop("ctl"), "tools.ctl", "missing"),
     (lambda d: d["timing"].update(ready_timeout_s=-1), "timing.ready_timeout_s", "outside"),
-    (lambda d: d["timing"].update(settle_s="soon"), "timing.settle_s", "must be a float"),
+    (lambda d: d["timing"].update(stop_grace_s="soon"), "timing.stop_grace_s", "must be a float"),
     (lambda d: d["profiles"].pop("paper"), "profiles.paper", "the default profile"),
     (lambda d: d["profiles"]["calibrated"].update(ghost={}), "profiles.calibrated.ghost",
      "no daemon 'ghost'"),

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by node and end-to-end style tests: the isolated LCM URL of this test
-// executable, a child-process runner for daemons, and polling waits.
+// executable, a scratch directory of its own, a child-process runner for daemons, and polling
+// waits.
 
 #include <signal.h>
 #include <sys/types.h>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,11 +26,33 @@ inline std::string testLcmUrl() {
   return url ? url : "udpm://239.255.76.67:7799?ttl=0&recv_buf_size=4194304";
 }
 
+/// A directory of this test process's own in the temp directory (coopnav_test_XXXXXX), made at
+/// first use and removed with everything in it when the process exits: the maps, configs and
+/// logs a test writes go here, so that test runs leave nothing behind in /tmp (ctest runs each
+/// test as a process of its own). Children started with ChildProcess exec and remove nothing.
+inline const std::filesystem::path& scratchDir() {
+  struct Dir {
+    std::filesystem::path path;
+    Dir() {
+      std::string tmpl = (std::filesystem::temp_directory_path() / "coopnav_test_XXXXXX").string();
+      if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("cannot make " + tmpl);
+      path = tmpl;
+    }
+    Dir(const Dir&) = delete;
+    Dir& operator=(const Dir&) = delete;
+    ~Dir() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Dir dir;
+  return dir.path;
+}
+
 /// A band_source config for node tests (the open.pgm test map, a short step gate timeout) in the
-/// temp directory, named after `test_name` and this process; returns its path.
+/// scratch directory, named after `test_name`; returns its path.
 inline std::string writeBandSourceTestConfig(const std::string& test_name) {
-  const auto p = std::filesystem::temp_directory_path() /
-                 (test_name + "_" + std::to_string(::getpid()) + ".yaml");
+  const auto p = scratchDir() / (test_name + ".yaml");
   std::ofstream(p) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
                    << "step_gate_timeout_s: 0.5\n";
   return p.string();

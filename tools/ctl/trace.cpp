@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <iostream>
 #include <iterator>
 #include <map>
 
@@ -311,35 +310,6 @@ Json traceDocument(const RunLog& run, const RunAnalysis& analysis, const std::st
   }
   doc["map"] = map_path.empty() ? Json() : traceMap(map_path);
   return doc;
-}
-
-TraceCommand::TraceCommand(CLI::App& app)
-    : sub_(app.add_subcommand(
-          "trace",
-          "write a recorded run as JSON for plots: states, assessments, CA, utterances, actions, "
-          "modes, the map")) {
-  sub_->add_option("log", log_, "LCM log of one run")->required()->check(CLI::ExistingFile);
-  sub_->add_option("--json", json_, "trace file to write")->required();
-  sub_->add_option("--map", map_,
-                   "the run's scenario file (its map section) or a map file; the run directory's "
-                   "scenario.path names it")
-      ->check(CLI::ExistingFile);
-  sub_->add_option("--scenario", scenario_, "scenario name (default: from the log)");
-}
-
-int TraceCommand::run() const {
-  const RunLog run = readRunLog(log_);
-  if (run.counts.anyCorruption())
-    std::cerr << "coopnav_ctl: " << log_ << ": skipped broken data: " << run.counts.describe()
-              << "\n";
-  if (run.counts.decoded == 0) {
-    std::cerr << "coopnav_ctl: " << log_ << ": no coopnav message decoded\n";
-    return 1;
-  }
-  auto analysis = analyseRun(run, scenario_);
-  if (analysis.scenario.empty()) analysis.scenario = std::filesystem::path(log_).stem().string();
-  writeTextFile(json_, dumpJson(traceDocument(run, analysis, log_, map_)));
-  return 0;
 }
 
 }  // namespace coopnav::ctl

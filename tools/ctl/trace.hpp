@@ -7,7 +7,6 @@
 /// run used (as its scenario gives it, with the loaded grid's obstacle cells). Deterministic: the
 /// same log and map give the same bytes (times are message times, never the wall clock).
 
-#include <CLI/CLI.hpp>
 #include <string>
 
 #include "json.hpp"
@@ -26,21 +25,5 @@ Json traceDocument(const RunLog& run, const RunAnalysis& analysis, const std::st
 
 /// The map part of the trace (Json object), from a scenario or map file.
 Json traceMap(const std::string& map_path);
-
-/// The `trace` subcommand (LOG --json FILE [--map FILE] [--scenario NAME]). run() reads the log,
-/// writes the file and returns the exit code.
-class TraceCommand {
- public:
-  explicit TraceCommand(CLI::App& app);
-  explicit operator bool() const { return static_cast<bool>(*sub_); }
-  int run() const;
-
- private:
-  CLI::App* sub_{nullptr};
-  std::string log_;
-  std::string json_;
-  std::string map_;
-  std::string scenario_;
-};
 
 }  // namespace coopnav::ctl

@@ -11,10 +11,15 @@
 // the logger at nice 19 against four busy loops). Here the subscription queue is unlimited; the
 // kernel socket buffer (recv_buf_size in the URL) holds what arrives meanwhile.
 //
-// Each batch of messages is flushed to the file once the queue is drained, so that a launcher can
-// tell from the file size that the recorder has caught up (tools/exp: supervise.wait_quiet).
-// SIGINT / SIGTERM drain what is queued, close the file and print how many events were written.
+// Each batch of messages is flushed to the file once the queue is drained. The line "recording
+// ..." on stderr says it is subscribed (a launcher starts the run after it). SIGINT / SIGTERM
+// drain what is queued, close the file and print how many events were written: a launcher stops
+// it as soon as the run is over (tools/exp: run_one), without waiting for the log to go quiet.
+// What "queued" means is exact, not a quiet period: at the stop the recorder publishes a marker
+// to itself (channel kFlushPrefix + its pid, never recorded); its one receive socket delivers in
+// order, so once the marker is handled everything that had reached the socket before is too.
 #include <poll.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -30,6 +35,9 @@
 
 namespace {
 
+// The stop's markers (this recorder's and any other's on the bus) are not traffic: never recorded.
+constexpr const char* kFlushPrefix = "coopnav_record/flush/";
+
 struct Recorder {
   lcm::LogFile* log{nullptr};
   std::int64_t events{0};
@@ -39,7 +47,7 @@ struct Recorder {
   static void onMessage(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                         Recorder* self) {
     // LCM's own self-test datagrams are not traffic of the system being recorded.
-    if (channel.rfind("LCM_SELF_TEST", 0) == 0) return;
+    if (channel.rfind("LCM_SELF_TEST", 0) == 0 || channel.rfind(kFlushPrefix, 0) == 0) return;
     lcm::LogEvent e{};
     e.timestamp = rbuf->recv_utime;
     e.channel = channel;
@@ -108,14 +116,21 @@ int main(int argc, char** argv) {
   while (!coopnav::tools::stopRequested() && !rec.write_failed) {
     if (::poll(&fd, 1, 200) > 0) drain();
   }
-  // What reached the socket before the stop is recorded too: LCM's receive thread may not have
-  // read it yet (a process woken by SIGCONT and SIGTERM at once), so wait until it has been
-  // quiet for kQuiet_ms (at most 5 s).
-  constexpr int kQuiet_ms = 100;
+  // What reached the socket before the stop is recorded too, though LCM's receive thread may not
+  // have read it yet (a process woken by SIGCONT and SIGTERM at once): drain until the marker
+  // published now comes back after it (at most 5 s: a bus that does not loop back gives up then).
+  const std::string marker = kFlushPrefix + std::to_string(::getpid());
+  bool marker_back = false;
+  lcm.subscribeFunction(
+      marker, +[](const lcm::ReceiveBuffer*, const std::string&, bool* back) { *back = true; },
+      &marker_back);
+  const std::uint8_t nothing = 0;
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-  while (!rec.write_failed && std::chrono::steady_clock::now() < give_up &&
-         ::poll(&fd, 1, kQuiet_ms) > 0)
-    drain();
+  if (lcm.publish(marker, &nothing, 1) == 0) {
+    while (!marker_back && !rec.write_failed && std::chrono::steady_clock::now() < give_up)
+      if (::poll(&fd, 1, 100) > 0) drain();
+  }
+  drain();
   std::fflush(log.getFilePtr());
   if (rec.write_failed) {
     std::cerr << "coopnav_record: writing " << path << " failed after " << rec.events

@@ -1,5 +1,6 @@
 #include "runtime/daemon_main.hpp"
 
+#include <CLI/CLI.hpp>
 #include <filesystem>
 
 namespace coopnav {
@@ -14,6 +15,8 @@ std::string resolvePath(const std::string& base_dir, const std::string& path) {
   if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
   return (std::filesystem::path(base_dir) / path).lexically_normal().string();
 }
+
+namespace {
 
 void addCommonOptions(CLI::App& app, CommonOptions& opts) {
   app.add_option("-c,--config", opts.config_path,
@@ -30,6 +33,22 @@ void addCommonOptions(CLI::App& app, CommonOptions& opts) {
                  "restart journal directory, one per run: a daemon started again with it "
                  "rebuilds its state (docs/lockstep.md)");
   app.add_flag("--print-config", opts.print_config, "print the effective config as YAML and exit");
+}
+
+}  // namespace
+
+std::optional<int> parseCommandLine(int argc, char** argv, const std::string& name,
+                                    const std::string& description, CommonOptions& opts) {
+  CLI::App app{description, "coopnav_" + name};
+  addCommonOptions(app, opts);
+  app.footer(exitCodeHelp());
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitUsage;
+  }
+  return std::nullopt;
 }
 
 const char* exitCodeHelp() {

@@ -4,10 +4,14 @@
 ///
 /// A node type provides: `using Config = ...;` and a constructor `Node(const Config&, Runtime&)`
 /// that subscribes and may throw StartupError (bad map, ...) to stop at start.
+///
+/// The command line is parsed in daemon_main.cpp, not here: CLI11 is header-only and costs about
+/// half of a daemon main's compile time, in every build (release, sanitizers, fuzzing).
 
-#include <CLI/CLI.hpp>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -36,8 +40,11 @@ struct CommonOptions {
   std::string state_dir;
 };
 
-/// Adds the common options to `app` (a daemon may add its own before calling runDaemon).
-void addCommonOptions(CLI::App& app, CommonOptions& opts);
+/// Parses the common options (--help, --config, --lcm-url, --log-level, --set, --state-dir,
+/// --print-config) of daemon `name` into `opts`. Returns the exit code when the daemon must stop
+/// now (help printed: kExitOk; bad command line: kExitUsage, the reason printed), else nothing.
+std::optional<int> parseCommandLine(int argc, char** argv, const std::string& name,
+                                    const std::string& description, CommonOptions& opts);
 
 /// The exit-code paragraph shown at the end of every --help.
 const char* exitCodeHelp();
@@ -60,16 +67,8 @@ template <class Node>
 int runDaemon(int argc, char** argv, const std::string& name, const std::string& description) {
   // A stop signal at any time from here on is answered within a second (runtime.hpp).
   Runtime::beginStartup();
-  CLI::App app{description, "coopnav_" + name};
   CommonOptions opts;
-  addCommonOptions(app, opts);
-  app.footer(exitCodeHelp());
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? kExitOk : kExitUsage;
-  }
+  if (const auto rc = parseCommandLine(argc, argv, name, description, opts)) return *rc;
   if (!setLogLevel(opts.log_level)) {
     std::cerr << name << ": unknown --log-level '" << opts.log_level << "'\n";
     return kExitUsage;

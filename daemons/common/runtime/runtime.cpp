@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <vector>
 
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/step_ack_t.hpp"
@@ -92,6 +93,8 @@ namespace {
 /// [messages] What one wake-up moves from LCM into the queues before handling the next message:
 /// a copy each, so that LCM's own queue stays short however slow a handler is.
 constexpr int kPumpBudget = 10000;
+// Peers a daemon answers the first status of (a run has seven processes; a busy bus a few more).
+constexpr std::size_t kMaxPeersAnswered = 64;
 
 }  // namespace
 
@@ -192,6 +195,13 @@ void Runtime::onPeerStatus(const void* data, std::size_t size) {
   } catch (const RejectedMessage&) {
     return;  // somebody else's problem: the daemons that consume status count it
   }
+  // A process that just started (the world waiting for its participants' status, a launcher's
+  // wait-ready) learns that this one is up at once, not up to a status period later. Once per
+  // name, and for a bounded number of names: a flood of invented names is no flood of answers.
+  if (state_ != daemon_status_t::STATE_STARTING && s.name != name_ &&
+      s.state != daemon_status_t::STATE_STOPPING && peers_heard_.size() < kMaxPeersAnswered &&
+      peers_heard_.insert(s.name).second)
+    answer_status_ = true;
   if (s.name != name_ || s.pid == static_cast<std::int32_t>(::getpid()) ||
       s.state == daemon_status_t::STATE_STOPPING)
     return;
@@ -203,6 +213,12 @@ void Runtime::onPeerStatus(const void* data, std::size_t size) {
   duplicate_detail_ = "another " + name_ + " runs on this bus (pid " + std::to_string(s.pid) +
                       "): every input is handled twice";
   setDegraded(duplicate_detail_);
+}
+
+void Runtime::answerNewPeers() {
+  if (!answer_status_) return;
+  answer_status_ = false;
+  if (!muted_) publishStatus();
 }
 
 void Runtime::checkDuplicate() {
@@ -420,6 +436,21 @@ int Runtime::msUntilNextTimer() const {
   return best;
 }
 
+void Runtime::addReadable(int fd, std::function<void()> fn) {
+  readables_.push_back({fd, std::move(fn)});
+}
+
+void Runtime::runReadables(const pollfd* fds) {
+  for (std::size_t i = 0; i < readables_.size(); ++i) {
+    if (!(fds[i].revents & (POLLIN | POLLERR | POLLHUP))) continue;
+    try {
+      readables_[i].fn();
+    } catch (const std::exception& e) {
+      log().error("{}: input handler failed: {}", name_, e.what());
+    }
+  }
+}
+
 int Runtime::spinFor(int timeout_ms) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   int handled = 0;
@@ -430,8 +461,21 @@ int Runtime::spinFor(int timeout_ms) {
         std::chrono::duration_cast<std::chrono::milliseconds>(deadline - now).count());
     wait_ms = std::max(0, std::min(wait_ms, msUntilNextTimer()));
     pump(kPumpBudget);
+    answerNewPeers();
     if (handleNext()) {
       ++handled;
+      continue;
+    }
+    if (!readables_.empty()) {
+      // LCM's fd and the other inputs' in one wait; LCM then reads without blocking.
+      std::vector<pollfd> fds{{lcm_->getFileno(), POLLIN, 0}};
+      for (const auto& r : readables_) fds.push_back({r.fd, POLLIN, 0});
+      const int n = ::poll(fds.data(), fds.size(), wait_ms);
+      if (n < 0 && errno != EINTR) return handled;
+      if (n > 0) runReadables(fds.data() + 1);
+      if (n > 0 && (fds[0].revents & POLLIN)) lcm_->handleTimeout(0);
+      if (n > 0) continue;
+      if (std::chrono::steady_clock::now() >= deadline) return handled;
       continue;
     }
     // handleTimeout(0) is a non-blocking poll; a negative timeout would return -1 at once.
@@ -461,20 +505,21 @@ int Runtime::run() {
   g_starting.store(false);
   publishStatus();
   log().info("{}: ready (pid {})", name_, ::getpid());
-  pollfd fds[3];
-  fds[0] = {lcm_->getFileno(), POLLIN, 0};
-  fds[1] = {g_signal_pipe[0], POLLIN, 0};
-  fds[2] = {stop_pipe_[0], POLLIN, 0};
+  // LCM, the signal and stop pipes, then the other inputs (addReadable).
+  std::vector<pollfd> fds{
+      {lcm_->getFileno(), POLLIN, 0}, {g_signal_pipe[0], POLLIN, 0}, {stop_pipe_[0], POLLIN, 0}};
+  for (const auto& r : readables_) fds.push_back({r.fd, POLLIN, 0});
   while (!stop_ && !g_signalled.load()) {
     runDueTimers();
     // Messages still waiting in the queues (a wake-up handles at most 1000): do not sleep.
-    const int n = ::poll(fds, 3, inbox_->waiting > 0 ? 0 : msUntilNextTimer());
+    const int n = ::poll(fds.data(), fds.size(), inbox_->waiting > 0 ? 0 : msUntilNextTimer());
     if (n < 0) {
       if (errno == EINTR) continue;
       log().error("{}: poll failed: {}", name_, std::strerror(errno));
       return kExitRuntime;
     }
     if ((fds[1].revents & POLLIN) || (fds[2].revents & POLLIN)) break;
+    if (n > 0) runReadables(fds.data() + 3);
     if ((fds[0].revents & POLLIN) || inbox_->waiting > 0) {
       // Move what LCM received into the bounded queues, then handle the oldest, again and again
       // (at most 1000 per wake-up, so that a burst does not starve the status timer): LCM's own
@@ -491,6 +536,7 @@ int Runtime::run() {
         pump(kPumpBudget);
       }
     }
+    answerNewPeers();
   }
   if (g_signalled.load()) log().info("{}: signal received, stopping", name_);
   state_ = daemon_status_t::STATE_STOPPING;

@@ -1,7 +1,9 @@
 #pragma once
 /// @file The lifecycle every coopnav daemon shares: LCM construction with a provider check,
 /// a poll loop on the LCM fd plus a signal self-pipe, clean exit on SIGINT/SIGTERM, a status
-/// message once a second, safe decoding with counters, and lockstep step acknowledgements.
+/// message once a second (and at once to a peer heard for the first time, so that a process
+/// started later, e.g. the world waiting for its participants, need not wait a period), safe
+/// decoding with counters, and lockstep step acknowledgements.
 ///
 /// Time: the logic of a daemon runs on message utime only. The runtime's own timers (status,
 /// request timeouts) use the monotonic clock: they are about liveness, never about decisions.
@@ -15,12 +17,15 @@
 #include <lcm/lcm-cpp.hpp>
 #include <limits>
 #include <memory>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "coopnav/channels.hpp"
 #include "runtime/limits.hpp"
+
+struct pollfd;  // <poll.h>
 
 namespace coopnav {
 
@@ -135,6 +140,11 @@ class Runtime {
 
   /// Runs `fn` every `period` of monotonic time from the loop (liveness work only).
   void addTimer(std::chrono::milliseconds period, std::function<void()> fn);
+  /// Runs `fn` from the loop (run() and spinFor()) whenever `fd` is readable: an input that is
+  /// not LCM wakes the loop itself (the ROS 2 bridge's DDS listener writes a self-pipe), so its
+  /// handlers run on the loop's thread like every other. `fn` must read what made fd readable.
+  /// The fd stays the caller's (it must outlive this runtime's loop).
+  void addReadable(int fd, std::function<void()> fn);
   /// poll()'s timeout [ms] for the next timer due in `until_due`: rounded up to whole
   /// milliseconds (0 only when due), so that the loop sleeps until the timer is due instead of
   /// polling without a timeout through the last fraction of a millisecond; at most 1000.
@@ -190,7 +200,10 @@ class Runtime {
   };
   void dispatch(const std::function<void()>& body, const std::string& channel);
   /// Another process of this daemon's name on the bus (its status messages): DEGRADED while heard.
+  /// A peer heard for the first time is answered with this daemon's status at once, once the
+  /// daemon is up (not STARTING): answerNewPeers, after each wake-up's messages are moved.
   void onPeerStatus(const void* data, std::size_t size);
+  void answerNewPeers();
   void checkDuplicate();
   void publishStatus();
   void runDueTimers();
@@ -208,6 +221,14 @@ class Runtime {
   std::shared_ptr<Inbox> inbox_;  ///< shared by every runtime on lcm_ (memq://)
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::vector<Timer> timers_;
+  struct Readable {
+    int fd;
+    std::function<void()> fn;
+  };
+  std::vector<Readable> readables_;
+  /// Runs the handler of each of readables_ whose pollfd (`fds`, one per readable, in order)
+  /// poll() found readable.
+  void runReadables(const ::pollfd* fds);
   RuntimeCounters counters_;
   std::int8_t state_{0};
   std::string detail_;
@@ -230,6 +251,9 @@ class Runtime {
   std::int32_t duplicate_pid_{0};  ///< 0: no other process of this name heard
   std::chrono::steady_clock::time_point duplicate_heard_{};
   std::string duplicate_detail_;
+  /// Peers whose status was heard (answered once each, at most kMaxPeersAnswered names).
+  std::set<std::string> peers_heard_;
+  bool answer_status_{false};  ///< a new peer was heard: publish the status now
 };
 
 /// Decodes one received payload as Msg the way every subscription does: a payload that does not

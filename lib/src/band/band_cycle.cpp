@@ -5,8 +5,10 @@
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <utility>
 
+#include "coopnav/distance/point_obstacle_map.hpp"
 #include "coopnav/geometry/geometry.hpp"
 #include "coopnav/planning/global_planner.hpp"
 
@@ -93,6 +95,11 @@ void BandCycle::restamp(std::int64_t utime) {
 BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   BandCycleOutput result;
   const double stamp_s = seconds(s.utime);
+  // The map with the obstacles of the moment (the scan's returns, less the tracked people's).
+  std::optional<PointObstacleMap> with_points;
+  if (!s.planner_points.empty()) with_points.emplace(*map_, s.planner_points);
+  const DistanceMap& obstacles =
+      with_points ? static_cast<const DistanceMap&>(*with_points) : *map_;
 
   // --- goals: the robot's (kind ROBOT; its own id preferred) and the humans' ---
   std::optional<Pose2> robot_goal;
@@ -146,7 +153,9 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
       note(result, BandCycleNote::Level::kWarn,
            format("DOCK for human %d who is not in the agent states: ignored", dock_for));
     }
-    mode_out = modes_.update(*map_, in);
+    // The dock and room choices see the obstacles of the moment too: a spot behind or in an
+    // unmapped box fails the clearance of its approach and is not chosen.
+    mode_out = modes_.update(obstacles, in);
     const ModeOutput& out = mode_out;
     if (out.dock_failure) {
       note(result, BandCycleNote::Level::kWarn,
@@ -252,7 +261,7 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   result.idle = idle;
   result.stopped = !idle && !(usable || driven);
   result.mode = mode;
-  result.room_plans = roomPlans(s, r);
+  result.room_plans = roomPlans(s, r, obstacles);
 
   Velocity2 command = modeCommand(s, mode_out, r, hold, idle);
   if (go_first_ && mode == RobotMode::kNavigate && !idle)
@@ -267,7 +276,8 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   return result;
 }
 
-std::vector<RoomMove> BandCycle::roomPlans(const BandCycleInput& s, const PlanResult& r) const {
+std::vector<RoomMove> BandCycle::roomPlans(const BandCycleInput& s, const PlanResult& r,
+                                           const DistanceMap& obstacles) const {
   std::vector<RoomMove> plans;
   const ModeMachineOptions& mo = modes_.options();
   for (const auto& o : r.others) {
@@ -290,7 +300,7 @@ std::vector<RoomMove> BandCycle::roomPlans(const BandCycleInput& s, const PlanRe
                   .dot(headingVector(s.robot.pose.theta_rad)) > 0.0 &&
           !DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h), mo.human_passed_margin_m);
       if (ahead && closingSpeed(e) > mo.room.closing_speed_m_s)
-        plan = decideRoom(*map_, e, mo.dock, mo.room).move;
+        plan = decideRoom(obstacles, e, mo.dock, mo.room).move;
     }
     plans.push_back(plan);
   }

@@ -17,6 +17,20 @@ namespace {
 /// A cached path is re-used while its goal moved less than this [m].
 constexpr double kSameGoal_m = 1e-3;
 
+/// Whether `path` from arc length from_m on passes nearer than clear_m to one of `points`.
+bool pathBlocked(const Path2& path, double from_m, const std::vector<Eigen::Vector2d>& points,
+                 double clear_m) {
+  if (points.empty()) return false;
+  double arc = 0.0;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (i > 0) arc += (path[i] - path[i - 1]).norm();
+    if (arc < from_m) continue;
+    for (const Eigen::Vector2d& p : points)
+      if ((p - path[i]).squaredNorm() < clear_m * clear_m) return true;
+  }
+  return false;
+}
+
 /// The agent's disc radius: its own when the request gives one, else its kind's default.
 double radiusOf(const AgentState& st, const BandPlannerConfig& cfg) {
   return st.radius_m > 0.0 ? st.radius_m : cfg.kinematics(st.kind).radius_m;
@@ -235,23 +249,41 @@ PlanResult DualBandPlanner::planOnce(const PlanRequest& req, bool allow_warm, bo
   if (!at_goal) {
     auto it = paths_.find(me.id);
     bool reuse = false;
+    // A return nearer the path than the radius (less a grid cell: the path's points lie
+    // between the cells it was planned on) blocks it; one planned round the returns keeps them
+    // at least that far, so it is kept while they stay where they were.
+    const double blocked_m = my_radius - cfg.global_resolution_m;
     if (it != paths_.end() && (it->second.goal - goal_pos).norm() < kSameGoal_m &&
         it->second.status == PathStatus::kOk) {
       const auto proj = projectOntoPath(it->second.path, my_pos);
-      reuse = proj && proj->distance_m < cfg.global_replan_dist_m;
+      // The static map's path taken because the returns blocked every way is planned again
+      // once they no longer block it (not at every cycle they still do: a search that fails
+      // explores all the map can reach).
+      // The first radius ahead is the search's own escape from where the agent stands.
+      reuse = proj && proj->distance_m < cfg.global_replan_dist_m &&
+              pathBlocked(it->second.path, proj->arc_length_m + my_radius, req.obstacle_points,
+                          blocked_m) == it->second.blocked;
     }
     if (!reuse) {
-      const PathResult pr = global_->plan(my_pos, goal_pos, my_radius);
+      PathResult pr = global_->plan(my_pos, goal_pos, my_radius, req.obstacle_points);
+      bool blocked = false;
+      if (pr.status != PathStatus::kOk && !req.obstacle_points.empty()) {
+        // No way round the returns: the static map's path, held short of them by the band's
+        // obstacle term and the guard (safe; the returns may yet move or open a way).
+        pr = global_->plan(my_pos, goal_pos, my_radius);
+        blocked = pr.status == PathStatus::kOk;
+      }
       if (pr.status != PathStatus::kOk) {
         paths_.erase(me.id);
         bands_.erase(me.id);
         out.status = fromPathStatus(pr.status);
         return out;
       }
-      paths_[me.id] = {goal_pos, pr.path, pr.status};
+      paths_[me.id] = {goal_pos, pr.path, pr.status, blocked};
       bands_.erase(me.id);  // a new path invalidates the warm band
     }
     my_path = paths_[me.id].path;
+    out.path_blocked = paths_[me.id].blocked;
   }
 
   // --- the planning agent's band ---

@@ -113,26 +113,48 @@ bool GridPathPlanner::toCell(const Eigen::Vector2d& p, Cell* c) const {
   return true;
 }
 
-float GridPathPlanner::clearanceAt(const Eigen::Vector2d& p) const {
+float GridPathPlanner::clearanceAt(const std::vector<float>& grid, const Eigen::Vector2d& p) const {
   Cell c{};
   if (!toCell(p, &c)) return -1.0f;
-  return clearance_m_[static_cast<std::size_t>(c.iy) * nx_ + c.ix];
+  return grid[static_cast<std::size_t>(c.iy) * nx_ + c.ix];
 }
 
-bool GridPathPlanner::segmentClear(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                   double min_clear) const {
+std::vector<float> GridPathPlanner::withPoints(const std::vector<Eigen::Vector2d>& points,
+                                               double reach_m) const {
+  std::vector<float> grid = clearance_m_;
+  const double res_m = options_.resolution_m;
+  const int span = static_cast<int>(std::ceil(reach_m / res_m)) + 1;
+  for (const Eigen::Vector2d& p : points) {
+    Cell c{};
+    if (!p.allFinite() || !toCell(p, &c)) continue;
+    for (int iy = std::max(0, c.iy - span); iy <= std::min(ny_ - 1, c.iy + span); ++iy) {
+      for (int ix = std::max(0, c.ix - span); ix <= std::min(nx_ - 1, c.ix + span); ++ix) {
+        const double d = (center(ix, iy) - p).norm();
+        if (d > reach_m) continue;
+        float& g = grid[static_cast<std::size_t>(iy) * nx_ + ix];
+        // Unknown or outside (< 0) stays so: a return cannot make a cell acceptable.
+        if (g >= 0.0f) g = std::min(g, static_cast<float>(d));
+      }
+    }
+  }
+  return grid;
+}
+
+bool GridPathPlanner::segmentClear(const std::vector<float>& grid, const Eigen::Vector2d& a,
+                                   const Eigen::Vector2d& b, double min_clear) const {
   const double len = (b - a).norm();
   const int n = std::max(1, static_cast<int>(std::ceil(len / (0.5 * options_.resolution_m))));
   for (int k = 0; k <= n; ++k) {
     const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(k) / n);
     if ((p - a).norm() < options_.resolution_m) continue;
-    if (clearanceAt(p) < min_clear) return false;
+    if (clearanceAt(grid, p) < min_clear) return false;
   }
   return true;
 }
 
 PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                                 double radius_m) const {
+                                 double radius_m,
+                                 const std::vector<Eigen::Vector2d>& points) const {
   PathResult res;
   if (!start.allFinite() || !goal.allFinite() || !(radius_m >= 0.0)) {
     res.status = PathStatus::kInvalidInput;
@@ -175,11 +197,16 @@ PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vect
   }
 
   const double res_m = options_.resolution_m;
+  // Beyond radius + clearance preference a point changes neither passability nor step cost.
+  std::vector<float> with_points;
+  if (!points.empty())
+    with_points = withPoints(points, radius_m + std::max(0.0, options_.clearance_pref_m) + res_m);
+  const std::vector<float>& grid = points.empty() ? clearance_m_ : with_points;
   // Cells near start/goal may be passed with half the radius: the agent already stands there.
   const double escape_m = radius_m + 1.5 * res_m;
   auto idx = [&](int ix, int iy) { return static_cast<std::size_t>(iy) * nx_ + ix; };
   auto passable = [&](int ix, int iy) {
-    const float c = clearance_m_[idx(ix, iy)];
+    const float c = grid[idx(ix, iy)];
     if (c >= radius_m) return true;
     if (c <= 0.5 * radius_m) return false;
     const Eigen::Vector2d p = center(ix, iy);
@@ -188,12 +215,12 @@ PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vect
   auto stepFactor = [&](int ix, int iy) {
     if (options_.clearance_weight <= 0.0 || options_.clearance_pref_m <= 0.0) return 1.0;
     const double short_m =
-        std::max(0.0, options_.clearance_pref_m - (clearance_m_[idx(ix, iy)] - radius_m));
+        std::max(0.0, options_.clearance_pref_m - (grid[idx(ix, iy)] - radius_m));
     return 1.0 + options_.clearance_weight * std::min(short_m, options_.clearance_pref_m) /
                      options_.clearance_pref_m;
   };
 
-  const std::size_t n = clearance_m_.size();
+  const std::size_t n = grid.size();
   std::vector<double> g(n, std::numeric_limits<double>::infinity());
   std::vector<std::int32_t> parent(n, -1);
   std::vector<char> closed(n, 0);
@@ -252,7 +279,7 @@ PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vect
     // Greedy line-of-sight shortcutting, never to a clearance lower than the A* path had there
     // (capped at radius + pref, so the clearance cost is not undone).
     std::vector<float> clear(cells.size());
-    for (std::size_t i = 0; i < cells.size(); ++i) clear[i] = clearanceAt(cells[i]);
+    for (std::size_t i = 0; i < cells.size(); ++i) clear[i] = clearanceAt(grid, cells[i]);
     path.push_back(cells[0]);
     std::size_t i = 0;
     while (i + 1 < cells.size()) {
@@ -265,7 +292,7 @@ PathResult GridPathPlanner::plan(const Eigen::Vector2d& start, const Eigen::Vect
       for (std::size_t j = i + 1; j < cells.size() && misses < kMaxMisses; ++j) {
         min_c = std::min<double>(min_c, clear[j]);
         const double need = std::min(min_c, radius_m + options_.clearance_pref_m) - 1e-3;
-        if (segmentClear(cells[i], cells[j], need)) {
+        if (segmentClear(grid, cells[i], cells[j], need)) {
           best = j;
           misses = 0;
         } else {

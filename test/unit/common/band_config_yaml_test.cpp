@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "config/config.hpp"
+#include "test_util.hpp"
 
 namespace coopnav {
 namespace {
@@ -24,9 +25,7 @@ struct Holder {
 
 std::string writeTemp(const std::string& text) {
   static int n = 0;
-  const auto p =
-      std::filesystem::temp_directory_path() /
-      ("coopnav_bandcfg_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ".yaml");
+  const auto p = test::scratchDir() / ("bandcfg_" + std::to_string(n++) + ".yaml");
   std::ofstream(p) << text;
   return p.string();
 }

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "test_util.hpp"
+
 namespace coopnav {
 namespace {
 
@@ -37,9 +39,7 @@ struct SampleConfig {
 
 std::string writeTemp(const std::string& text) {
   static int n = 0;
-  const auto p =
-      std::filesystem::temp_directory_path() /
-      ("coopnav_cfg_" + std::to_string(::getpid()) + "_" + std::to_string(n++) + ".yaml");
+  const auto p = test::scratchDir() / ("cfg_" + std::to_string(n++) + ".yaml");
   std::ofstream(p) << text;
   return p.string();
 }

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <vector>
+
 #include "../band/analytic_map.hpp"
+#include "coopnav/distance/point_obstacle_map.hpp"
 
 namespace coopnav {
 namespace {
@@ -48,6 +52,38 @@ TEST(DockTest, NoWallInRange) {
   o.search_range_m = 2.0;
   EXPECT_EQ(findDockPose(*map, {15.0, 15.0, 0.0}, {18.0, 15.5, M_PI}, o).status,
             DockStatus::kNoWall);
+}
+
+TEST(DockTest, ASpotBehindAnUnmappedObstacleIsNotChosen) {
+  // Given the corridor and a bench the map does not hold, seen by the laser as a row of returns
+  // along y 1.2 from x 8.5 to 11.5, between the robot and the wall on the side away from the human.
+  auto map = narrow();
+  std::vector<Eigen::Vector2d> bench;
+  for (double x = 8.5; x <= 11.5 + 1e-9; x += 0.05) bench.emplace_back(x, 1.2);
+  const PointObstacleMap seen(*map, bench);
+  const Pose2 robot{10.0, 1.575, 0.0};
+  const Pose2 human{14.0, 1.9, M_PI};
+  DockOptions o;
+  o.robot_radius_m = 0.47;
+  const double need_m = o.robot_radius_m + o.margin_m;
+  // Then on the static map alone the dock is right behind the bench, flush to the wall,
+  const DockResult blind = findDockPose(*map, robot, human, o);
+  ASSERT_EQ(blind.status, DockStatus::kOk);
+  EXPECT_LT(blind.pose.y_m, 1.2);
+  EXPECT_GT(blind.pose.x_m, 8.5);
+  EXPECT_LT(blind.pose.x_m, 11.5);
+  // And with the returns no spot behind it is chosen: any dock keeps its clearance from them
+  // and lies beyond the bench's ends.
+  const DockResult d = findDockPose(seen, robot, human, o);
+  if (d.status == DockStatus::kOk) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& q : bench) nearest = std::min(nearest, (q - d.pose.position()).norm());
+    EXPECT_GE(nearest, need_m - 1e-3);
+    EXPECT_TRUE(d.pose.x_m < 8.5 || d.pose.x_m > 11.5 || d.pose.y_m > 1.2)
+        << d.pose.x_m << " " << d.pose.y_m;
+  } else {
+    EXPECT_EQ(d.status, DockStatus::kUnreachable);
+  }
 }
 
 TEST(DockModeMachineTest, NavigateDockHoldResumeGoal) {

@@ -13,9 +13,10 @@ import inspect
 import sys
 from typing import Callable, Sequence
 
-from . import faults, figures, metrics, population, run, system
+from . import ablation, faults, figures, metrics, population, run, system
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "ablation": ablation.main,
     "faults": faults.main,
     "figures": figures.main,
     "metrics": metrics.main,

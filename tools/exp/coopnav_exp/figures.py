@@ -33,17 +33,15 @@ import subprocess
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.axes import Axes  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.text import Text  # noqa: E402
-from matplotlib.transforms import Bbox  # noqa: E402
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+    from matplotlib.transforms import Bbox
 
 ROOT = Path(__file__).resolve().parents[3]
 ROBOT_COLOR = "#1f77b4"
@@ -55,6 +53,23 @@ MAKING_ROOM_MODES = {"docking": "#fdd0a2", "holding": "#fdae6b", "retreating": "
 FORMATS = ("png", "svg")
 STILL_M = 0.1  # [m] a time mark this close to the agent's previous one is not labelled
 MIN_WALL_M = 0.5  # [m] a wall outline smaller than this is not drawn as a line
+
+
+def _pyplot() -> Any:
+    """matplotlib's pyplot on the Agg backend, imported where a figure is drawn: importing it
+    takes ~0.3 s, which every other command (and `scripts/coopnav --help`) need not pay."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _blend(x_transform: Any, y_transform: Any) -> Any:
+    from matplotlib.transforms import blended_transform_factory
+
+    return blended_transform_factory(x_transform, y_transform)
 
 
 class TraceError(Exception):
@@ -424,7 +439,7 @@ def draw_map(ax: Axes, m: dict | None, view: tuple[float, float, float, float]) 
     for b in m.get("boxes") or []:
         if None in b:
             continue
-        rect = plt.Rectangle((b[0], b[1]), b[2] - b[0], b[3] - b[1], facecolor="#bdbdbd",
+        rect = _pyplot().Rectangle((b[0], b[1]), b[2] - b[0], b[3] - b[1], facecolor="#bdbdbd",
                              edgecolor=WALL_COLOR, lw=1.2, zorder=1)
         rect.set_gid("walls")
         ax.add_patch(rect)
@@ -544,7 +559,7 @@ def trajectories_figure(trace: Trace) -> Figure:
     width = 11.0
     plot_h = min(max(width * 0.78 * aspect, 1.6), 7.0)
     cap_h = 0.18 * (len(lines) + 1)
-    fig = plt.figure(figsize=(width, plot_h + 1.0 + cap_h))
+    fig = _pyplot().figure(figsize=(width, plot_h + 1.0 + cap_h))
     bottom = (0.55 + cap_h) / fig.get_figheight()
     ax = fig.add_axes([0.07, bottom, 0.78, 1.0 - bottom - 0.35 / fig.get_figheight()])
     draw_trajectories(ax, trace)
@@ -609,7 +624,7 @@ def _tau_of(a: dict) -> float:
 
 
 def ca_cm_figure(trace: Trace) -> Figure:
-    fig, (ax_ca, ax_cm) = plt.subplots(2, 1, sharex=True, figsize=(10.5, 6.2))
+    fig, (ax_ca, ax_cm) = _pyplot().subplots(2, 1, sharex=True, figsize=(10.5, 6.2))
     fig.subplots_adjust(left=0.09, right=0.76, top=0.93, bottom=0.09, hspace=0.12)
     draw_ca(ax_ca, trace, title=False)
     fig.suptitle(f"{trace.name}: CA and CM over time", fontsize=11)
@@ -647,7 +662,7 @@ def ca_cm_figure(trace: Trace) -> Figure:
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     # Event labels along the top of the CA axes (x in data, y in axes fraction).
     placer = LabelPlacer(ax_ca)
-    blend = matplotlib.transforms.blended_transform_factory(ax_ca.transData, ax_ca.transAxes)
+    blend = _blend(ax_ca.transData, ax_ca.transAxes)
     for t, label in docks + events:
         bbox = None if label == "dock" else dict(boxstyle="circle,pad=0.15", fc="#ffffcc",
                                                    ec="black", lw=0.6)
@@ -698,8 +713,8 @@ def draw_cm_gamma(ax: Axes, traces: Sequence[Trace]) -> None:
     for line in ax.get_lines():
         if line.get_label() and not line.get_label().startswith("_"):
             placer.avoid_data(line.get_xdata(), line.get_ydata())
-    xform_v = matplotlib.transforms.blended_transform_factory(ax.transData, ax.transAxes)
-    xform_h = matplotlib.transforms.blended_transform_factory(ax.transAxes, ax.transData)
+    xform_v = _blend(ax.transData, ax.transAxes)
+    xform_h = _blend(ax.transAxes, ax.transData)
     for label, v, kind in placer_items:
         if kind == "v":
             placer.place(label, v, 0.03, transform=xform_v, offset_pt=3.0, fontsize=8,
@@ -710,7 +725,7 @@ def draw_cm_gamma(ax: Axes, traces: Sequence[Trace]) -> None:
 
 
 def cm_gamma_figure(traces: Sequence[Trace]) -> Figure:
-    fig = plt.figure(figsize=(9.0, 4.6))
+    fig = _pyplot().figure(figsize=(9.0, 4.6))
     ax = fig.add_axes([0.09, 0.12, 0.62, 0.8])
     draw_cm_gamma(ax, traces)
     return fig
@@ -721,7 +736,7 @@ def trajectories_panels(traces: Sequence[Trace]) -> Figure:
     for tr in traces:
         x0, x1, y0, y1 = _view(tr)
         heights.append(min(max(11.0 * 0.78 * (y1 - y0) / max(x1 - x0, 1e-9), 1.6), 5.0) + 0.8)
-    fig = plt.figure(figsize=(11.0, sum(heights) + 0.3))
+    fig = _pyplot().figure(figsize=(11.0, sum(heights) + 0.3))
     top = fig.get_figheight() - 0.15
     for tr, h in zip(traces, heights):
         ax = fig.add_axes([0.07, (top - h + 0.5) / fig.get_figheight(), 0.78,
@@ -734,7 +749,7 @@ def trajectories_panels(traces: Sequence[Trace]) -> Figure:
 def ca_panels(traces: Sequence[Trace]) -> Figure:
     cols = 2 if len(traces) > 1 else 1
     rows = math.ceil(len(traces) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(6.0 * cols, 3.0 * rows), squeeze=False)
+    fig, axes = _pyplot().subplots(rows, cols, figsize=(6.0 * cols, 3.0 * rows), squeeze=False)
     fig.subplots_adjust(hspace=0.45, wspace=0.28, left=0.08, right=0.97, top=0.93, bottom=0.1)
     fig.suptitle("Contributing distances (CA)", fontsize=11)
     for ax, tr in zip(axes.flat, traces):
@@ -759,7 +774,7 @@ def save(fig: Figure, stem: Path) -> list[Path]:
         fig.savefig(path, format=fmt, dpi=150, metadata=meta, bbox_inches="tight",
                     pad_inches=0.1)
         out.append(path)
-    plt.close(fig)
+    _pyplot().close(fig)
     return out
 
 
@@ -796,7 +811,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    plt.rcParams["svg.hashsalt"] = "coopnav"
+    _pyplot().rcParams["svg.hashsalt"] = "coopnav"
     try:
         runs = find_runs(args.runs)
         traces = [(d, trace_of_run(d)) for d in runs]

@@ -2,13 +2,16 @@
 
 `scripts/coopnav metrics DIR... [--out PREFIX]` reads every run's metrics JSON under the
 directories (`coopnav_ctl metrics` output, format coopnav-metrics/1); a run log (`*.lcm`) without
-one beside it (`<log stem>.metrics.json`) is scored first with `coopnav_ctl metrics`, with the
+one beside it (`<log stem>.metrics.json`, or the `metrics.json` every run writes beside its
+summary.json) is scored first with `coopnav_ctl metrics`, with the
 run's scenario file as its map when the population holds it (`DIR/scenarios/<name>.yaml`).
 It writes PREFIX.txt (the table, also printed), PREFIX.csv and PREFIX.json: per metric the
 estimate and its interval (Wilson for proportions, percentile bootstrap with a fixed seed for
 means), then per person Responsibility and Engagement next to the path assessor's CM, and how
 well they agree (Spearman's ρ of the person's responsibility share against CM, and the AUC of that
-share for the assessor's "contributing" verdict), each with a bootstrap interval.
+share for the assessor's "contributing" verdict), each with a bootstrap interval, also drawn in
+PREFIX_agreement.png and .svg (each share against CM per person, the ROC of the share for the
+verdict; --no-figures: none).
 Robot-alone baseline runs (`base_*`) are left out unless --include-baselines.
 
 With --paired each DIR is a variant of the same encounters (an ablation: the same scenarios run
@@ -34,6 +37,7 @@ from typing import Iterable
 from . import stats
 
 METRICS_FORMAT = "coopnav-metrics/1"
+RUN_METRICS_FILE = "metrics.json"  # what every run writes beside its summary.json (run.run_one)
 
 # (key, kind, label): "rate" = a proportion of runs (Wilson), "mean" = a mean (bootstrap).
 RUN_METRICS: list[tuple[str, str, str]] = [
@@ -102,6 +106,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--paired", action="store_true",
                         help="each DIR is a variant of the same encounters: paired comparisons "
                              "of every variant against the first")
+    parser.add_argument("--no-figures", dest="figures", action="store_false",
+                        help="no PREFIX_agreement figure (Responsibility and Engagement vs CM)")
     parser.add_argument("--seed", type=int, default=stats.DEFAULT_SEED,
                         help="bootstrap seed (default %(default)s)")
     parser.add_argument("--n-boot", type=int, default=stats.DEFAULT_N_BOOT,
@@ -159,6 +165,11 @@ def find_metrics(paths: Iterable[Path], ctl: Path, rescore: bool = False,
         jsons = {p for p in root.rglob("*.metrics.json")}
         for log in sorted(root.rglob("*.lcm")):
             beside = log.with_name(log.stem + ".metrics.json")
+            # run_one's own: DIR/metrics.json beside the run's summary.json and log.
+            own = log.with_name(RUN_METRICS_FILE)
+            if not rescore and beside not in jsons and own.is_file():
+                jsons.add(own)
+                continue
             if rescore or beside not in jsons:
                 jsons.discard(beside)  # a stale file of a log that no longer scores is not kept
                 if score(log) is not None:
@@ -232,6 +243,110 @@ def aggregate(runs: list[dict], *, seed: int = stats.DEFAULT_SEED,
                                    "label": f"AUC, {share.replace('_', ' ')} for CM's verdict",
                                    "method": "bootstrap-auc-stratified", **a.as_dict()})
     return table
+
+
+def agreement_points(runs: list[dict], share: str = "person_responsibility"
+                     ) -> tuple[list[float], list[float], list[bool | None]]:
+    """Per person crossed with both a finite `share` and a finite CM: the share, the CM and the
+    assessor's verdict (is_contributing_interaction; None when it gave none)."""
+    xs, ys, verdicts = [], [], []
+    for r in runs:
+        for p in r.get("persons", []):
+            x, y = p.get(share), p.get("cm_interaction_m")
+            if x is None or y is None or not (math.isfinite(float(x)) and math.isfinite(float(y))):
+                continue
+            xs.append(float(x))
+            ys.append(float(y))
+            v = p.get("is_contributing_interaction")
+            verdicts.append(None if v is None else bool(v))
+    return xs, ys, verdicts
+
+
+def roc_points(scores: list[float], labels: list[bool]) -> tuple[list[float], list[float]]:
+    """The ROC curve of `scores` for `labels` (false and true positive rates, from (0, 0) to
+    (1, 1)), every distinct score a threshold: its area is stats.auc's."""
+    pos = sum(labels)
+    neg = len(labels) - pos
+    if pos == 0 or neg == 0:
+        return [], []
+    fpr, tpr = [0.0], [0.0]
+    tp = fp = 0
+    order = sorted(range(len(scores)), key=lambda i: -scores[i])
+    i = 0
+    while i < len(order):
+        j = i
+        while j < len(order) and scores[order[j]] == scores[order[i]]:
+            tp += labels[order[j]]
+            fp += not labels[order[j]]
+            j += 1
+        fpr.append(fp / neg)
+        tpr.append(tp / pos)
+        i = j
+    return fpr, tpr
+
+
+def agreement_figure(runs: list[dict], stem: Path, *, title: str = "",
+                     seed: int = stats.DEFAULT_SEED, n_boot: int = stats.DEFAULT_N_BOOT
+                     ) -> list[Path]:
+    """How well the outside measure agrees with CM (Honda Research Institute's Responsibility
+    and Engagement against the path assessor's CM), PNG and SVG at `stem`: each share against
+    CM per person (colour: the assessor's verdict) with Spearman's rho and its interval, and the
+    ROC of the Responsibility share for the verdict with its AUC. Nothing (an empty list) when no
+    person has both a share and a CM (e.g. a run without the path assessor)."""
+    resp = agreement_points(runs, "person_responsibility")
+    eng = agreement_points(runs, "person_engagement")
+    if not resp[0] and not eng[0]:
+        return []
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .figures import save
+
+    colours = {True: "#2ca02c", False: "#d62728", None: "#7f7f7f"}
+    names = {True: "contributing", False: "not contributing", None: "no verdict"}
+    fig, axes = plt.subplots(1, 3, figsize=(13.5, 4.2))
+    for ax, (xs, ys, verdicts), what in ((axes[0], resp, "Responsibility"),
+                                         (axes[1], eng, "Engagement")):
+        for v in (True, False, None):
+            pts = [(x, y) for x, y, w in zip(xs, ys, verdicts) if w is v]
+            if pts:
+                ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=14, alpha=0.7,
+                           color=colours[v], label=f"{names[v]} ({len(pts)})")
+        rho = stats.bootstrap_spearman(xs, ys, n_boot=n_boot, seed=seed)
+        ax.set_title(f"person's {what} share vs CM\nSpearman rho {_fmt(_num(rho.value))} "
+                     f"[{_fmt(_num(rho.lo))}, {_fmt(_num(rho.hi))}], n {rho.n}", fontsize=8)
+        ax.set_xlabel(f"person's {what} share (of resolving the conflict)", fontsize=8)
+        ax.set_ylabel("CM over the interaction [m]", fontsize=8)
+        ax.grid(alpha=0.3)
+        if xs:
+            ax.legend(fontsize=7)
+    scores = [x for x, v in zip(resp[0], resp[2]) if v is not None]
+    labels = [bool(v) for v in resp[2] if v is not None]
+    ax = axes[2]
+    fpr, tpr = roc_points(scores, labels)
+    a = stats.bootstrap_auc(scores, labels, n_boot=n_boot, seed=seed)
+    if fpr:
+        ax.plot(fpr, tpr, color="#1f77b4")  # straight between thresholds: area = AUC
+    ax.plot([0, 1], [0, 1], color="#7f7f7f", lw=0.8, ls="--")
+    ax.set_title(f"Responsibility share for CM's verdict\nAUC {_fmt(_num(a.value))} "
+                 f"[{_fmt(_num(a.lo))}, {_fmt(_num(a.hi))}], n {a.n}", fontsize=8)
+    ax.set_xlabel("false positive rate", fontsize=8)
+    ax.set_ylabel("true positive rate", fontsize=8)
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    ax.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    written = save(fig, Path(stem))
+    plt.close(fig)
+    return written
+
+
+def _num(v: float | None) -> float | None:
+    return None if v is None or not math.isfinite(v) else v
 
 
 def _as_float(v) -> float:
@@ -403,4 +518,11 @@ def main(args: argparse.Namespace) -> int:
     Path(f"{prefix}.csv").write_text(table_csv(table), encoding="utf-8")
     Path(f"{prefix}.json").write_text(json.dumps(table, indent=2) + "\n", encoding="utf-8")
     sys.stdout.write(text)
+    if args.figures:
+        shown = runs if not args.paired else variants[names[0]]
+        drawn = agreement_figure(shown, Path(f"{prefix}_agreement"), seed=args.seed,
+                                 n_boot=args.n_boot, title=f"{len(shown)} runs")
+        if drawn:
+            print(f"coopnav metrics: {drawn[0]} (Responsibility and Engagement against CM)",
+                  file=sys.stderr)
     return 0

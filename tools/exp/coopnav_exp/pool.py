@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import select
 import signal
 import subprocess
 import sys
@@ -123,7 +124,7 @@ class Pool:
                     if on_finished is not None:
                         on_finished(res, done, len(jobs))
                 if running:
-                    time.sleep(self.poll_s)
+                    _wait_any([r.proc for r in running], self.poll_s)
         finally:
             if running:
                 self._stop_all(running)
@@ -159,6 +160,21 @@ class Pool:
                 _signal_group(r.proc, signal.SIGKILL)
                 r.proc.wait()
         running.clear()
+
+
+def _wait_any(procs: Sequence[subprocess.Popen], timeout_s: float) -> None:
+    """Returns once one of `procs` exits (its pidfd turns readable) or after `timeout_s`: the next
+    job starts when a slot frees, not at the next poll. Without pidfds (Linux < 5.3), a sleep."""
+    fds: list[int] = []
+    try:
+        for p in procs:
+            fds.append(os.pidfd_open(p.pid))
+        select.select(fds, [], [], timeout_s)
+    except (OSError, AttributeError):
+        time.sleep(timeout_s)
+    finally:
+        for fd in fds:
+            os.close(fd)
 
 
 def _is_main_thread() -> bool:

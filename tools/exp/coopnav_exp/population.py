@@ -69,17 +69,20 @@ class RunSpec:
     profile: str
     daemon_args: dict[str, list[str]]
     timeout_s: float
+    absent: tuple[str, ...] = ()  # daemons not started (an ablation's variant)
 
     def to_json(self) -> str:
         return json.dumps({"name": self.name, "scenario": str(self.scenario),
                            "out_dir": str(self.out_dir), "profile": self.profile,
-                           "daemon_args": self.daemon_args, "timeout_s": self.timeout_s})
+                           "daemon_args": self.daemon_args, "timeout_s": self.timeout_s,
+                           "absent": list(self.absent)})
 
     @staticmethod
     def from_json(text: str) -> "RunSpec":
         d = json.loads(text)
         return RunSpec(d["name"], Path(d["scenario"]), Path(d["out_dir"]), d["profile"],
-                       {k: list(v) for k, v in d["daemon_args"].items()}, float(d["timeout_s"]))
+                       {k: list(v) for k, v in d["daemon_args"].items()}, float(d["timeout_s"]),
+                       tuple(d.get("absent", ())))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -141,7 +144,8 @@ def worker_main(argv: Sequence[str]) -> int:
     shutil.rmtree(spec.out_dir, ignore_errors=True)
     spec.out_dir.mkdir(parents=True)
     result = run_one(spec.scenario, spec.out_dir, port, profile=spec.profile,
-                        daemon_args=spec.daemon_args, timeout_s=spec.timeout_s)
+                        daemon_args=spec.daemon_args, absent=spec.absent,
+                        timeout_s=spec.timeout_s)
     (spec.out_dir / "world_sim.exit").write_text(f"{result.world_sim_exit}\n")
     print(f"[{_stamp()}] worker: {spec.name} done, world_sim exit {result.world_sim_exit}",
           flush=True)

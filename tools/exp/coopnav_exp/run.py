@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
-from . import supervise, system as system_mod
+from . import supervise, system as system_mod, timing
 from .supervise import Interrupted, StartError, Supervisor
 
 MCAST = "239.255.76.67"
@@ -53,6 +53,7 @@ class RunResult:
     log: Path  # the .lcm (may be missing when the run failed at start)
     summary: Path | None  # summary.json (coopnav_ctl summarize), None if there is none
     name: str = ""
+    metrics: Path | None = None  # metrics.json (coopnav_ctl metrics; metrics.csv beside it)
     died: list[str] = field(default_factory=list)  # daemons not running when world_sim ended
     start_error: str | None = None
 
@@ -130,11 +131,15 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
             summarize: bool = True, system: system_mod.System | None = None) -> RunResult:
     """One run of `scenario` with every daemon as its own process, world_sim in lockstep.
 
-    Starts the recorder (out_dir/<name>.lcm), the daemons of config/system.yaml in order (less
-    `absent`), waits until each said it is ready (its status message; one that dies at start is
-    reported at once), runs world_sim, waits for the recorder to catch up and stops everything.
-    Every process logs to out_dir/<process>.log (appended to when a daemon is started again).
-    Then `coopnav_ctl summarize` writes out_dir/summary.json (`summarize`).
+    Starts the recorder (out_dir/<name>.lcm), a waiter that listens for the daemons' status
+    messages, the daemons of config/system.yaml in order (less `absent`), waits until each said it
+    is ready (its first status message; one that dies at start is reported at once) and the
+    recorder listens, runs world_sim and stops everything once it exited (the recorder records
+    what is still on its way before it closes the log: world_sim ends after every participant
+    acknowledged its last step, so nothing of the run comes later). Every process logs to
+    out_dir/<process>.log (appended to when a daemon is started again). Then `coopnav_ctl
+    summarize` writes out_dir/summary.json (`summarize`). Where the wall time went:
+    out_dir/timing.json (coopnav_exp.timing).
 
     port: the run's udpm port; with `loss` it also takes port + 1 and on (one per process).
     daemon_args: extra arguments per daemon or world_sim, after the system's own.
@@ -174,6 +179,7 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
     on_host = (lambda host: _netns(netns_prefix, host))
     relay = str(s.tool("lossy_relay"))
     result = RunResult(world_sim_exit=1, out_dir=out_dir, log=log, summary=None, name=name)
+    tl = timing.Timeline()
     try:
         with sup:
             if loss is not None and netns_prefix:
@@ -214,20 +220,35 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                              extra=extra.get(p, ()), lcm_url=urls[p])
                 for p in procs}
             started = [d for d in s.names() if d not in absent]
-            for d in started:
-                sup.start(d, on_host(d) + commands[d], out_dir / f"{d}.log", env=env)
             live = LiveRun(s, sup, out_dir, scenario, name, url, urls, commands, env, on_host)
-            if started:
-                try:
-                    sup.wait_ready(on_host("recorder") + [
-                        str(s.tool("ctl")), "wait-ready", *started, "--timeout-s",
-                        f"{s.timing.ready_timeout_s:g}"], started, env=env)
-                except StartError as ex:
-                    result.start_error = f"daemons did not come up for {name}: {ex}"
-                    print(f"coopnav: {ex}\ncoopnav: daemons did not come up for {name}; see "
-                          f"{out_dir}/*.log", file=sys.stderr, flush=True)
-                    return result
-            time.sleep(s.timing.settle_s)  # the recorder subscribes before the first step
+            waiter = None
+            try:
+                # The waiter listens before the daemons start: it hears each one's first status.
+                waiter = sup.start_waiter(on_host("recorder") + [
+                    str(s.tool("ctl")), "wait-ready", *started, "--timeout-s",
+                    f"{s.timing.ready_timeout_s:g}", "--announce"],
+                    timeout_s=s.timing.ready_timeout_s, env=env) if started else None
+                for d in started:
+                    tl.spawned[d] = time.time()
+                    sup.start(d, on_host(d) + commands[d], out_dir / f"{d}.log", env=env)
+                tl.mark("spawned")
+                if waiter is not None:
+                    sup.wait_ready(waiter, started)
+                tl.mark("ready")
+                # The recorder subscribes before the first step (it said so, or never will).
+                if not supervise.wait_for_line(out_dir / "record.log", "coopnav_record: recording",
+                                               s.timing.ready_timeout_s):
+                    raise StartError(f"the recorder is not recording (see {out_dir}/record.log)")
+                tl.mark("recorder_ready")
+            except StartError as ex:
+                result.start_error = f"daemons did not come up for {name}: {ex}"
+                print(f"coopnav: {ex}\ncoopnav: daemons did not come up for {name}; see "
+                      f"{out_dir}/*.log", file=sys.stderr, flush=True)
+                return result
+            finally:
+                if waiter is not None and waiter.poll() is None:
+                    waiter.kill()
+                    waiter.wait()
             world = sup.start(s.world.name, on_host(s.world.name) + commands[s.world.name],
                               out_dir / f"{s.world.name}.log", append=False, env=env)
             t0 = time.monotonic()
@@ -246,10 +267,12 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                 with open(world.log, "a") as f:
                     f.write(f"coopnav: world_sim stopped after {timeout_s:g} s of wall time\n")
             result.world_sim_exit = rc
-            supervise.wait_quiet(log, s.timing.record_quiet_s)
+            tl.mark("world_exited")
             result.died = [d for d in started if not sup.procs[d].alive()]
             if after:
                 after(live)
+            tl.mark("after")
+        tl.mark("stopped")
     finally:
         if netem_on:
             _netem(netns_prefix, "off")  # type: ignore[arg-type]
@@ -258,7 +281,21 @@ def run_one(scenario: Path, out_dir: Path, port: int, *, profile: str = "paper",
                                     "--out", str(summary_path)], out_dir / "summarize.log")
         if rc == 0 and summary_path.is_file():
             result.summary = summary_path
+        result.metrics = write_metrics(s, log, scenario, out_dir)
+        tl.mark("summarized")
+    tl.write(out_dir, s.world.name)
     return result
+
+
+def write_metrics(s: system_mod.System, log: Path, scenario: Path, out_dir: Path) -> Path | None:
+    """The field's metrics of the run (docs/metrics.md), scored from its log with the scenario as
+    the map: out_dir/metrics.json and metrics.csv (`coopnav_ctl metrics`, its output in
+    metrics.log). Returns the JSON's path, None when the log could not be scored."""
+    json_path, csv_path = out_dir / "metrics.json", out_dir / "metrics.csv"
+    rc = supervise.call_logged([str(s.tool("ctl")), "metrics", str(log), "--map", str(scenario),
+                                "--json", str(json_path), "--csv", str(csv_path)],
+                               out_dir / "metrics.log")
+    return json_path if rc == 0 and json_path.is_file() else None
 
 
 def outcome_failure(entry: dict | None) -> str | None:

@@ -1,4 +1,4 @@
-"""A population on a Slurm cluster: the runs as an sbatch array job (docs/slurm.md).
+"""A population or an ablation on a Slurm cluster: the runs as an sbatch array job (docs/slurm.md).
 
 `scripts/coopnav population --slurm ...` generates the scenario files where it is started (a
 login node; DIR must be on a file system the compute nodes share), submits one array job of
@@ -148,13 +148,55 @@ def run_population(args: argparse.Namespace, out: Path, options: pop.RunOptions,
     return pop.aggregate(out)
 
 
+SPECS_FILE = "specs.jsonl"  # DIR/slurm/specs.jsonl: an ablation's runs, one RunSpec a line
+
+
+def run_specs(args: argparse.Namespace, out: Path, specs: Sequence[pop.RunSpec],
+              jobs: int) -> int:
+    """`ablation --slurm`: the given runs (each run's folder DIR/runs/<spec name>) as an array
+    job, each task a slice of DIR/slurm/specs.jsonl; waits for it unless --slurm-no-wait.
+    The caller aggregates."""
+    names = [sp.name for sp in specs]
+    tasks = args.slurm_tasks or max(1, math.ceil(len(names) / 10))
+    tasks = max(1, min(tasks, len(names)))
+    sdir = out / SLURM_DIR
+    sdir.mkdir(exist_ok=True)
+    (sdir / SPECS_FILE).write_text("".join(sp.to_json() + "\n" for sp in specs))
+    port_base = int(os.environ.get("COOPNAV_POP_PORT_BASE", "7400"))
+    timeout_s = max((sp.timeout_s for sp in specs), default=900.0)
+    (sdir / "options.json").write_text(json.dumps(
+        {"tasks": tasks, "jobs": jobs, "port_base": port_base, "specs": SPECS_FILE,
+         "timeout_s": timeout_s}, indent=1) + "\n")
+    start = time.monotonic()
+    try:
+        job_id = submit(out, tasks, jobs, args.slurm_max_running, args.slurm_arg)
+    except (OSError, RuntimeError) as e:
+        print(f"slurm: {e}", file=sys.stderr)
+        return 2
+    print(f"slurm: {len(names)} runs as Slurm job {job_id}: {tasks} tasks, {jobs} runs at a time "
+          f"each, in {out}", flush=True)
+    if args.slurm_no_wait:
+        print(f"slurm: when `squeue -j {job_id}` is empty, aggregate {out}")
+        return 0
+    wait(out, job_id, names)
+    (out / "timing.txt").write_text(
+        f"runs {len(names)} jobs {jobs} wall_s {time.monotonic() - start:.1f} slurm_job {job_id} "
+        f"tasks {tasks}\n")
+    return 0
+
+
 def task_main(argv: Sequence[str]) -> int:
     """One array task: `python3 -m coopnav_exp.slurm task DIR` (SLURM_ARRAY_TASK_ID)."""
     out = Path(argv[0]).resolve()
     task = int(os.environ["SLURM_ARRAY_TASK_ID"])
     o = json.loads((out / SLURM_DIR / "options.json").read_text())
-    options = pop.RunOptions.from_dict(o["run"])
-    specs = pop.run_specs(out, options)
+    if "specs" in o:  # an ablation's runs, listed
+        specs = [pop.RunSpec.from_json(line) for line in
+                 (out / SLURM_DIR / o["specs"]).read_text().splitlines() if line]
+        options = pop.RunOptions("paper", (), float(o["timeout_s"]))
+    else:
+        options = pop.RunOptions.from_dict(o["run"])
+        specs = pop.run_specs(out, options)
     mine = [specs[i] for i in task_slice(len(specs), o["tasks"], task)]
     pop.lib_sh("coopnav_ensure_multicast")
     base = task_ports(o["port_base"], task, o["jobs"])

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import select
 import signal
 import subprocess
 import time
@@ -146,33 +147,66 @@ class Supervisor:
         self.stop(self._all)
         self._all = [p for p in self._all if p.alive()]
 
-    def wait_ready(self, waiter_cmd: Sequence[str], watched: Sequence[str], *,
-                   poll_s: float = 0.1, log: Path | None = None,
+    def start_waiter(self, waiter_cmd: Sequence[str], *, timeout_s: float = 60.0,
+                     env: Mapping[str, str] | None = None) -> subprocess.Popen:
+        """Starts `waiter_cmd` (`coopnav_ctl wait-ready NAMES --announce`) and returns once it
+        printed its first line, i.e. listens: the daemons started after it cannot send their first
+        status message unheard (the next one comes a status period later). A waiter that says
+        nothing within `timeout_s` or exits first raises StartError with what it said."""
+        waiter = subprocess.Popen(list(waiter_cmd), stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
+                                  preexec_fn=_die_with_parent,
+                                  env=None if env is None else dict(env))
+        assert waiter.stdout is not None
+        listening = select.select([waiter.stdout], [], [], timeout_s)[0]
+        if listening and waiter.stdout.readline():
+            return waiter
+        if waiter.poll() is None:
+            waiter.kill()
+        waiter.wait()
+        err = waiter.stderr.read().decode(errors="replace").strip() if waiter.stderr else ""
+        raise StartError(f"{' '.join(map(str, waiter_cmd[:2]))} did not start listening "
+                         f"(status {waiter.returncode}){': ' + err if err else ''}")
+
+    def wait_ready(self, waiter_cmd: Sequence[str] | subprocess.Popen, watched: Sequence[str],
+                   *, poll_s: float = 0.1, log: Path | None = None,
                    env: Mapping[str, str] | None = None) -> None:
-        """Runs `waiter_cmd` (e.g. `coopnav_ctl wait-ready NAMES --timeout-s T`) while watching
-        the processes `watched`: one that dies meanwhile (a bad config, map or scenario) raises
-        StartError at once, with its exit status and the end of its log, instead of after the
-        waiter's timeout. A waiter that fails raises StartError with what it said."""
+        """Runs `waiter_cmd` (e.g. `coopnav_ctl wait-ready NAMES --timeout-s T`; or waits for a
+        waiter `start_waiter` started) while watching the processes `watched`: one that dies
+        meanwhile (a bad config, map or scenario) raises StartError within `poll_s`, with its exit
+        status and the end of its log, instead of after the waiter's timeout. Returns as soon as
+        the waiter exits; a waiter that fails raises StartError with what it said."""
         out = open(log, "ab") if log else subprocess.DEVNULL
         try:
-            waiter = subprocess.Popen(list(waiter_cmd), stdout=out, stderr=subprocess.STDOUT
-                                      if log else subprocess.PIPE, stdin=subprocess.DEVNULL,
-                                      preexec_fn=_die_with_parent,
-                                      env=None if env is None else dict(env))
+            if isinstance(waiter_cmd, subprocess.Popen):
+                waiter, waiter_cmd = waiter_cmd, [str(a) for a in waiter_cmd.args]  # type: ignore[union-attr]
+            else:
+                waiter = subprocess.Popen(list(waiter_cmd), stdout=out, stderr=subprocess.STDOUT
+                                          if log else subprocess.PIPE, stdin=subprocess.DEVNULL,
+                                          preexec_fn=_die_with_parent,
+                                          env=None if env is None else dict(env))
             try:
-                while waiter.poll() is None:
+                while True:
+                    try:
+                        waiter.wait(timeout=poll_s)
+                        break
+                    except subprocess.TimeoutExpired:
+                        pass
                     dead = self.dead(watched)
                     if dead:
                         d = dead[0]
                         tail = "\n".join(f"  {d.name}: {line}" for line in d.log_tail(10))
                         raise StartError(f"{d.name} exited at start (status {d.returncode}); "
                                          f"the end of {d.log}:\n{tail}")
-                    time.sleep(poll_s)
             finally:
                 if waiter.poll() is None:
                     waiter.kill()
                     waiter.wait()
             err = b"" if log or waiter.stderr is None else waiter.stderr.read()
+            if waiter.stdout is not None and waiter.stdout is not out:
+                waiter.stdout.close()
+            if waiter.stderr is not None:
+                waiter.stderr.close()
             if waiter.returncode != 0:
                 raise StartError(f"{' '.join(map(str, waiter_cmd[:2]))} failed (status "
                                  f"{waiter.returncode}){': ' + err.decode(errors='replace').strip() if err else ''}")
@@ -181,19 +215,19 @@ class Supervisor:
                 out.close()  # type: ignore[union-attr]
 
 
-def wait_quiet(path: Path, quiet_s: float = 0.3, max_checks: int = 16) -> None:
-    """Returns once `path` stopped growing for `quiet_s` (a recorder that lags behind the run
-    has caught up), or after `max_checks` checks."""
-    size = -1
-    for _ in range(max_checks):
-        time.sleep(quiet_s)
+def wait_for_line(path: Path, text: str, timeout_s: float, check_s: float = 0.01) -> bool:
+    """Returns True once a line of `path` contains `text` (at once when one does already), False
+    after `timeout_s`: a condition checked, not a fixed sleep."""
+    end = time.monotonic() + timeout_s
+    while True:
         try:
-            now = path.stat().st_size
+            if text in path.read_text(errors="replace"):
+                return True
         except OSError:
-            now = 0
-        if now == size:
-            return
-        size = now
+            pass
+        if time.monotonic() >= end:
+            return False
+        time.sleep(check_s)
 
 
 class Ports:

@@ -54,11 +54,22 @@ class ProfileEntry:
 
 
 @dataclass(frozen=True)
+class Variant:
+    """A named way to run the same encounters (config/system.yaml `variants`, the ablation's):
+    a profile, daemons left out (and out of the scenario's lockstep participants) and arguments
+    added to a daemon's command line after the profile's."""
+
+    name: str
+    profile: str = "paper"
+    absent: tuple[str, ...] = ()
+    args: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    description: str = ""
+
+
+@dataclass(frozen=True)
 class Timing:
     ready_timeout_s: float = 60.0
-    settle_s: float = 0.3
     stop_grace_s: float = 10.0
-    record_quiet_s: float = 0.3
 
 
 @dataclass(frozen=True)
@@ -73,6 +84,7 @@ class System:
     tools: dict[str, str]
     timing: Timing
     profiles: dict[str, dict[str, ProfileEntry]] = field(default_factory=dict)
+    variants: dict[str, Variant] = field(default_factory=dict)
 
     # ---- names ----
     def names(self) -> list[str]:
@@ -221,7 +233,8 @@ def load(path: Path | str | None = None) -> System:
     if not isinstance(doc, dict):
         raise SystemConfigError(path, "(file)", "must be a mapping of daemons, world, recorder, "
                                                 "tools, timing, profiles")
-    _no_other_keys(doc, {"daemons", "world", "recorder", "tools", "timing", "profiles"}, "", path)
+    _no_other_keys(doc, {"daemons", "world", "recorder", "tools", "timing", "profiles",
+                         "variants"}, "", path)
     config_dir = path.parent
     raw = _req(doc, "daemons", "", path, list)
     if not raw:
@@ -285,9 +298,46 @@ def load(path: Path | str | None = None) -> System:
             if not all(isinstance(a, str) for a in args):
                 raise SystemConfigError(path, f"{ew}.args", "must be a list of strings")
             profiles[str(pname)][dname] = ProfileEntry(cfg, tuple(args))
+    variants = _variants(_opt(doc, "variants", "", path, dict, {}), path, profiles, seen,
+                         world.name)
     return System(path=path, config_dir=config_dir, daemons=daemons, world=world,
                   scenario_key=scenario_key, recorder_binary=rec_bin,
-                  recorder_channels=rec_channels, tools=tools, timing=timing, profiles=profiles)
+                  recorder_channels=rec_channels, tools=tools, timing=timing, profiles=profiles,
+                  variants=variants)
+
+
+def _variants(raw: dict, path: Path, profiles: dict, daemons: set[str],
+              world: str) -> dict[str, Variant]:
+    out: dict[str, Variant] = {}
+    for vname, m in raw.items():
+        where = f"variants.{vname}"
+        if not isinstance(vname, str) or not vname.replace("_", "").isalnum():
+            raise SystemConfigError(path, where, f"'{vname}' is not a plain name")
+        m = m or {}
+        if not isinstance(m, dict):
+            raise SystemConfigError(path, where, f"must be a mapping, not {m!r}")
+        _no_other_keys(m, {"profile", "absent", "args", "description"}, where, path)
+        profile = _opt(m, "profile", where, path, str, "paper")
+        if profile not in profiles:
+            raise SystemConfigError(path, f"{where}.profile",
+                                    f"no profile '{profile}' (profiles: {', '.join(profiles)})")
+        absent = _opt(m, "absent", where, path, list, [])
+        for i, d in enumerate(absent):
+            if d not in daemons:
+                raise SystemConfigError(path, f"{where}.absent[{i}]", f"no daemon '{d}'")
+        args: dict[str, tuple[str, ...]] = {}
+        for dname, a in (_opt(m, "args", where, path, dict, {}) or {}).items():
+            aw = f"{where}.args.{dname}"
+            if dname not in daemons and dname != world:
+                raise SystemConfigError(path, aw, f"no daemon '{dname}'")
+            if dname in absent:
+                raise SystemConfigError(path, aw, f"'{dname}' is absent in this variant")
+            if not isinstance(a, list) or not all(isinstance(x, str) for x in a):
+                raise SystemConfigError(path, aw, "must be a list of strings")
+            args[dname] = tuple(a)
+        out[vname] = Variant(vname, profile, tuple(absent), args,
+                             _opt(m, "description", where, path, str, ""))
+    return out
 
 
 # ---- command ----

@@ -164,7 +164,9 @@ class BandCycle {
   };
 
   /// ROOM plan for each planned human (only for humans ahead and closing; kUnknown else).
-  std::vector<RoomMove> roomPlans(const BandCycleInput& s, const PlanResult& result) const;
+  /// `obstacles`: the map with the cycle's obstacles of the moment.
+  std::vector<RoomMove> roomPlans(const BandCycleInput& s, const PlanResult& result,
+                                  const DistanceMap& obstacles) const;
   /// The command of a mode the robot drives itself (docking, retreating), else the planner's.
   Velocity2 modeCommand(const BandCycleInput& s, const ModeOutput& mode, const PlanResult& result,
                         bool hold, bool idle) const;

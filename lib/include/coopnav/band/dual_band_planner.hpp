@@ -42,8 +42,11 @@ struct PlanRequest {
   Pose2 goal;           ///< the planning agent's goal (theta used unless free_goal_heading)
   std::vector<OtherAgentInput> others;
   /// Obstacles of the moment (laser returns the static map may not hold), world frame [m]: the
-  /// bands' obstacle term sees the nearer of the map and these (PointObstacleMap). Empty: the
-  /// static map alone, as without a scan. The global path stays on the static map.
+  /// bands' obstacle term sees the nearer of the map and these (PointObstacleMap), and the
+  /// planning agent's global path goes round them: a cached path that passes nearer than its
+  /// radius (less one grid cell) to one is planned again with them. Empty: the static map alone,
+  /// as without a scan. The others' reference paths stay on the static map (the d_h reference
+  /// of the paper is the shortest path the person would take without the robot).
   std::vector<Eigen::Vector2d> obstacle_points;
   int max_iterations{0};      ///< total LM iterations; <= 0: config inner × outer
   double time_budget_s{0.0};  ///< solver time budget; <= 0: unlimited
@@ -99,6 +102,9 @@ struct PlanResult {
   /// A warm candidate (last cycle's bands) was optimised beside the fresh one this cycle.
   bool warm_candidate{false};
   std::vector<TermCost> term_costs;  ///< per cost term after the last iteration
+  /// The obstacles of the moment block every path to the goal: the band follows the static
+  /// map's path as far as they let it (the guard holds the robot short of them).
+  bool path_blocked{false};
 };
 
 class DualBandPlanner {
@@ -128,6 +134,8 @@ class DualBandPlanner {
     Eigen::Vector2d goal{0.0, 0.0};
     Path2 path;
     PathStatus status{PathStatus::kOk};
+    /// The static map's path, taken because the obstacles of the moment blocked every other.
+    bool blocked{false};
   };
 
   BandPlannerConfig config_;

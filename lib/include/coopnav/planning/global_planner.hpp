@@ -48,8 +48,13 @@ class GridPathPlanner {
 
   /// Shortest path for a disc of radius inflation_radius_m. A start or goal with less than the
   /// full radius (but at least half) free is accepted: agents stand close to walls.
+  /// `points`: obstacles of the moment (laser returns the static map does not hold, issue 45),
+  /// each a point without extent: the cells near them get the nearer of the map's clearance and
+  /// theirs for this query only, so the path goes round them with the radius and the clearance
+  /// preference it keeps from walls. The start and goal are judged on the static map alone: an
+  /// agent standing near a return must still be able to plan away from it.
   PathResult plan(const Eigen::Vector2d& start, const Eigen::Vector2d& goal,
-                  double inflation_radius_m) const;
+                  double inflation_radius_m, const std::vector<Eigen::Vector2d>& points = {}) const;
 
   const Options& options() const { return options_; }
 
@@ -60,8 +65,11 @@ class GridPathPlanner {
   };
   bool toCell(const Eigen::Vector2d& p, Cell* c) const;
   Eigen::Vector2d center(int ix, int iy) const;
-  float clearanceAt(const Eigen::Vector2d& p) const;
-  bool segmentClear(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double min_clear) const;
+  float clearanceAt(const std::vector<float>& grid, const Eigen::Vector2d& p) const;
+  bool segmentClear(const std::vector<float>& grid, const Eigen::Vector2d& a,
+                    const Eigen::Vector2d& b, double min_clear) const;
+  /// The clearance grid lowered near `points` within reach_m (a copy; the grid is shared).
+  std::vector<float> withPoints(const std::vector<Eigen::Vector2d>& points, double reach_m) const;
 
   std::shared_ptr<const DistanceMap> map_;
   Options options_;

@@ -88,6 +88,7 @@ struct StandOffConfigYaml : dialogue::StandOffConfig {
     v("resolve", resolve);
     v("go_first", go_first);
     v("robot_still_m_s", robot_still_m_s, Range{0.0, 1.0});
+    v("robot_dither_m_s", robot_dither_m_s, Range{0.0, 2.0});
     v("human_still_m_s", human_still_m_s, Range{0.0, 2.0});
     v("near_gap_m", near_gap_m, Range{0.0, 20.0});
     v("t_cross_progress_s", t_cross_progress_s, Range{0.0, 60.0});

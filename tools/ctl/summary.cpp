@@ -315,8 +315,22 @@ Json dialogueChecks(const RunLog& run) {
     // The words that end a stand-off are said to a person standing within reach and not yet
     // crossed (lib/dialogue/stand_off.hpp), whose closest approach is "now" (t_CROSS 0) because
     // nobody moves: they are not words to someone the robot is not crossing.
+    // So are the words of the robot making room to end a stand-off (a dock, a wider place, a
+    // retreat, a stop), said while the person's latest DOCK was decided on the stand-off (its
+    // reason, as the dialogue manager writes it, "round 2: stand-off: ..."): a later stand-off
+    // makes room again. Each answers a stand-off of its own: none is a group told twice.
+    const bool making_room = u.speech_act == utterance_t::ACT_INFORM_DOCKING ||
+                             u.speech_act == utterance_t::ACT_INFORM_WIDER_PLACE ||
+                             u.speech_act == utterance_t::ACT_INFORM_RETREAT ||
+                             u.speech_act == utterance_t::ACT_INFORM_STOPPING;
+    const robot_action_t* last_action = nullptr;
+    if (making_room)
+      for (const auto& a : run.actions)
+        if (a.human_id == u.human_id && a.utime <= u.utime) last_action = &a;
+    const bool stand_off_dock = last_action && last_action->action == robot_action_t::ACTION_DOCK &&
+                                last_action->reason.find("stand-off:") != std::string::npos;
     const bool ends_stand_off = u.speech_act == utterance_t::ACT_INFORM_GOING_FIRST ||
-                                u.speech_act == utterance_t::ACT_INFORM_RESUMING;
+                                u.speech_act == utterance_t::ACT_INFORM_RESUMING || stand_off_dock;
     if ((u.round == 1 || u.round == 2) && !ends_stand_off) {
       const situation_t* latest = nullptr;
       for (const auto& sit : run.situations)
@@ -341,7 +355,7 @@ Json dialogueChecks(const RunLog& run) {
         }
     }
     for (const utterance_t* e : earlier) {
-      if (e->round != u.round) continue;
+      if (e->round != u.round || ends_stand_off) continue;
       const auto& g = e->group_ids;
       const bool together =
           std::find(g.begin(), g.end(), u.human_id) != g.end() ||

@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -822,15 +823,35 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
   const double max =
       ratios.empty() ? std::nan("") : *std::max_element(ratios.begin(), ratios.end());
   const double p95 = quantile(ratios, 0.95);
-  totals["time_to_goal_ratio"] = Json{{"runs", ratios.size()},
-                                      {"median", std::isfinite(med) ? Json(med) : Json()},
-                                      {"p95", std::isfinite(p95) ? Json(p95) : Json()},
-                                      {"max", std::isfinite(max) ? Json(max) : Json()}};
+  // A run that never reached its goal (a stalemate, a contact that ended it) took unboundedly
+  // long: counted so, the p95 of every run is unbounded (null) once such runs exceed 5 %.
+  std::vector<double> all_runs = ratios;
+  all_runs.insert(all_runs.end(), static_cast<std::size_t>(goal_not_reached),
+                  std::numeric_limits<double>::infinity());
+  std::sort(all_runs.begin(), all_runs.end());
+  const double p95_all =
+      all_runs.empty() ? std::nan("")
+                       : all_runs[std::min(all_runs.size(),
+                                           std::max<std::size_t>(
+                                               static_cast<std::size_t>(std::ceil(
+                                                   0.95 * static_cast<double>(all_runs.size()))),
+                                               1)) -
+                                  1];
+  totals["time_to_goal_ratio"] =
+      Json{{"runs", ratios.size()},
+           {"median", std::isfinite(med) ? Json(med) : Json()},
+           {"p95", std::isfinite(p95) ? Json(p95) : Json()},
+           {"max", std::isfinite(max) ? Json(max) : Json()},
+           {"runs_goal_not_reached", goal_not_reached},
+           {"p95_all_runs", std::isfinite(p95_all) ? Json(p95_all) : Json()}};
   auto maxOf = [](const std::vector<double>& v) {
     return v.empty() ? Json() : Json(*std::max_element(v.begin(), v.end()));
   };
   totals["stalemates"] = stalemates;
   totals["max_mutual_wait_s"] = maxOf(mutual_waits);
+  totals["mutual_waits_over_limit"] =
+      std::count_if(mutual_waits.begin(), mutual_waits.end(),
+                    [](double w) { return w > kStalemateMutualWait_s; });
   const double stalled_median = median(stalled);
   totals["stalled_s"] =
       Json{{"median", std::isfinite(stalled_median) ? Json(stalled_median) : Json()},
@@ -1194,12 +1215,20 @@ inline std::string formatTable(const Json& population) {
   const Json& ttg = t.at("time_to_goal_ratio");
   s += "\ntime to goal against the run without humans: median " + num(ttg.at("median"), "%.2f") +
        ", p95 " + num(ttg.value("p95", Json()), "%.2f") + ", max " + num(ttg.at("max"), "%.2f") +
-       " over " + ttg.at("runs").dump() + " runs\n";
+       " over " + ttg.at("runs").dump() + " runs that reached it";
+  if (ttg.contains("p95_all_runs"))
+    s += "; p95 of all runs, the " + ttg.at("runs_goal_not_reached").dump() +
+         " that did not reach it counted as unbounded: " +
+         (ttg.at("p95_all_runs").is_null() ? std::string("unbounded")
+                                           : num(ttg.at("p95_all_runs"), "%.2f"));
+  s += "\n";
   if (t.contains("stalemates"))
     s += "progress: stalemates (STANDSTILL, TIME_LIMIT or a mutual wait over " +
          fmt("%.0f", kStalemateMutualWait_s) + " s) " + t.at("stalemates").dump() +
-         ", longest mutual wait " + num(t.at("max_mutual_wait_s"), "%.1f") +
-         " s, stalled time median " + num(t.at("stalled_s").at("median"), "%.1f") + " s, max " +
+         ", runs with a mutual wait over " + fmt("%.0f", kStalemateMutualWait_s) + " s " +
+         t.value("mutual_waits_over_limit", Json()).dump() + ", longest mutual wait " +
+         num(t.at("max_mutual_wait_s"), "%.1f") + " s, stalled time median " +
+         num(t.at("stalled_s").at("median"), "%.1f") + " s, max " +
          num(t.at("stalled_s").at("max"), "%.1f") + " s\n";
   if (t.contains("goal_inference") && t.at("goal_inference").at("humans").get<int>() > 0) {
     const Json& gi = t.at("goal_inference");

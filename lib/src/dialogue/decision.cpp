@@ -285,6 +285,7 @@ void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, Deci
       r.branch = head + " & docked & !made room -> resume";
       say(SpeechAct::kInformResuming, Side::kUndefined, 2, out);
     }
+    out.utterances.back().resolves_stand_off = true;
   } else if (made_room && !config_.go_first_when_not_docked) {
     r.branch = head + " & made room -> silent";
     r.reason = "the robot is not docked and does not go first (stand_off.go_first false)";
@@ -295,14 +296,19 @@ void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, Deci
     went_first_ = true;
     out.robot_actions.push_back(RobotAction::kGoFirst);
     say(SpeechAct::kInformGoingFirst, Side::kUndefined, 2, out);
-  } else if (!docked_ever_) {
-    // Not made room, or going first did not end the wait (the guard kept the robot back):
-    // the robot makes room instead, once, and says so.
-    r.branch = head + (made_room ? " & made room & went first -> dock" : " & !made room -> dock");
-    dock(out, false, s.room_plan);
+    out.utterances.back().resolves_stand_off = true;
   } else {
-    r.branch = head + " & docked once -> silent";
-    r.reason = "the robot made room once in this interaction and went on";
+    // Not made room, or going first did not end the wait (the guard kept the robot back): the
+    // robot makes room, and says so. Again after a dock that ended (the person did not come, or
+    // the robot went on and met them again): a stand-off is never left to silence; every dock
+    // ends, by the person passing or by its bounded wait, with words (issue 44).
+    r.branch = head + (made_room ? " & made room & went first" : " & !made room") +
+               (docked_ever_ ? " & docked before -> dock again" : " -> dock");
+    const std::size_t first = out.utterances.size();
+    dock(out, false, s.room_plan);
+    dock_resolves_stand_off_ = true;
+    for (std::size_t k = first; k < out.utterances.size(); ++k)
+      out.utterances[k].resolves_stand_off = true;
   }
   out.rounds.push_back(r);
 }
@@ -313,6 +319,8 @@ void HumanDecision::announceRetreat(const DecisionInput& in, DecisionOutput& out
   if (!docked_ || retreat_said_ || !in.situation.robot_retreating || in.crossed) return;
   retreat_said_ = true;
   say(SpeechAct::kInformRetreat, Side::kUndefined, 2, out);
+  // A dock that resolved a stand-off escalated: nobody is going yet, no crossing to be late for.
+  out.utterances.back().resolves_stand_off = dock_resolves_stand_off_;
 }
 
 // Paper §II-D, round 1 (design-readings, "Decision pipeline").
@@ -477,14 +485,16 @@ void HumanDecision::dock(DecisionOutput& out, bool precautionary, RoomPlan room)
   out.robot_actions.push_back(RobotAction::kDock);
   docked_ = true;
   docked_ever_ = true;
+  dock_resolves_stand_off_ = false;  // resolveStandOff sets it after the call
   // What the robot will really do (the band source checked the passage its dock would leave):
   // the promise must hold. Unknown keeps the paper's sentence.
   const SpeechAct concrete = room == RoomPlan::kWiderPlace ? SpeechAct::kInformWiderPlace
                              : room == RoomPlan::kRetreat  ? SpeechAct::kInformRetreat
                              : room == RoomPlan::kNone     ? SpeechAct::kInformStopping
                                                            : SpeechAct::kInformDocking;
+  // Each dock is its own promise: a retreat it escalates to is announced anew (announceRetreat).
+  retreat_said_ = concrete == SpeechAct::kInformRetreat;
   if (concrete != SpeechAct::kInformDocking) {
-    retreat_said_ = concrete == SpeechAct::kInformRetreat;
     say(concrete, Side::kUndefined, 2, out);
   } else if (precautionary) {
     out.utterances.push_back({SpeechAct::kInformDocking, Side::kUndefined, 2,

@@ -391,8 +391,8 @@ void Session::emit(const Stamp& stamp, const DecisionOutput& decision,
     const std::optional<double> t = u.round == 3 ? std::nullopt : t_cross_s;
     const std::string what =
         "\"" + u.text + "\" (" + toString(u.act) + ", round " + std::to_string(u.round);
-    // Words that end a stand-off have no crossing to be late for: nobody is going yet.
-    const bool has_deadline = !endsStandOff(u.act);
+    // Words that decide a stand-off have no crossing to be late for: nobody is going yet.
+    const bool has_deadline = !endsStandOff(u.act) && !u.resolves_stand_off;
     if (c && c->verdict != CrowdVerdict::kSay) {
       // Decided, not said (crowd.hpp): published all the same, as every decided utterance is.
       SpeechSlot slot;

@@ -1,5 +1,6 @@
 #include "coopnav/dialogue/stand_off.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace coopnav::dialogue {
@@ -19,6 +20,7 @@ const char* toString(StandOff s) {
 void StandOffWatch::restart() {
   wait_since_s_.reset();
   wait_best_t_cross_s_.reset();
+  wait_robot_path_m_ = 0.0;
   dock_since_s_.reset();
   mutual_wait_s_ = 0.0;
   dock_wait_s_ = 0.0;
@@ -31,9 +33,13 @@ StandOff StandOffWatch::update(const StandOffInput& in, bool docked) {
   if (!finite) {
     wait_since_s_.reset();
     wait_best_t_cross_s_.reset();
+    wait_robot_path_m_ = 0.0;
+    last_t_s_.reset();
     mutual_wait_s_ = 0.0;
     return StandOff::kNone;
   }
+  const double dt_s = last_t_s_ && in.t_s > *last_t_s_ ? in.t_s - *last_t_s_ : 0.0;
+  last_t_s_ = in.t_s;
   const std::optional<double> t_cross =
       in.t_cross_s && std::isfinite(*in.t_cross_s) ? in.t_cross_s : std::nullopt;
 
@@ -50,22 +56,40 @@ StandOff StandOffWatch::update(const StandOffInput& in, bool docked) {
   }
   if (dock_since_s_) dock_wait_s_ = in.t_s - *dock_since_s_;
 
-  // Both still and near: a wait, unless the crossing gets closer.
-  const bool waiting = in.robot_speed_m_s < config_.robot_still_m_s &&
-                       in.human_speed_m_s < config_.human_still_m_s &&
-                       in.gap_m <= config_.near_gap_m;
+  // Both still and near: a wait, unless the crossing gets closer. The robot is still at a step
+  // below robot_still_m_s; once a wait began, also while it dithers in place: its mean speed since
+  // then below robot_still_m_s, no step above robot_dither_m_s. (Judged step by step, a robot whose
+  // planner and guard take turns in front of a person never waits 3 s on end, and the stand-off is
+  // never seen.)
+  bool robot_still = in.robot_speed_m_s < config_.robot_still_m_s;
+  // Docked, the robot holds still: what moves it there is the guard evading a person closing
+  // in (squeezing past), which is no wait.
+  if (!docked && wait_since_s_ && !robot_still && in.robot_speed_m_s < config_.robot_dither_m_s) {
+    // The mean over at least mutual_wait_s: one step of dithering just after the wait began
+    // does not end it.
+    const double over_s = std::max(in.t_s - *wait_since_s_, config_.mutual_wait_s);
+    robot_still = wait_robot_path_m_ + in.robot_speed_m_s * dt_s < config_.robot_still_m_s * over_s;
+  }
+  const bool waiting =
+      robot_still && in.human_speed_m_s < config_.human_still_m_s && in.gap_m <= config_.near_gap_m;
   if (!waiting) {
     wait_since_s_.reset();
     wait_best_t_cross_s_.reset();
+    wait_robot_path_m_ = 0.0;
   } else if (!wait_since_s_) {
     wait_since_s_ = in.t_s;
     wait_best_t_cross_s_ = t_cross;
-  } else if (t_cross) {
+    wait_robot_path_m_ = 0.0;
+  } else {
+    wait_robot_path_m_ += in.robot_speed_m_s * dt_s;
+  }
+  if (waiting && wait_since_s_ && *wait_since_s_ < in.t_s && t_cross) {
     if (!wait_best_t_cross_s_) {
       wait_best_t_cross_s_ = t_cross;
     } else if (*t_cross < *wait_best_t_cross_s_ - config_.t_cross_progress_s) {
       wait_since_s_ = in.t_s;  // the crossing got closer: a new wait, if any, from here
       wait_best_t_cross_s_ = t_cross;
+      wait_robot_path_m_ = 0.0;
     }
   }
   mutual_wait_s_ = wait_since_s_ ? in.t_s - *wait_since_s_ : 0.0;

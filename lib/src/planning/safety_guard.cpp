@@ -185,7 +185,11 @@ GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const Gua
     constexpr double kFar = 1e3;  // clampToLimits scales it down to the fastest allowed
     const Eigen::Vector2d b = worldToBody(d, in.robot.theta_rad);
     const Velocity2 cmd = clampToLimits({b.x() * kFar, b.y() * kFar, 0.0}, in.limits);
-    if (atRest(cmd) || !roomFor(room, in, o, cmd)) continue;
+    // An evasion is held to rule 1 as any command is: it never moves the robot towards a
+    // human it is within the clearance of (a differential drive's heading may point at them;
+    // a sideways move turns towards a person who walks past), else the robot would step into
+    // the contact it evades.
+    if (atRest(cmd) || !pr.allowed(cmd) || !roomFor(room, in, o, cmd)) continue;
     const double g = pr.minGap(cmd);
     if (g > best_gap) {
       best_gap = g;

@@ -55,6 +55,41 @@ TEST(StandOffWatch, BothStillAndNearWithTheCrossingNoCloserIsAMutualWaitAfterIts
   EXPECT_EQ(w.mutualWait_s(), 0.0);
 }
 
+// A robot whose planner and guard take turns in front of the person dithers in place: steps of
+// 0.00-0.10 m/s, 0.03 m/s on average. Still waiting; a robot that sets off is not.
+TEST(StandOffWatch, ARobotDitheringInPlaceIsStillWaitingOneSettingOffIsNot) {
+  StandOffWatch w;
+  auto dither = [](double u) {
+    StandOffInput in = still(u);
+    const int k = static_cast<int>(std::lround(u * 4.0)) % 4;
+    in.robot_speed_m_s = k == 1 ? 0.10 : (k == 3 ? 0.02 : 0.0);
+    return in;
+  };
+  const auto [s, t] = run(w, 0.0, 10.0, false, dither);
+  EXPECT_EQ(s, StandOff::kMutualWait);
+  EXPECT_NEAR(t, StandOffConfig{}.mutual_wait_s, 0.25 + 1e-9);
+  // Dithering faster on average than robot_still_m_s is moving.
+  StandOffWatch busy;
+  EXPECT_EQ(run(busy, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = still(u);
+                  in.robot_speed_m_s = static_cast<int>(std::lround(u * 4.0)) % 2 ? 0.12 : 0.0;
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+  // Setting off (one step above robot_dither_m_s) ends the wait at once.
+  StandOffWatch off;
+  EXPECT_EQ(run(off, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = still(u);
+                  if (static_cast<int>(std::lround(u * 4.0)) % 8 == 7) in.robot_speed_m_s = 0.2;
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+}
+
 TEST(StandOffWatch, TheCrossingGettingCloserIsNoMutualWait) {
   StandOffWatch w;
   // t_CROSS falls 0.3 s a second: every 0.5 s of it restarts the wait, which never lasts 3 s.
@@ -225,33 +260,77 @@ TEST(StandOffDecision, DockedInAMutualWaitWithAPersonWhoMadeRoomTheRobotGoesFirs
   EXPECT_EQ(fits[0].utterances.at(0).act, SpeechAct::kInformGoingFirst);
 }
 
-TEST(StandOffDecision, NotDockedAPersonWhoDidNotMakeRoomIsGivenWayOnceAndToldSo) {
+TEST(StandOffDecision, NotDockedAPersonWhoDidNotMakeRoomIsGivenWayWithWordsAtEveryStandOff) {
   HumanDecision dut;
   // Round 2 silent (the person moved enough then: CM 0.9 >= d_h), then both stand.
   dut.step(narrow(0.0, 6.5));
-  const auto outs = steps(dut, 1.0, 30.0, [](double u) {
+  const auto outs = steps(dut, 1.0, 40.0, [](double u) {
     DecisionInput in = withMotion(narrow(u, 3.5));
     // The person has since stepped back into the way: its plan needs it to move (CM reset).
     in.path.cm_window_m = u < 1.05 ? 0.9 : 0.1;
+    // Near the crossing, the words of a stand-off are still said (they have no deadline).
+    in.situation.t_cross_s = 0.4;
     return in;
   });
-  ASSERT_GE(outs.size(), 3u);
+  ASSERT_GE(outs.size(), 5u);
   // Round 2 at 1 s is silent; the mutual wait at 4 s docks with words ...
   EXPECT_TRUE(outs[0].robot_actions.empty());
   EXPECT_EQ(outs[1].robot_actions, std::vector<RobotAction>{RobotAction::kDock});
   ASSERT_EQ(outs[1].utterances.size(), 1u);
   EXPECT_EQ(outs[1].utterances[0].act, SpeechAct::kInformDocking);
+  EXPECT_TRUE(outs[1].utterances[0].resolves_stand_off);
   EXPECT_NEAR(outs[1].rounds[0].t_s, 1.0 + StandOffConfig{}.mutual_wait_s, 1e-9);
   // ... the person still stands: the dock ends with words after its bounded wait ...
   EXPECT_EQ(outs[2].robot_actions, std::vector<RobotAction>{RobotAction::kResume});
   EXPECT_EQ(outs[2].utterances.at(0).act, SpeechAct::kInformResuming);
-  // ... and the robot does not dock again: later stand-offs are logged, nothing said or done.
+  // ... and every later stand-off is resolved the same way, within the same bounds, never in
+  // silence: a dock with its words, ended with words after its wait.
+  double last_t_s = outs[2].rounds.at(0).t_s;
   for (std::size_t i = 3; i < outs.size(); ++i) {
-    EXPECT_TRUE(outs[i].utterances.empty());
-    EXPECT_TRUE(outs[i].robot_actions.empty());
     ASSERT_EQ(outs[i].rounds.size(), 1u);
-    EXPECT_FALSE(outs[i].rounds[0].reason.empty());
+    ASSERT_EQ(outs[i].robot_actions.size(), 1u);
+    ASSERT_EQ(outs[i].utterances.size(), 1u);
+    EXPECT_TRUE(outs[i].rounds[0].reason.empty()) << outs[i].rounds[0].reason;
+    const bool docks = i % 2 == 1;
+    EXPECT_EQ(outs[i].robot_actions[0], docks ? RobotAction::kDock : RobotAction::kResume);
+    EXPECT_EQ(outs[i].utterances[0].act,
+              docks ? SpeechAct::kInformDocking : SpeechAct::kInformResuming);
+    if (docks) {
+      EXPECT_NE(outs[i].rounds[0].branch.find("docked before -> dock again"), std::string::npos)
+          << outs[i].rounds[0].branch;
+    }
+    const double bound_s = docks ? StandOffConfig{}.mutual_wait_s : StandOffConfig{}.dock_wait_s;
+    EXPECT_LE(outs[i].rounds[0].t_s - last_t_s, bound_s + 0.25 + 1e-9);
+    last_t_s = outs[i].rounds[0].t_s;
   }
+}
+
+// A later dock escalated to a retreat by the band source is announced again: each dock is its
+// own promise.
+TEST(StandOffDecision, ALaterDockThatBecomesARetreatIsAnnounced) {
+  HumanDecision dut;
+  dut.step(narrow(0.0, 6.5));
+  // Round 2 docks as a retreat: "I will back up to let you pass." said at once.
+  DecisionInput first = withMotion(narrow(1.0, 3.5));
+  first.situation.room_plan = RoomPlan::kRetreat;
+  ASSERT_EQ(dut.step(first).utterances.at(0).act, SpeechAct::kInformRetreat);
+  // The person never comes: the dock ends, the two meet again, the robot docks again (here) ...
+  auto outs = steps(dut, 1.25, 14.0, [](double u) {
+    DecisionInput in = withMotion(narrow(u, 3.5), 4.0);
+    in.motion->human_speed_m_s = 0.5;
+    return in;
+  });
+  ASSERT_EQ(outs.size(), 1u);  // the dock's end
+  outs = steps(dut, 14.25, 18.0, [](double u) { return withMotion(narrow(u, 3.5)); });
+  ASSERT_EQ(outs.size(), 1u);
+  EXPECT_EQ(outs[0].utterances.at(0).act, SpeechAct::kInformDocking);
+  // ... and then backs away as the person closes: said, though a retreat was said before.
+  DecisionInput retreating = withMotion(narrow(18.25, 3.5));
+  retreating.situation.robot_retreating = true;
+  const DecisionOutput told = dut.step(retreating);
+  ASSERT_EQ(told.utterances.size(), 1u);
+  EXPECT_EQ(told.utterances[0].act, SpeechAct::kInformRetreat);
+  EXPECT_TRUE(told.utterances[0].resolves_stand_off);  // said even at the crossing's door
 }
 
 // Not docked, a person who made room waits for the robot, which waits too: the robot goes

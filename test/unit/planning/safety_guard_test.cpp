@@ -112,6 +112,43 @@ TEST(SafetyGuardTest, WithAWallBehindAHolonomicRobotEvadesSidewaysToTheFreeSide)
   EXPECT_GT(v.y(), 2.0 * std::abs(v.x()));  // sideways, to the free side
 }
 
+// An evasion is held to the scaling's rule: it never moves the robot towards a human within the
+// clearance. A differential drive turned across the corridor (docking) whose heading points
+// half at a person walking in must not drive forwards into them to get out of their lane; a
+// holonomic robot by a wall must not slide towards a person squeezing past it.
+TEST(SafetyGuardTest, AnEvasionNeverMovesTowardsAHumanWithinTheClearance) {
+  const auto map = open();
+  for (const double theta : {M_PI / 4.0, -M_PI / 4.0, M_PI / 3.0}) {
+    GuardInput in;
+    in.robot = {0.0, 0.0, theta};
+    in.robot_radius_m = kRobotRadius_m;
+    in.limits.holonomic = false;
+    const GuardHuman h = human(1.0, -0.2 * std::sin(theta) / std::abs(std::sin(theta)), -1.05,
+                               0.0);  // gap 0.25 m, walking in
+    in.humans = {h};
+    const GuardOutput g = guardCommand(*map, in, {});
+    const Eigen::Vector2d v = world(g.command_body, theta);
+    EXPECT_LE(v.dot(h.position - in.robot.position()), 1e-9)
+        << "theta " << theta << ": " << toString(g.action) << " (" << v.transpose() << ")";
+  }
+  // Holonomic, 0.09 m off a wall below it, a person passing above it, nearly alongside.
+  auto walled = open();
+  walled->addBox({Eigen::Vector2d(-3.0, -3.0), Eigen::Vector2d(3.0, -0.56)});
+  GuardInput in = robotAtOrigin({});
+  const GuardHuman passing = human(-0.2, 0.78, -0.6, 0.1);
+  in.humans = {passing};
+  const GuardOutput g = guardCommand(*walled, in, {});
+  const Eigen::Vector2d v = world(g.command_body, 0.0);
+  for (int k = 0; k <= 10; ++k) {
+    const double t = 0.1 * k;
+    const Eigen::Vector2d r = v * t;
+    const Eigen::Vector2d p = passing.position + passing.velocity * t;
+    if ((p - r).norm() - kRobotRadius_m - kHumanRadius_m < GuardOptions{}.min_clearance_m) {
+      EXPECT_LE(r.dot(p - r), 1e-9) << "t " << t << ": " << toString(g.action);
+    }
+  }
+}
+
 TEST(SafetyGuardTest, WithNoRoomTheRobotStaysPut) {
   // The robot in the closed end of a 1.1 m corridor, a human walking in at it.
   const auto map = BoxMap::corridor(0.0, 30.0, 0.0, 1.1);

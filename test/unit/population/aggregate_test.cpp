@@ -113,6 +113,24 @@ TEST(PopulationAggregate, StandstillsTimeLimitsAndEveryContactAreRunsEndedBadly)
   EXPECT_DOUBLE_EQ(out["totals"]["stalled_s"]["max"].get<double>(), 4.0);
   // Ratios 40/30 (a, b, c, d) and 75/30 (e): the 95th percentile by nearest rank is e's.
   EXPECT_DOUBLE_EQ(out["totals"]["time_to_goal_ratio"]["p95"].get<double>(), 2.5);
+  EXPECT_EQ(out["totals"]["mutual_waits_over_limit"], 1);  // e
+  EXPECT_EQ(out["totals"]["time_to_goal_ratio"]["runs_goal_not_reached"], 0);
+  EXPECT_DOUBLE_EQ(out["totals"]["time_to_goal_ratio"]["p95_all_runs"].get<double>(), 2.5);
+
+  // The standstill and the time limit never reached the goal: beside the p95 of the runs that
+  // did (a, d, e), the p95 of every run counts them as unbounded.
+  s["b"]["robot_time_to_goal_s"] = nullptr;
+  s["c"]["robot_time_to_goal_s"] = nullptr;
+  const Json failed = pop::aggregatePopulation(p, s);
+  EXPECT_EQ(failed["totals"]["time_to_goal_ratio"]["runs"], 3);
+  EXPECT_DOUBLE_EQ(failed["totals"]["time_to_goal_ratio"]["p95"].get<double>(), 2.5);
+  EXPECT_EQ(failed["totals"]["time_to_goal_ratio"]["runs_goal_not_reached"], 2);
+  EXPECT_TRUE(failed["totals"]["time_to_goal_ratio"]["p95_all_runs"].is_null());
+  const std::string table = pop::formatTable(failed);
+  EXPECT_NE(table.find("the 2 that did not reach it counted as unbounded: unbounded"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("runs with a mutual wait over 10 s 1"), std::string::npos) << table;
 
   s["b"] = s["c"] = s["d"] = s["e"] = s["a"];
   EXPECT_TRUE(pop::runsEndedBadly(pop::aggregatePopulation(p, s)).empty());

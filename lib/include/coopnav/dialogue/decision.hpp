@@ -221,6 +221,9 @@ struct Utterance {
   Side direction{Side::kUndefined};
   int round{0};
   std::string text;
+  /// Said to resolve a stand-off (HumanDecision::resolveStandOff): nobody is going, so the
+  /// words have no crossing to be late for, and the action they announce waits for nothing.
+  bool resolves_stand_off{false};
 };
 
 /// The wordings of utterance `u`, longest first: its own text, then the shorter wording of the
@@ -290,9 +293,10 @@ class HumanDecision {
   void announceRetreat(const DecisionInput& in, DecisionOutput& out);
   /// A stand-off reached (StandOffWatch): decided on the cooperation assessment. Docked: resume,
   /// saying "Thank you, I will go first." when the person made room and the passage fits, else
-  /// "I will go now.". Not docked, in a mutual wait: the person made room, nothing the robot can
-  /// request makes its planner go first (it says so in the round's reason); the person did not,
-  /// dock or retreat (once per interaction) and say so.
+  /// "I will go now.". Not docked, in a mutual wait: the person made room, the robot goes first
+  /// (once per interaction) and says so; the person did not, or going first did not end the
+  /// wait, the robot makes room (dock, wider place, retreat: the band source's room plan) and
+  /// says so, again at every later stand-off. Never silent (issue 44).
   void resolveStandOff(const DecisionInput& in, StandOff what, DecisionOutput& out);
 
   DecisionConfig config_;
@@ -301,8 +305,9 @@ class HumanDecision {
   bool docked_{false};
   bool retreat_said_{false};
   bool ended_{false};
-  bool docked_ever_{false};  ///< a dock was requested in this interaction
-  bool went_first_{false};   ///< a stand-off ended in GO_FIRST in this interaction
+  bool docked_ever_{false};              ///< a dock was requested in this interaction
+  bool went_first_{false};               ///< a stand-off ended in GO_FIRST in this interaction
+  bool dock_resolves_stand_off_{false};  ///< the current dock was requested by resolveStandOff
   StandOffWatch watch_;
 };
 

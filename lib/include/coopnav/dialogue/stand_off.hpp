@@ -12,8 +12,15 @@ namespace coopnav::dialogue {
 
 /// Thresholds of the watch. Defaults in this one place.
 struct StandOffConfig {
-  /// [m/s] The robot is still below this speed (issue 44's stalled speed).
+  /// [m/s] The robot is still below this speed (issue 44's stalled speed): a wait begins at a
+  /// step below it, and goes on while the robot's mean speed since it began (over at least
+  /// mutual_wait_s) stays below it.
   double robot_still_m_s{0.05};
+  /// [m/s] ... and while no single step is above this: a robot that sets off ends the wait at
+  /// once, one that dithers in place (its planner and guard taking turns, steps of a few cm/s
+  /// either way) does not. Not while docked: a docked robot holds still, and what moves it is
+  /// the guard evading a person who closes in to squeeze past.
+  double robot_dither_m_s{0.15};
   /// [m/s] A person waits below this speed: well under a walk (≥ 0.5 m/s), above the velocity
   /// noise of a tracked person standing still.
   double human_still_m_s{0.2};
@@ -75,6 +82,8 @@ class StandOffWatch {
   StandOffConfig config_;
   std::optional<double> wait_since_s_;  ///< both still and near since, the crossing no closer
   std::optional<double> wait_best_t_cross_s_;
+  double wait_robot_path_m_{0.0};       ///< [m] the robot's path since the wait began (speed x dt)
+  std::optional<double> last_t_s_;      ///< the previous update's time
   std::optional<double> dock_since_s_;  ///< docked, no progress since
   double dock_best_distance_m_{0.0};
   double mutual_wait_s_{0.0};

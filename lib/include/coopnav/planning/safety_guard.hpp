@@ -64,8 +64,9 @@ struct GuardOutput {
 /// Evading: when a closing human is predicted within evade_gap_m under the (guarded) command
 /// (at rest, stopped, or the planner's own avoidance that is too slow), the direction among a fan
 /// around "away from the human" (holonomic) or along the heading, forwards or backwards
-/// (differential drive), that keeps the largest predicted gap, larger than the command's, and
-/// has free room, at the fastest speed the limits allow; none such: the command stays.
+/// (differential drive), that keeps the largest predicted gap, larger than the command's, has
+/// free room and is allowed by the scaling's rule (it never moves towards a human within the
+/// clearance), at the fastest speed the limits allow; none such: the command stays.
 GuardOutput guardCommand(const DistanceMap& map, const GuardInput& in, const GuardOptions& o);
 
 }  // namespace coopnav

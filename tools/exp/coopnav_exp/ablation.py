@@ -331,6 +331,15 @@ def document(out: Path, *, seed: int, n_boot: int, bootstrap_seed: int,
 # ---- figures
 
 
+def _style(ax, variants: Sequence[str], part: str, key: str) -> None:
+    """One headline metric's panel: the variants along x, the metric's name above."""
+    ax.set_xticks(range(len(variants)))
+    ax.set_xticklabels(variants, rotation=35, ha="right", fontsize=7)
+    ax.set_title(_label(part, key), fontsize=8)
+    ax.tick_params(axis="y", labelsize=7)
+    ax.grid(axis="y", alpha=0.3)
+
+
 def figures(doc: dict, out: Path) -> list[Path]:
     """ablation_metrics (per variant, each headline metric with its interval) and
     ablation_paired (each variant's difference from the reference with its interval)."""
@@ -356,11 +365,7 @@ def figures(doc: dict, out: Path) -> list[Path]:
             hi = (r["hi"] if r["hi"] is not None else r["value"]) - r["value"]
             ax.errorbar([i], [r["value"]], yerr=[[lo], [hi]], fmt="o", capsize=3,
                         color="#7f7f7f" if n == res["reference"] else "#1f77b4")
-        ax.set_xticks(range(len(names)))
-        ax.set_xticklabels(names, rotation=35, ha="right", fontsize=7)
-        ax.set_title(_label(part, key), fontsize=8)
-        ax.tick_params(axis="y", labelsize=7)
-        ax.grid(axis="y", alpha=0.3)
+        _style(ax, names, part, key)
     for ax in list(axes.flat)[len(HEADLINE):]:
         ax.set_visible(False)
     fig.suptitle(f"{doc['encounters']} encounters (seed {doc['seed']}) per variant, 95 % "
@@ -385,11 +390,7 @@ def figures(doc: dict, out: Path) -> list[Path]:
                 ax.errorbar([i], [d], yerr=[[lo], [hi]], fmt="o", capsize=3,
                             color="#d62728" if sure else "#1f77b4")
             ax.axhline(0.0, color="#404040", lw=0.8)
-            ax.set_xticks(range(len(others)))
-            ax.set_xticklabels(others, rotation=35, ha="right", fontsize=7)
-            ax.set_title(_label(part, key), fontsize=8)
-            ax.tick_params(axis="y", labelsize=7)
-            ax.grid(axis="y", alpha=0.3)
+            _style(ax, others, part, key)
         for ax in list(axes.flat)[len(HEADLINE):]:
             ax.set_visible(False)
         fig.suptitle(f"difference from {res['reference']} on the same encounters, 95 % "

@@ -116,36 +116,51 @@ def wait(out: Path, job_id: str, names: Sequence[str], poll_s: float = 2.0) -> N
           flush=True)
 
 
-def run_population(args: argparse.Namespace, out: Path, options: pop.RunOptions,
-                   jobs: int) -> int:
-    """`population --slurm`: DIR is generated; submit, wait, aggregate."""
-    names = [name for name, _, _ in pop.read_jobs(out)]
-    tasks = args.slurm_tasks or max(1, math.ceil(len(names) / 10))
-    tasks = max(1, min(tasks, len(names)))
+def _prepare(args: argparse.Namespace, out: Path, n_runs: int) -> tuple[int, Path, int]:
+    """The array's task count (--slurm-tasks, else a task per 10 runs), DIR/slurm and the port
+    base its tasks start from."""
+    tasks = args.slurm_tasks or max(1, math.ceil(n_runs / 10))
+    tasks = max(1, min(tasks, n_runs))
     sdir = out / SLURM_DIR
     sdir.mkdir(exist_ok=True)
-    port_base = int(os.environ.get("COOPNAV_POP_PORT_BASE", "7400"))
-    (sdir / "options.json").write_text(json.dumps(
-        {"tasks": tasks, "jobs": jobs, "port_base": port_base, "run": options.to_dict()},
-        indent=1) + "\n")
+    return tasks, sdir, int(os.environ.get("COOPNAV_POP_PORT_BASE", "7400"))
+
+
+def _submit_and_wait(args: argparse.Namespace, out: Path, names: Sequence[str], tasks: int,
+                     jobs: int, prog: str, aggregate_hint: str) -> int | None:
+    """Submits the array written in DIR/slurm and waits until it has left the queue (then
+    DIR/timing.txt), unless --slurm-no-wait. Returns the exit code when the caller must stop
+    here (2: not submitted; 0: not waited for), None once the job has ended."""
     start = time.monotonic()
     try:
         job_id = submit(out, tasks, jobs, args.slurm_max_running, args.slurm_arg)
     except (OSError, RuntimeError) as e:
-        print(f"{pop.PROG}: {e}", file=sys.stderr)
+        print(f"{prog}: {e}", file=sys.stderr)
         return 2
-    print(f"{pop.PROG}: {len(names)} runs as Slurm job {job_id}: {tasks} tasks, {jobs} runs at "
+    print(f"{prog}: {len(names)} runs as Slurm job {job_id}: {tasks} tasks, {jobs} runs at "
           f"a time each, in {out}", flush=True)
     if args.slurm_no_wait:
-        print(f"{pop.PROG}: when `squeue -j {job_id}` is empty: scripts/coopnav population "
-              f"--slurm-aggregate {out}")
+        print(f"{prog}: when `squeue -j {job_id}` is empty: {aggregate_hint}")
         return 0
     wait(out, job_id, names)
     wall_s = time.monotonic() - start
     (out / "timing.txt").write_text(
         f"runs {len(names)} jobs {jobs} wall_s {wall_s:.1f} slurm_job {job_id} tasks {tasks}\n")
-    print(f"{pop.PROG}: {len(names)} runs in {wall_s:.1f} s wall on Slurm", flush=True)
-    return pop.aggregate(out)
+    print(f"{prog}: {len(names)} runs in {wall_s:.1f} s wall on Slurm", flush=True)
+    return None
+
+
+def run_population(args: argparse.Namespace, out: Path, options: pop.RunOptions,
+                   jobs: int) -> int:
+    """`population --slurm`: DIR is generated; submit, wait, aggregate."""
+    names = [name for name, _, _ in pop.read_jobs(out)]
+    tasks, sdir, port_base = _prepare(args, out, len(names))
+    (sdir / "options.json").write_text(json.dumps(
+        {"tasks": tasks, "jobs": jobs, "port_base": port_base, "run": options.to_dict()},
+        indent=1) + "\n")
+    rc = _submit_and_wait(args, out, names, tasks, jobs, pop.PROG,
+                          f"scripts/coopnav population --slurm-aggregate {out}")
+    return pop.aggregate(out) if rc is None else rc
 
 
 SPECS_FILE = "specs.jsonl"  # DIR/slurm/specs.jsonl: an ablation's runs, one RunSpec a line
@@ -157,32 +172,14 @@ def run_specs(args: argparse.Namespace, out: Path, specs: Sequence[pop.RunSpec],
     job, each task a slice of DIR/slurm/specs.jsonl; waits for it unless --slurm-no-wait.
     The caller aggregates."""
     names = [sp.name for sp in specs]
-    tasks = args.slurm_tasks or max(1, math.ceil(len(names) / 10))
-    tasks = max(1, min(tasks, len(names)))
-    sdir = out / SLURM_DIR
-    sdir.mkdir(exist_ok=True)
+    tasks, sdir, port_base = _prepare(args, out, len(names))
     (sdir / SPECS_FILE).write_text("".join(sp.to_json() + "\n" for sp in specs))
-    port_base = int(os.environ.get("COOPNAV_POP_PORT_BASE", "7400"))
     timeout_s = max((sp.timeout_s for sp in specs), default=900.0)
     (sdir / "options.json").write_text(json.dumps(
         {"tasks": tasks, "jobs": jobs, "port_base": port_base, "specs": SPECS_FILE,
          "timeout_s": timeout_s}, indent=1) + "\n")
-    start = time.monotonic()
-    try:
-        job_id = submit(out, tasks, jobs, args.slurm_max_running, args.slurm_arg)
-    except (OSError, RuntimeError) as e:
-        print(f"slurm: {e}", file=sys.stderr)
-        return 2
-    print(f"slurm: {len(names)} runs as Slurm job {job_id}: {tasks} tasks, {jobs} runs at a time "
-          f"each, in {out}", flush=True)
-    if args.slurm_no_wait:
-        print(f"slurm: when `squeue -j {job_id}` is empty, aggregate {out}")
-        return 0
-    wait(out, job_id, names)
-    (out / "timing.txt").write_text(
-        f"runs {len(names)} jobs {jobs} wall_s {time.monotonic() - start:.1f} slurm_job {job_id} "
-        f"tasks {tasks}\n")
-    return 0
+    rc = _submit_and_wait(args, out, names, tasks, jobs, "slurm", f"aggregate {out}")
+    return 0 if rc is None else rc
 
 
 def task_main(argv: Sequence[str]) -> int:

@@ -14,6 +14,7 @@
 #include "config/config.hpp"
 #include "ros2_bridge_node.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::ros2 {
 namespace {
@@ -333,7 +334,7 @@ namespace {
 // robot's body) and the scenarios' robot (docs/scenario-format.md, 0.47 m: CoHAN's PR2) are the
 // same in the shipped files and in the bridge's in-class default.
 TEST(Ros2BridgeConfig, RobotRadiusIsTheRestOfTheConfigs) {
-  const std::string dir = std::string(COOPNAV_SOURCE_DIR) + "/config/";
+  const std::string dir = ::coopnav::test::sourceDir() + "/config/";
   const Ros2BridgeConfig bridge = loadConfig<Ros2BridgeConfig>(dir + "ros2_bridge.yaml");
   const YAML::Node assessor = YAML::LoadFile(dir + "situation_assessor.yaml");
   const double assessor_m = assessor["robot_radius_m"].as<double>();

@@ -39,6 +39,7 @@
 #include "coopnav/velocity_command_t.hpp"
 #include "messages.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -50,7 +51,7 @@ using Bytes = std::vector<std::uint8_t>;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kHuge = 1e300;  // finite, but no map or robot is that large
-const std::string kMap = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+const std::string kMap = ::coopnav::test::testDataDir() + "/maps/open.yaml";
 
 template <class Msg>
 Bytes encode(const Msg& m) {
@@ -185,8 +186,7 @@ struct DaemonStart {
 };
 
 std::vector<DaemonStart> allDaemons() {
-  const std::string scenario =
-      std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/open_minimal.yaml";
+  const std::string scenario = ::coopnav::test::sourceDir() + "/config/scenarios/open_minimal.yaml";
   return {
       {"obstacle_distance_server", {"--set", "map_file=" + kMap}, "max_range_cap_m"},
       {"band_source", {"--set", "map_file=" + kMap}, "control_hz"},

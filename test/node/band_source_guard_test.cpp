@@ -23,6 +23,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -197,7 +198,7 @@ class BandSourceScanTest : public ::testing::Test {
     config_ = (std::filesystem::temp_directory_path() /
                ("band_source_scan_test_" + std::to_string(::getpid()) + ".yaml"))
                   .string();
-    std::ofstream(config_) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+    std::ofstream(config_) << "map_file: " << ::coopnav::test::testDataDir() << "/maps/open.yaml\n"
                            << "step_gate_timeout_s: 10.0\n";
     dut_ = std::make_unique<test::ChildProcess>(
         test::daemonPath("band_source"),

@@ -23,6 +23,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 #include "wire/conversions.hpp"
 
@@ -361,7 +362,7 @@ TEST_F(BandSourceNodeTest, SigtermStopsWithinOneSecondExitZero) {
 TEST(BandSourceGoalInferenceTest, AWithheldGoalIsInferredAndTheReferencePathKeepsTheLane) {
   const auto dir = std::filesystem::temp_directory_path();
   const std::string map = (dir / ("band_source_gi_map_" + std::to_string(::getpid()) + ".yaml"));
-  std::ofstream(map) << "map:\n  file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+  std::ofstream(map) << "map:\n  file: " << ::coopnav::test::testDataDir() << "/maps/open.yaml\n"
                      << "  goal_regions:\n"
                      << "    - {x0_m: 9.65, y0_m: 0.45, x1_m: 9.65, y1_m: 2.70}\n"
                      << "    - {x0_m: 35.30, y0_m: 0.45, x1_m: 35.30, y1_m: 2.70}\n";
@@ -426,8 +427,8 @@ std::string run(const std::string& command) {
 TEST(BandSourceConfigTest, ShippedConfigListsTheDefaultsAndLoads) {
   const std::string exe = test::daemonPath("band_source");
   const std::string defaults = run(exe + " --set planner.warm_start=false --print-config");
-  const std::string shipped =
-      run(exe + " --config " + COOPNAV_SOURCE_DIR + "/config/band_source.yaml --print-config");
+  const std::string shipped = run(exe + " --config " + ::coopnav::test::sourceDir() +
+                                  "/config/band_source.yaml --print-config");
   ASSERT_NE(defaults.find("planner:"), std::string::npos);
   EXPECT_EQ(shipped, defaults);
 }

@@ -24,6 +24,7 @@
 #include "coopnav/utterance_t.hpp"
 #include "runtime/runtime.hpp"
 #include "speech_output.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -352,7 +353,7 @@ TEST_F(DialogueManagerTest, TheForecastProfileDecidesRoundTwoOnPContributing) {
     acks_.clear();
     events_.clear();
     if (forecast)
-      start({"-c", std::string(COOPNAV_SOURCE_DIR) + "/config/dialogue_manager_forecast.yaml"});
+      start({"-c", ::coopnav::test::sourceDir() + "/config/dialogue_manager_forecast.yaml"});
     else
       start();
     primePeers();

@@ -14,6 +14,7 @@
 #include "coopnav/distance_request_t.hpp"
 #include "distance_client/distance_client.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 #include "wire/conversions.hpp"
 
@@ -22,7 +23,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const std::string kMap = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+const std::string kMap = ::coopnav::test::testDataDir() + "/maps/open.yaml";
 
 DistanceQuery corridorQuery() {
   DistanceQuery q;

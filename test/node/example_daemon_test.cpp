@@ -9,6 +9,7 @@
 
 #include "coopnav/step_ack_t.hpp"
 #include "example/speed_limiter_node.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav {
 namespace {
@@ -68,8 +69,8 @@ TEST(ExampleDaemon, LimitsTheCommandOfEachStepNearAHumanAndAcknowledgesIt) {
 
 TEST(ExampleDaemon, TheArchitectureDocumentQuotesItAsItIs) {
   const std::string header =
-      readFile(std::string(COOPNAV_SOURCE_DIR) + "/test/node/example/speed_limiter_node.hpp");
-  const std::string doc = readFile(std::string(COOPNAV_SOURCE_DIR) + "/docs/architecture.md");
+      readFile(::coopnav::test::sourceDir() + "/test/node/example/speed_limiter_node.hpp");
+  const std::string doc = readFile(::coopnav::test::sourceDir() + "/docs/architecture.md");
   ASSERT_FALSE(header.empty());
   EXPECT_NE(doc.find(header), std::string::npos)
       << "docs/architecture.md must quote test/node/example/speed_limiter_node.hpp verbatim";

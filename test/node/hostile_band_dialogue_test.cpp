@@ -23,6 +23,7 @@
 #include "messages.hpp"
 #include "runtime/log.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -238,7 +239,7 @@ goals_t robotGoal() {
 class HostileBand : public QuietLog {
  protected:
   void start(const InputLimits& limits = {}) {
-    config_.map.map_file = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+    config_.map.map_file = ::coopnav::test::testDataDir() + "/maps/open.yaml";
     config_.step_gate_timeout_s = 0.5;
     config_.limits = limits;
     rt_.setLimits(limits);

@@ -15,6 +15,7 @@
 #include "distance_client/distance_client.hpp"
 #include "maps/map_loader.hpp"
 #include "runtime/runtime.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 #include "wire/conversions.hpp"
 
@@ -23,7 +24,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-const std::string kMap = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+const std::string kMap = ::coopnav::test::testDataDir() + "/maps/open.yaml";
 
 /// One server process for the suite; every test talks to it through its own client instance.
 class ServerTest : public ::testing::Test {

@@ -17,6 +17,7 @@
 #include "path_assessor_node.hpp"
 #include "profiles/forecast_profile.hpp"
 #include "runtime/daemon_main.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 #include "wire/assessment.hpp"
 #include "wire/conversions.hpp"
@@ -307,8 +308,7 @@ TEST_F(PathAssessorTest, ABadForecastProfileStopsTheStartNamingTheKey) {
 class PathAssessorForecastTest : public PathAssessorTest {
  protected:
   void SetUp() override {
-    config_.forecast_profile =
-        std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_forecast.yaml";
+    config_.forecast_profile = ::coopnav::test::sourceDir() + "/config/path_assessor_forecast.yaml";
     PathAssessorTest::SetUp();
   }
 
@@ -356,7 +356,7 @@ TEST_F(PathAssessorForecastTest, PContributingIsPublishedAndRisesAsTheHumanSteps
   // the observations of steps 3 .. 39 (the START of step 2 applies from step 3, the STOP of 39
   // before step 40's observation).
   assessment::CooperationForecaster lib(
-      loadForecastProfile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_forecast.yaml"));
+      loadForecastProfile(::coopnav::test::sourceDir() + "/config/path_assessor_forecast.yaml"));
   lib.start({10.0, 5.0}, {-1.0, 0.0});
   auto t = [](std::int64_t k) { return utimeToSeconds(utimeOf(k) - utimeOf(0)); };
   std::map<std::int64_t, double> expected;

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <string>
 
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -21,7 +22,7 @@ struct CtlRun {
 };
 
 CtlRun runCtl(const std::string& args) {
-  const std::string ctl = std::string(COOPNAV_BINARY_DIR) + "/tools/coopnav_ctl";
+  const std::string ctl = ::coopnav::test::binaryDir() + "/tools/coopnav_ctl";
   CtlRun r;
   if (!std::filesystem::exists(ctl)) {
     ADD_FAILURE() << ctl << " is missing: build coopnav_ctl";
@@ -46,9 +47,9 @@ double result(const std::string& out, const std::string& name) {
 }
 
 std::string daemonArgs(const std::string& profile_file, const std::string& window) {
-  return "pedestrians " + std::string(COOPNAV_TEST_DATA_DIR) +
+  return "pedestrians " + ::coopnav::test::testDataDir() +
          "/pedestrians/headon_pairs.json --daemon --window " + window + " --config " +
-         COOPNAV_SOURCE_DIR + "/config/" + profile_file + " --path-assessor " +
+         ::coopnav::test::sourceDir() + "/config/" + profile_file + " --path-assessor " +
          test::daemonPath("path_assessor") + " --lcm-url '" + test::testLcmUrl() + "'";
 }
 
@@ -60,8 +61,8 @@ TEST(PedestriansDaemon, PaperProfileMatchesInProcessReplay) {
   // The daemon's scores are the in-process ones (tools/ctl/README.md, "Real pedestrians").
   EXPECT_NEAR(result(r.out, "pedestrians_pair_ranking"), 107.0 / 164.0, 1e-4) << r.out;
   // And the same settings given as the in-process command's options.
-  const CtlRun in_process = runCtl("pedestrians " + std::string(COOPNAV_TEST_DATA_DIR) +
-                                   "/pedestrians/headon_pairs.json");
+  const CtlRun in_process =
+      runCtl("pedestrians " + ::coopnav::test::testDataDir() + "/pedestrians/headon_pairs.json");
   ASSERT_EQ(in_process.exit_code, 0) << in_process.out;
   EXPECT_EQ(result(r.out, "pedestrians_is_contributing_agreement"),
             result(in_process.out, "pedestrians_is_contributing_agreement"));
@@ -77,7 +78,7 @@ TEST(PedestriansDaemon, CalibratedProfileWithOnsetWindowMatchesInProcessReplay) 
 }
 
 TEST(PedestriansDaemon, MissingDaemonIsAClearError) {
-  const CtlRun r = runCtl("pedestrians " + std::string(COOPNAV_TEST_DATA_DIR) +
+  const CtlRun r = runCtl("pedestrians " + ::coopnav::test::testDataDir() +
                           "/pedestrians/headon_pairs.json --daemon --path-assessor /nonexistent "
                           "--lcm-url '" +
                           test::testLcmUrl() + "' 2>&1");

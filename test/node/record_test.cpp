@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "logfile/log_reader.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -19,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using std::chrono::milliseconds;
 
-std::string recorderPath() { return std::string(COOPNAV_BINARY_DIR) + "/tools/coopnav_record"; }
+std::string recorderPath() { return ::coopnav::test::binaryDir() + "/tools/coopnav_record"; }
 
 class RecordTest : public ::testing::Test {
  protected:

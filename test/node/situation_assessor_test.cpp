@@ -19,6 +19,7 @@
 #include "distance_client/distance_client.hpp"
 #include "maps/map_loader.hpp"
 #include "situation_assessor_node.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 #include "wire/conversions.hpp"
 
@@ -27,7 +28,7 @@ namespace {
 
 using namespace std::chrono_literals;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-const std::string kMap = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+const std::string kMap = ::coopnav::test::testDataDir() + "/maps/open.yaml";
 
 /// Straight band from `from` to `to` over duration_s, poses every dt_s, heading along the motion.
 Band straightBand(Eigen::Vector2d from, Eigen::Vector2d to, double duration_s, double dt_s) {

@@ -40,6 +40,8 @@
 // Eigen's headers read after it.
 #include <httplib.h>
 
+#include "test_paths.hpp"
+
 namespace coopnav {
 namespace {
 
@@ -47,7 +49,7 @@ using namespace std::chrono_literals;
 using nlohmann::json;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-const std::string kMap = std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml";
+const std::string kMap = ::coopnav::test::sourceDir() + "/config/scenarios/narrow_minimal.yaml";
 
 std::int64_t utimeAt(double t_s) { return secondsToUtime(t_s); }
 

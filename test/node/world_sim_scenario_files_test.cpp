@@ -18,6 +18,7 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "maps/map_loader.hpp"
 #include "scenario.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::world_sim {
 namespace {
@@ -174,7 +175,7 @@ TEST_F(ScenarioFiles, MoreHumansThanAMessageCarriesAreRefusedNamingTheBound) {
 // server's map_file) reads the same file, and it lock-steps with the daemons the paper scenarios
 // do (a participant left out would step ahead of the others unnoticed).
 TEST_F(ScenarioFiles, TheFormatDocumentsExampleLoads) {
-  std::ifstream doc(std::string(COOPNAV_SOURCE_DIR) + "/docs/scenario-format.md");
+  std::ifstream doc(::coopnav::test::sourceDir() + "/docs/scenario-format.md");
   ASSERT_TRUE(doc.good());
   std::string line, yaml;
   bool in_example = false, in_block = false;
@@ -197,7 +198,7 @@ TEST_F(ScenarioFiles, TheFormatDocumentsExampleLoads) {
   EXPECT_NO_THROW(checkScenarioAgainstMap(sc, map));
   EXPECT_EQ(loadMap(path("example.yaml")).grid, loaded.grid);
   const Scenario paper =
-      loadScenario(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/open_facilitating.yaml");
+      loadScenario(::coopnav::test::sourceDir() + "/config/scenarios/open_facilitating.yaml");
   EXPECT_EQ(sc.lockstep.participants, paper.lockstep.participants);
   EXPECT_TRUE(sc.lockstep.enabled);
 }

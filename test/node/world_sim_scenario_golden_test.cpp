@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "scenario.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::world_sim {
 namespace {
@@ -205,7 +206,7 @@ std::map<std::string, std::string> goldenEntries(const std::string& path) {
 
 TEST(ScenarioGolden, EveryScenarioLoadsToTheValuesItLoadedToBefore) {
   namespace fs = std::filesystem;
-  const std::string root = COOPNAV_SOURCE_DIR;
+  const std::string root = ::coopnav::test::sourceDir();
   const auto golden = goldenEntries(root + "/test/data/golden/scenarios_loaded.txt");
   ASSERT_FALSE(golden.empty()) << "test/data/golden/scenarios_loaded.txt is missing or empty";
   std::vector<std::string> files;

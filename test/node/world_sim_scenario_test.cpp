@@ -11,6 +11,7 @@
 
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "scenario.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::world_sim {
 namespace {
@@ -294,7 +295,7 @@ TEST(Scenario, AvoidanceTimingLoadsIntoTheWorldAndIsChecked) {
 }
 
 TEST(Scenario, RecordedHumansTakeTheirStartAndGoalFromTheirTracks) {
-  const std::string path = std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/recorded_zara01.yaml";
+  const std::string path = ::coopnav::test::testDataDir() + "/scenarios/recorded_zara01.yaml";
   const Scenario sc = loadScenario(path);
   ASSERT_EQ(sc.humans.size(), 2u);
   for (const auto& h : sc.humans) EXPECT_EQ(h.behaviour.type, sim::BehaviourType::kRecorded);
@@ -311,7 +312,7 @@ TEST(Scenario, RecordedHumansTakeTheirStartAndGoalFromTheirTracks) {
   EXPECT_EQ(sc.recorded_sources[1].walker, "b");
   // The track of the JSON is the pedestrians file's own.
   const auto full =
-      loadTrack({std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json", 0, "b"});
+      loadTrack({::coopnav::test::testDataDir() + "/pedestrians/headon_pairs.json", 0, "b"});
   ASSERT_EQ(full.size(), 32u);
   EXPECT_DOUBLE_EQ(full[5].x_m, sc.humans[1].behaviour.recorded.track[5].x_m);
   // A loaded recorded scenario is a valid world on its map.
@@ -327,7 +328,7 @@ TEST(Scenario, RecordedHumanMistakesAreNamed) {
   fs::create_directories(dir);
   std::ofstream(dir / "walk.csv") << "t x y\n0 1 1\n0.5 2 1\n0.5 3 1\n";
   std::ofstream(dir / "ok.csv") << "0 1 1\n1 2 1\n";
-  const std::string tracks = std::string(COOPNAV_TEST_DATA_DIR) + "/tracks/zara01_pair0.json";
+  const std::string tracks = ::coopnav::test::testDataDir() + "/tracks/zara01_pair0.json";
   auto scenario = [&](const std::string& human) {
     return "name: r\nseed: 1\ntime_limit_s: 10\nmap: {walls: [{x0_m: -5, y0_m: -5, x1_m: 5, "
            "y1_m: -5}]}\nrobot: {start: {x_m: 0, y_m: 3}, goal: {x_m: 0, y_m: 3}}\nhumans:\n  - " +

@@ -29,6 +29,7 @@
 #include "coopnav/step_ack_t.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
+#include "test_paths.hpp"
 #include "test_util.hpp"
 
 namespace coopnav {
@@ -44,7 +45,7 @@ constexpr const char* kParticipant = "fake_planner";
 /// A file of test/data/scenarios, or an absolute path as it is.
 std::string scenarioPath(const std::string& name) {
   if (!name.empty() && name.front() == '/') return name;
-  return std::string(COOPNAV_TEST_DATA_DIR) + "/scenarios/" + name;
+  return ::coopnav::test::testDataDir() + "/scenarios/" + name;
 }
 
 /// A scenario of a straight corridor, free for y in (0, width_m), x in (-1, 25), written to a

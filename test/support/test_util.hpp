@@ -18,6 +18,8 @@
 #include <thread>
 #include <vector>
 
+#include "test_paths.hpp"
+
 namespace coopnav::test {
 
 /// The udpm URL CTest gave this executable (its own port), or a fallback port for manual runs.
@@ -53,13 +55,13 @@ inline const std::filesystem::path& scratchDir() {
 /// scratch directory, named after `test_name`; returns its path.
 inline std::string writeBandSourceTestConfig(const std::string& test_name) {
   const auto p = scratchDir() / (test_name + ".yaml");
-  std::ofstream(p) << "map_file: " << COOPNAV_TEST_DATA_DIR << "/maps/open.yaml\n"
+  std::ofstream(p) << "map_file: " << ::coopnav::test::testDataDir() << "/maps/open.yaml\n"
                    << "step_gate_timeout_s: 0.5\n";
   return p.string();
 }
 
 inline std::string daemonPath(const std::string& name) {
-  return std::string(COOPNAV_BINARY_DIR) + "/daemons/" + name + "/coopnav_" + name;
+  return ::coopnav::test::binaryDir() + "/daemons/" + name + "/coopnav_" + name;
 }
 
 /// Polls `pred` until true or `timeout`; returns pred's last value.

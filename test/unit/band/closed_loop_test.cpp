@@ -16,6 +16,7 @@
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "maps/map_loader.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav {
 namespace {
@@ -163,7 +164,7 @@ RunLog runClosedLoop(const std::shared_ptr<const DistanceMap>& map, const Scenar
 
 std::shared_ptr<const DistanceMap> openPgm() {
   static const std::shared_ptr<const DistanceMap> map = [] {
-    LoadedMap loaded = loadMap(std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml");
+    LoadedMap loaded = loadMap(::coopnav::test::testDataDir() + "/maps/open.yaml");
     // As band_source ships it: unknown cells (the hollow pillar) are obstacles.
     return std::make_shared<GridDistanceField>(std::move(loaded.grid), UnknownPolicy::kObstacle);
   }();

@@ -18,6 +18,7 @@
 #include "coopnav/band/dual_band_planner.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "maps/map_loader.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav {
 namespace {
@@ -35,7 +36,7 @@ constexpr double kAsideSpeed_m_s = 0.3;
 
 std::shared_ptr<const DistanceMap> openPgm() {
   static const std::shared_ptr<const DistanceMap> map = [] {
-    LoadedMap loaded = loadMap(std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml");
+    LoadedMap loaded = loadMap(::coopnav::test::testDataDir() + "/maps/open.yaml");
     return std::make_shared<GridDistanceField>(std::move(loaded.grid), UnknownPolicy::kObstacle);
   }();
   return map;

@@ -7,11 +7,13 @@
 #include <set>
 #include <sstream>
 
+#include "test_paths.hpp"
+
 namespace coopnav {
 namespace {
 
 TEST(ChannelsTest, TextListMatchesTheHeaderAndFitsLcmLimit) {
-  std::ifstream in(std::string(COOPNAV_SOURCE_DIR) + "/lcmtypes/channels.txt");
+  std::ifstream in(::coopnav::test::sourceDir() + "/lcmtypes/channels.txt");
   ASSERT_TRUE(in);
   std::set<std::string> listed;
   std::string line;

@@ -32,13 +32,14 @@
 #include "obstacle_distance_server/obstacle_distance_server_node.hpp"
 #include "path_assessor/path_assessor_node.hpp"
 #include "situation_assessor/situation_assessor_node.hpp"
+#include "test_paths.hpp"
 #include "viewer/viewer_node.hpp"
 #include "world_sim/world_sim_node.hpp"
 
 namespace coopnav {
 namespace {
 
-const std::string kRoot = COOPNAV_SOURCE_DIR;
+const std::string kRoot = ::coopnav::test::sourceDir();
 
 /// One leaf key of a config, as its visit() declares it.
 struct KeyInfo {

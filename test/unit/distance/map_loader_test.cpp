@@ -17,6 +17,7 @@
 #include "coopnav/distance/octree_conversion.hpp"
 #include "maps/map_source.hpp"
 #include "runtime/daemon_main.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav {
 namespace {
@@ -25,7 +26,7 @@ namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const std::string kOpenYaml = std::string(COOPNAV_TEST_DATA_DIR) + "/maps/open.yaml";
+const std::string kOpenYaml = ::coopnav::test::testDataDir() + "/maps/open.yaml";
 
 class TempDir {
  public:

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "coopnav/sim/simulation.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::sim {
 namespace {
@@ -99,7 +100,7 @@ TEST(RecordedTrack, PositionsAreInterpolatedAndHeldBeforeAndAfter) {
 TEST(RecordedTrack, TheSimulatorReplaysTheTrackAndTheHumanIgnoresTheRobot) {
   // Given walker a of the UCY zara01 pair (test/data/tracks), replayed from the CSV, and a robot
   // standing on its path.
-  std::ifstream in(std::string(COOPNAV_TEST_DATA_DIR) + "/tracks/zara01_pair0_a.csv");
+  std::ifstream in(::coopnav::test::testDataDir() + "/tracks/zara01_pair0_a.csv");
   std::stringstream text;
   text << in.rdbuf();
   RecordedParams p;

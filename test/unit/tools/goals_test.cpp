@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "test_paths.hpp"
+
 namespace coopnav::ctl {
 namespace {
 
@@ -147,7 +149,7 @@ TEST(GoalsTest, HeadingTermSharpensTheBeliefAndIsNeutralAtKappaZero) {
 // measurement of why stays what it is.
 TEST(GoalsRealData, AccuracyAtTCrossMinus3s) {
   const auto pairs =
-      loadPedestrianPairs(std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json");
+      loadPedestrianPairs(::coopnav::test::testDataDir() + "/pedestrians/headon_pairs.json");
   const GoalReport r = evaluateGoalReport(pairs);
   ASSERT_EQ(r.configs.size(), 5u);
   const GoalConfigResult& baseline = r.configs[0];  // greedy radius, uniform prior

@@ -24,6 +24,7 @@
 #include "maps/map_loader.hpp"
 #include "run_analysis.hpp"
 #include "summary.hpp"
+#include "test_paths.hpp"
 #include "trace.hpp"
 #include "transcript.hpp"
 
@@ -1094,8 +1095,7 @@ TEST(LogTools, TraceMapIsTheScenarioMapWithItsWallsAndGrid) {
   EXPECT_GT(cells, 0u);
 
   // A scenario naming a ROS map: the file it names, resolved against the scenario's folder.
-  const Json ros =
-      traceMap(std::string(COOPNAV_SOURCE_DIR) + "/config/scenarios/narrow_minimal.yaml");
+  const Json ros = traceMap(::coopnav::test::sourceDir() + "/config/scenarios/narrow_minimal.yaml");
   EXPECT_EQ(fs::path(ros.at("file").get<std::string>()).filename().string(), "open.yaml");
   EXPECT_TRUE(fs::exists(ros.at("file").get<std::string>()));
   EXPECT_DOUBLE_EQ(ros.at("resolution_m").get<double>(), 0.05);

@@ -12,11 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "test_paths.hpp"
+
 namespace coopnav::ctl {
 namespace {
 
 std::string pairsPath() {
-  return std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json";
+  return ::coopnav::test::testDataDir() + "/pedestrians/headon_pairs.json";
 }
 
 TEST(PedestriansForecast, CmAtTheCrossingIsTheStoppedCmAndUnknownBeforeTheStart) {
@@ -59,7 +61,7 @@ TEST(PedestriansForecast, ShippedProfileIsTheFitOnAllPairs) {
   const auto pairs = loadPedestrianPairs(pairsPath());
   const auto fit = fitForecast(pairs);
   const auto shipped =
-      loadForecastProfile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_forecast.yaml");
+      loadForecastProfile(::coopnav::test::sourceDir() + "/config/path_assessor_forecast.yaml");
   EXPECT_NEAR(shipped.bias, fit.bias, 1e-9);
   EXPECT_EQ(shipped.l2, kForecastL2);
   for (std::size_t i = 0; i < assessment::kForecastFeatureCount; ++i) {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "json.hpp"
+#include "test_paths.hpp"
 
 namespace coopnav::ctl {
 namespace {
@@ -250,7 +251,7 @@ TEST_F(PedestriansTest, BadFilesAreRejectedWithFileAndReason) {
 // classifies poorly, the calibrated settings (fit without the held-out sequence) well.
 TEST(PedestriansRealData, CalibrationBeatsPaperProfileOnHeldOutSequences) {
   const auto pairs =
-      loadPedestrianPairs(std::string(COOPNAV_TEST_DATA_DIR) + "/pedestrians/headon_pairs.json");
+      loadPedestrianPairs(::coopnav::test::testDataDir() + "/pedestrians/headon_pairs.json");
   ASSERT_EQ(pairs.size(), 172u);
   const auto r = calibrate(pairs);
   ASSERT_EQ(r.folds.size(), 2u);
@@ -286,7 +287,7 @@ TEST(PedestriansRealData, CalibrationBeatsPaperProfileOnHeldOutSequences) {
   // The shipped `calibrated` profile is the round-1 fit (the dialogue manager STARTs at round 1;
   // `calibrate` prints the unrestricted winner beside it).
   const YAML::Node profile =
-      YAML::LoadFile(std::string(COOPNAV_SOURCE_DIR) + "/config/path_assessor_calibrated.yaml");
+      YAML::LoadFile(::coopnav::test::sourceDir() + "/config/path_assessor_calibrated.yaml");
   const double period_s = profile["sample_period_s"].as<double>();
   EXPECT_NEAR(profile["gamma"].as<double>(),
               gammaPerSample(r.profile_setting.gamma_per_s, period_s), 1e-12);

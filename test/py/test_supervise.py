@@ -43,8 +43,9 @@ def wait_until(cond, timeout_s: float = 5.0) -> bool:
 
 def test_output_goes_to_the_log_and_a_restart_appends(tmp_path: Path):
     with Supervisor(grace_s=1) as sup:
-        p = sup.start("a", [PY, "-c", "import sys; print('out'); print('err', file=sys.stderr)"],
-                      tmp_path / "a.log")
+        # Flushed: a file is block-buffered, so unflushed 'out' would land after 'err'.
+        code = "import sys; print('out', flush=True); print('err', file=sys.stderr)"
+        p = sup.start("a", [PY, "-c", code], tmp_path / "a.log")
         p.popen.wait()
         sup.start("a", [PY, "-c", "print('again')"], tmp_path / "a.log").popen.wait()
     assert (tmp_path / "a.log").read_text().split() == ["out", "err", "again"]

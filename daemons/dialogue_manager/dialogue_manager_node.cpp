@@ -37,6 +37,7 @@ dialogue::SessionConfig DialogueManagerConfig::sessionConfig() const {
   c.decision = decisionConfig();
   c.crowd = crowd;
   c.crossed_hysteresis_m = crossed_hysteresis_m;
+  c.crossed_max_distance_m = crossed_max_distance_m;
   c.human_gone_s = human_gone_s;
   c.path_max_age_s = path_max_age_s;
   c.muted = muted;

@@ -95,6 +95,7 @@ struct StandOffConfigYaml : dialogue::StandOffConfig {
     v("mutual_wait_s", mutual_wait_s, Range{0.1, 600.0});
     v("dock_progress_m", dock_progress_m, Range{0.0, 20.0});
     v("dock_wait_s", dock_wait_s, Range{0.1, 3600.0});
+    v("backing_off_s", backing_off_s, Range{0.1, 600.0});
   }
 };
 
@@ -113,6 +114,7 @@ struct DialogueManagerConfig {
   CrowdConfigYaml crowd;
   StandOffConfigYaml stand_off;
   double crossed_hysteresis_m{dialogue::SessionConfig{}.crossed_hysteresis_m};
+  double crossed_max_distance_m{dialogue::SessionConfig{}.crossed_max_distance_m};
   double human_gone_s{dialogue::SessionConfig{}.human_gone_s};
   /// [s] A path assessment older than this is not acted on (dialogue::SessionConfig).
   double path_max_age_s{dialogue::SessionConfig{}.path_max_age_s};
@@ -148,6 +150,7 @@ struct DialogueManagerConfig {
     v("crowd", crowd);
     v("stand_off", stand_off);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
+    v("crossed_max_distance_m", crossed_max_distance_m, Range{0.1, 100.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
     v("path_max_age_s", path_max_age_s, Range{0.05, 600.0});
     v("gate_timeout_ms", gate_timeout_ms, Range{10.0, 600000.0});

@@ -105,6 +105,7 @@ struct ModeMachineOptionsYaml {
     v("max_ahead_m", o.dock.max_ahead_m, Range{0.0, 20.0});
     v("candidate_step_m", o.dock.step_m, Range{0.01, 5.0});
     v("reached_tolerance_m", o.dock_reached_tolerance_m, Range{0.01, 1.0});
+    v("settle_tolerance_m", o.dock_settle_tolerance_m, Range{0.001, 1.0});
     v("passage_margin_m", o.room.passage_margin_m, Range{0.0, 2.0});
     v("wider_search_m", o.room.wider_search_m, Range{0.0, 100.0});
     v("wider_step_m", o.room.wider_step_m, Range{0.05, 5.0});

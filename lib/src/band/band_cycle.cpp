@@ -309,7 +309,12 @@ std::vector<RoomMove> BandCycle::roomPlans(const BandCycleInput& s, const PlanRe
 
 Velocity2 BandCycle::modeCommand(const BandCycleInput& s, const ModeOutput& m, const PlanResult& r,
                                  bool hold, bool idle) const {
-  if (idle || hold) return {};
+  if (idle) return {};
+  if (hold) {
+    if (!m.settle) return {};
+    return settleOn(s.robot.pose, m.active_goal.position(),
+                    modes_.options().dock_settle_tolerance_m, limits_);
+  }
   // The robot drives a dock or a retreat itself: the planner's band keeps
   // planner.min_obstacle_dist_m from walls, so it would stop short of a flush dock pose.
   if (m.mode == RobotMode::kDocking && !m.route.empty())

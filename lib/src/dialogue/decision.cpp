@@ -248,9 +248,14 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
   }
   if (in.crossed && !fired_[2]) round3(in, out);
   announceRetreat(in, out);
-  // A stand-off is watched from round 1 (the robot has spoken) until the crossing.
-  if (config_.resolve_stand_offs && fired_[0] && !in.crossed && !ended_ && in.motion) {
-    const StandOff what = watch_.update(*in.motion, docked_);
+  // A stand-off is watched until the crossing; from round 1 (the robot has spoken) all of them.
+  // Before it only the robot backing off before a person who follows: with no crossing ahead
+  // (the bands yield ground) round 1 would never come, while a wait before it may be someone
+  // pausing or standing aside with nothing to resolve. Round 1 starts the watch afresh.
+  if (config_.resolve_stand_offs && !in.crossed && !ended_ && in.motion) {
+    if (fired_round1_now) watch_.restart();
+    StandOff what = watch_.update(*in.motion, docked_);
+    if (!fired_[0] && what != StandOff::kBackingOff) what = StandOff::kNone;
     if (what != StandOff::kNone) resolveStandOff(in, what, out);
   }
   return out;
@@ -268,13 +273,20 @@ void HumanDecision::resolveStandOff(const DecisionInput& in, StandOff what, Deci
                          still == Tristate::kFalse ||
                          (judgeContributing(config_, in.path) == Tristate::kTrue &&
                           s.robot_is_constrained == Tristate::kFalse);
-  const double waited_s =
-      what == StandOff::kMutualWait ? watch_.mutualWait_s() : watch_.dockWait_s();
+  const double waited_s = what == StandOff::kMutualWait   ? watch_.mutualWait_s()
+                          : what == StandOff::kBackingOff ? watch_.backingOff_s()
+                                                          : watch_.dockWait_s();
   RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
   std::array<char, 32> waited{};
   std::snprintf(waited.data(), waited.size(), "%.1f", waited_s);
-  const std::string head = std::string("stand-off: ") + toString(what) + " " + waited.data() + " s";
+  std::string head = std::string("stand-off: ") + toString(what) + " " + waited.data() + " s";
   watch_.restart();
+  if (!fired_[0]) {
+    // The robot speaks first here: this decision takes the place of rounds 1 and 2, whose
+    // words would now contradict it (round 3 still closes the interaction at the crossing).
+    fired_[0] = fired_[1] = true;
+    head = "before round 1: " + head;
+  }
   if (docked_) {
     out.robot_actions.push_back(RobotAction::kResume);
     docked_ = false;
@@ -545,12 +557,20 @@ double robotAlongHumanHeading_m(const Pose2& human, const Eigen::Vector2d& robot
 }
 
 CrossedTracker updateCrossed(CrossedTracker previous, const Pose2& human,
-                             const Eigen::Vector2d& robot_m, double hysteresis_m) {
+                             const Eigen::Vector2d& robot_m, double hysteresis_m,
+                             double max_distance_m) {
   if (previous.crossed || !isFinite(human) || !robot_m.allFinite()) return previous;
-  const double along_m = robotAlongHumanHeading_m(human, robot_m);
-  // Hysteresis: a robot hovering around the human's lateral line (along ≈ 0) flips neither state.
-  if (along_m > hysteresis_m) previous.seen_ahead = true;
-  if (previous.seen_ahead && along_m < -hysteresis_m) previous.crossed = true;
+  if (!previous.seen_ahead) {
+    // Hysteresis: a robot hovering around the human's lateral line (along ≈ 0) flips no state.
+    if (robotAlongHumanHeading_m(human, robot_m) > hysteresis_m) {
+      previous.seen_ahead = true;
+      previous.axis = headingVector(human.theta_rad);
+    }
+    return previous;
+  }
+  const double along_m = previous.axis.dot(robot_m - human.position());
+  if (along_m < -hysteresis_m && (robot_m - human.position()).norm() <= max_distance_m)
+    previous.crossed = true;
   return previous;
 }
 

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <utility>
 
+#include "coopnav/geometry/geometry.hpp"
 #include "coopnav/geometry/track_continuity.hpp"
 
 namespace coopnav::dialogue {
@@ -150,6 +151,7 @@ void Session::see(const SceneSnapshot& a, std::int64_t now, std::set<std::int32_
                   SessionOutput& out) {
   robot_pose_ = a.robot.pose;
   robot_speed_m_s_ = std::hypot(a.robot.velocity.vx_m_s, a.robot.velocity.vy_m_s);
+  robot_velocity_m_s_ = {a.robot.velocity.vx_m_s, a.robot.velocity.vy_m_s};
   robot_radius_m_ = a.robot.radius_m;
   robot_known_ = true;
   latest_agents_utime_ = latest_agents_utime_ ? std::max(*latest_agents_utime_, a.utime) : a.utime;
@@ -161,8 +163,8 @@ void Session::see(const SceneSnapshot& a, std::int64_t now, std::set<std::int32_
     p.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
     p.radius_m = h.radius_m;
     const bool was = p.crossed.crossed;
-    p.crossed =
-        updateCrossed(p.crossed, h.pose, a.robot.pose.position(), config_.crossed_hysteresis_m);
+    p.crossed = updateCrossed(p.crossed, h.pose, a.robot.pose.position(),
+                              config_.crossed_hysteresis_m, config_.crossed_max_distance_m);
     p.last_seen_utime = a.utime;
     present_.touch(h.id, a.utime);
     heard_.touch(h.id, now);
@@ -318,6 +320,12 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
     m.human_speed_m_s = p.velocity_m_s.norm();
     m.centre_distance_m = (p.position_m - robot_pose_.position()).norm();
     m.gap_m = m.centre_distance_m - robot_radius_m_ - p.radius_m;
+    if (m.centre_distance_m > 0.0) {
+      const Eigen::Vector2d away = (robot_pose_.position() - p.position_m) / m.centre_distance_m;
+      m.robot_receding_m_s = robot_velocity_m_s_.dot(away);
+      m.human_closing_m_s = p.velocity_m_s.dot(away);
+      m.human_ahead = -away.dot(headingVector(robot_pose_.theta_rad)) > 0.0;
+    }
     m.t_cross_s = situation.t_cross_s;
     in.motion = m;
   }

@@ -13,6 +13,8 @@ const char* toString(StandOff s) {
       return "mutual_wait";
     case StandOff::kDockNoShow:
       return "dock_no_show";
+    case StandOff::kBackingOff:
+      return "backing_off";
   }
   return "?";
 }
@@ -24,13 +26,18 @@ void StandOffWatch::restart() {
   dock_since_s_.reset();
   mutual_wait_s_ = 0.0;
   dock_wait_s_ = 0.0;
+  backing_since_s_.reset();
+  backing_off_s_ = 0.0;
 }
 
 StandOff StandOffWatch::update(const StandOffInput& in, bool docked) {
   const bool finite = std::isfinite(in.t_s) && std::isfinite(in.robot_speed_m_s) &&
                       std::isfinite(in.human_speed_m_s) && std::isfinite(in.centre_distance_m) &&
-                      std::isfinite(in.gap_m);
+                      std::isfinite(in.gap_m) && std::isfinite(in.robot_receding_m_s) &&
+                      std::isfinite(in.human_closing_m_s);
   if (!finite) {
+    backing_since_s_.reset();
+    backing_off_s_ = 0.0;
     wait_since_s_.reset();
     wait_best_t_cross_s_.reset();
     wait_robot_path_m_ = 0.0;
@@ -93,9 +100,35 @@ StandOff StandOffWatch::update(const StandOffInput& in, bool docked) {
     }
   }
   mutual_wait_s_ = wait_since_s_ ? in.t_s - *wait_since_s_ : 0.0;
+  // Backing off, judged on the means since it began (a chase at 0.2 m/s is as fast as a tracked
+  // person's velocity noise step by step): it begins at a step where the robot moves away from
+  // the person, and goes on while the person is near and in front of the robot; it is a
+  // stand-off once it has lasted backing_off_s with the robot's mean speed away from them at
+  // robot_still_m_s or more and the person, on average, coming after it. A docked robot's
+  // retreat is a move it announced, watched as a dock.
+  const bool near_ahead = !docked && in.human_ahead && in.gap_m <= config_.near_gap_m;
+  if (!near_ahead) {
+    backing_since_s_.reset();
+  } else if (!backing_since_s_) {
+    if (in.robot_receding_m_s >= config_.robot_still_m_s) {
+      backing_since_s_ = in.t_s;
+      backing_robot_m_ = backing_human_m_ = 0.0;
+    }
+  } else {
+    backing_robot_m_ += in.robot_receding_m_s * dt_s;
+    backing_human_m_ += in.human_closing_m_s * dt_s;
+    const double over_s = in.t_s - *backing_since_s_;
+    // Past its time, a robot no longer backing away on average ends it (one that stopped).
+    if (over_s >= config_.backing_off_s && backing_robot_m_ < config_.robot_still_m_s * over_s)
+      backing_since_s_.reset();
+  }
+  backing_off_s_ = backing_since_s_ ? in.t_s - *backing_since_s_ : 0.0;
+  const bool backing_off = backing_since_s_ && backing_off_s_ >= config_.backing_off_s &&
+                           backing_human_m_ > config_.robot_still_m_s * backing_off_s_;
 
   if (wait_since_s_ && mutual_wait_s_ >= config_.mutual_wait_s) return StandOff::kMutualWait;
   if (dock_since_s_ && dock_wait_s_ >= config_.dock_wait_s) return StandOff::kDockNoShow;
+  if (backing_off) return StandOff::kBackingOff;
   return StandOff::kNone;
 }
 

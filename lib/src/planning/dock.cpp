@@ -125,6 +125,15 @@ bool DockModeMachine::humanHasPassed(const Pose2& robot, const Pose2& human, dou
   return (robot.position() - human.position()).dot(headingVector(human.theta_rad)) < -margin_m;
 }
 
+void DockModeMachine::holdHere(const ModeInput& in) {
+  // Holding is at the dock pose only after docking; a hold after a retreat, or where no move
+  // left room, is where the robot stands (its goal for the planner's band, which the assessors
+  // read: a stale dock pose there may lie in a wall, and the band would fail).
+  dock_ = in.robot;
+  route_.clear();
+  on_dock_ = false;
+}
+
 bool DockModeMachine::start(const RoomDecision& d, const ModeInput& in, ModeOutput& out) {
   out.room = d.move;
   switch (d.move) {
@@ -140,8 +149,7 @@ bool DockModeMachine::start(const RoomDecision& d, const ModeInput& in, ModeOutp
       return true;
     case RoomMove::kNone:
       // No move leaves room: stop where it stands (and the guard moves it off a human).
-      dock_ = in.robot;
-      route_.clear();
+      holdHere(in);
       dock_move_ = d.move;
       mode_ = RobotMode::kHolding;
       hold_since_s_ = in.stamp_s;
@@ -164,9 +172,13 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
   // closing speed of 1.7 m/s is ~7 m) must wait for it to come and pass.
   auto human_gone = [&] {
     if (!in.has_human) return true;
-    return humanHasPassed(in.robot, in.human, opt_.human_passed_margin_m) ||
-           (human_dist_m > opt_.human_far_m &&
-            human_dist_m > dock_start_dist_m_ + opt_.human_receding_m);
+    // Passed along the way they came at the dock request (from them to the robot), not along
+    // their heading now: a tracker's heading of someone standing and waiting is the direction of
+    // its velocity noise, and would have them "passed" while they wait in front of the robot.
+    const bool passed =
+        (in.robot.position() - in.human.position()).dot(dock_axis_) < -opt_.human_passed_margin_m;
+    return passed || (human_dist_m > opt_.human_far_m &&
+                      human_dist_m > dock_start_dist_m_ + opt_.human_receding_m);
   };
   // The human comes on and cannot pass beside the robot where it stands. The robot holds up to
   // the reached tolerance off its dock pose, whose passage held: that much is not "blocked" (it
@@ -183,16 +195,22 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
     } else if (mode_ != RobotMode::kHolding) {
       mode_ = RobotMode::kHolding;
       hold_since_s_ = in.stamp_s;
+      holdHere(in);
     }
   };
   switch (mode_) {
     case RobotMode::kNavigate:
     case RobotMode::kResuming:
-      mode_ = RobotMode::kNavigate;
-      if (at_goal) {
-        mode_ = RobotMode::kGoalReached;
-      } else if (in.dock_requested && in.has_human) {
+    case RobotMode::kGoalReached:
+      // At its goal too: a robot parked in a corridor blocks it as much as one on its way, and a
+      // dock asked for there makes room as anywhere (it drives back to the goal afterwards).
+      mode_ = at_goal ? RobotMode::kGoalReached : RobotMode::kNavigate;
+      if (in.dock_requested && in.has_human) {
         dock_start_dist_m_ = human_dist_m;
+        dock_axis_ =
+            human_dist_m > 0.0
+                ? Eigen::Vector2d((in.robot.position() - in.human.position()) / human_dist_m)
+                : headingVector(in.human.theta_rad);
         const RoomDecision d = decideRoom(map, e, opt_.dock, opt_.room);
         if (!start(d, in, out)) {
           // Nothing to make room in (no wall away from the human, room to pass): keep
@@ -211,6 +229,7 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
       } else if ((in.robot.position() - dock_.position()).norm() < opt_.dock_reached_tolerance_m) {
         mode_ = RobotMode::kHolding;
         hold_since_s_ = in.stamp_s;
+        on_dock_ = true;
       } else if (dock_move_ == RoomMove::kWiderPlace && closing) {
         // Will the human be at the wider place before the robot? Then back away instead. (It
         // was chosen with reach_margin_s to spare: that much is hysteresis.)
@@ -242,6 +261,7 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
         // The human stopped or turns away: stay, and go on when it has passed.
         mode_ = RobotMode::kHolding;
         hold_since_s_ = in.stamp_s;
+        holdHere(in);
       } else {
         // Backing away may have brought a place to dock within reach.
         const RoomDecision d = decideRoom(map, e, opt_.dock, opt_.room);
@@ -251,9 +271,6 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
           retreat_or_hold();
         }
       }
-      break;
-    case RobotMode::kGoalReached:
-      if (!at_goal) mode_ = RobotMode::kNavigate;
       break;
   }
   out.mode = mode_;
@@ -278,6 +295,8 @@ ModeOutput DockModeMachine::update(const DistanceMap& map, const ModeInput& in) 
   if (mode_ == RobotMode::kDocking) out.route = route_;
   if (mode_ != RobotMode::kRetreating) out.retreat_direction.reset();
   out.hold_still = mode_ == RobotMode::kHolding || mode_ == RobotMode::kGoalReached;
+  if (mode_ != RobotMode::kHolding) on_dock_ = false;
+  out.settle = mode_ == RobotMode::kHolding && on_dock_;
   return out;
 }
 

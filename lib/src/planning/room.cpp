@@ -137,6 +137,13 @@ Velocity2 driveAlong(const Pose2& robot, const Eigen::Vector2d& dir, double dist
                       distance_m);
 }
 
+Velocity2 settleOn(const Pose2& robot, const Eigen::Vector2d& target, double tolerance_m,
+                   const RobotLimits& l) {
+  const double dist = (target - robot.position()).norm();
+  if (!(dist > tolerance_m)) return {};
+  return driveTowards(robot, target, kApproachGain_1_s * dist, 0.0, l, dist);
+}
+
 double lengthLeft(const Path2& route, const Eigen::Vector2d& p) {
   const auto proj = projectOntoPath(route, p);
   if (!proj) return 0.0;

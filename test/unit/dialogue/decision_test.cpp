@@ -699,5 +699,19 @@ TEST(Crossed, RobotBehindHavingBeenAheadWithHysteresis) {
   EXPECT_FALSE(n.seen_ahead);
 }
 
+TEST(Crossed, AHeadingThatFlipsFarOffIsNoCrossing) {
+  // A person 25 m off walking towards the robot (heading −x): the robot is ahead of them.
+  CrossedTracker s;
+  const Eigen::Vector2d robot{3.0, 0.85};
+  s = updateCrossed(s, {28.0, 1.0, M_PI}, robot);
+  ASSERT_TRUE(s.seen_ahead);
+  // The tracker's heading of someone setting off flips for a step: "behind", 25 m off. No.
+  s = updateCrossed(s, {27.9, 1.0, 0.0}, robot);
+  EXPECT_FALSE(s.crossed);
+  // Passing them, near: crossed.
+  s = updateCrossed(s, {2.5, 1.5, M_PI}, robot);
+  EXPECT_TRUE(s.crossed);
+}
+
 }  // namespace
 }  // namespace coopnav::dialogue

@@ -174,6 +174,71 @@ TEST(StandOffWatch, NonFiniteInputIsNoEvidence) {
   EXPECT_EQ(w.update(no_t_cross, false), StandOff::kMutualWait);
 }
 
+/// The robot backing off at 0.3 m/s before a person 1.0 m away who follows at 0.3 m/s, in front
+/// of it (the robot faces its goal and backs).
+StandOffInput backing(double t_s) {
+  StandOffInput in = still(t_s, 3.5, 1.0);
+  in.t_cross_s.reset();  // the bands yield ground: no crossing ahead
+  in.robot_speed_m_s = 0.3;
+  in.human_speed_m_s = 0.3;
+  in.robot_receding_m_s = 0.3;
+  in.human_closing_m_s = 0.3;
+  in.human_ahead = true;
+  return in;
+}
+
+TEST(StandOffWatch, BackingOffBeforeAPersonWhoFollowsIsAStandOffAfterItsTime) {
+  StandOffWatch w;
+  const auto [s, t] = run(w, 0.0, 10.0, false, backing);
+  EXPECT_EQ(s, StandOff::kBackingOff);
+  EXPECT_NEAR(t, StandOffConfig{}.backing_off_s, 1e-9);
+  EXPECT_NEAR(w.backingOff_s(), StandOffConfig{}.backing_off_s, 1e-9);
+  // Not while docked (a retreat the robot announced: watched as a dock), not with the person
+  // behind the robot (the robot drives on and is followed), not when the person stops following.
+  StandOffWatch docked;
+  EXPECT_EQ(run(docked, 0.0, 5.0, true, backing).first, StandOff::kNone);
+  StandOffWatch behind;
+  EXPECT_EQ(run(behind, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = backing(u);
+                  in.human_ahead = false;
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+  StandOffWatch stands;
+  EXPECT_EQ(run(stands, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = backing(u);
+                  in.human_closing_m_s = 0.0;  // the person does not come after it
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+  StandOffWatch stops;
+  EXPECT_EQ(run(stops, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = backing(u);
+                  if (u >= 0.5) in.robot_receding_m_s = 0.0;  // a step back, then it stays
+                  return in;
+                })
+                .first,
+            StandOff::kNone);
+  // Judged on means: a chase whose speeds flicker round the person's standing threshold, step
+  // by step (a tracked person's velocity noise), is still one.
+  StandOffWatch noisy;
+  EXPECT_EQ(run(noisy, 0.0, 10.0, false,
+                [](double u) {
+                  StandOffInput in = backing(u);
+                  const bool odd = static_cast<int>(u * 4.0) % 2 == 1;
+                  in.robot_receding_m_s = odd ? 0.0 : 0.4;
+                  in.human_closing_m_s = odd ? -0.1 : 0.5;
+                  return in;
+                })
+                .first,
+            StandOff::kBackingOff);
+}
+
 // ---- decisions ----
 
 /// Round 1 fired (silent), the person needs to contribute, the robot is constrained.
@@ -385,6 +450,33 @@ TEST(StandOffDecision, NoStandOffBeforeRoundOneAfterTheCrossingOrWhenNotResolvin
       steps(waits, 1.0, 30.0, [](double u) { return withMotion(narrow(u, 3.5), 4.0); });
   ASSERT_EQ(outs.size(), 1u);  // the dock only
   EXPECT_TRUE(waits.docked());
+}
+
+TEST(StandOffDecision, BackingOffBeforeRoundOneEndsInADockSaidAndTakesTheRoundsPlace) {
+  // Given no crossing ahead (the planner backs the robot off before the person: t_CROSS
+  // unknown, so round 1 never comes) ...
+  HumanDecision dut;
+  const auto outs = steps(dut, 0.0, 10.0, [](double u) {
+    DecisionInput in = narrow(u, 9.0);
+    in.situation.t_cross_s.reset();
+    in.motion = backing(u);
+    return in;
+  });
+  // ... the robot makes room, and says so, once it has backed off backing_off_s.
+  ASSERT_EQ(outs.size(), 1u);
+  EXPECT_EQ(outs[0].robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+  ASSERT_EQ(outs[0].utterances.size(), 1u);
+  EXPECT_EQ(outs[0].utterances[0].act, SpeechAct::kInformDocking);
+  EXPECT_TRUE(outs[0].utterances[0].resolves_stand_off);
+  ASSERT_EQ(outs[0].rounds.size(), 1u);
+  EXPECT_NEAR(outs[0].rounds[0].t_s, StandOffConfig{}.backing_off_s, 1e-9);
+  EXPECT_EQ(outs[0].rounds[0].branch.rfind("before round 1: stand-off: backing_off", 0), 0u)
+      << outs[0].rounds[0].branch;
+  EXPECT_TRUE(dut.docked());
+  // Rounds 1 and 2 do not speak after it: their words would contradict the dock.
+  EXPECT_TRUE(dut.roundFired(1));
+  EXPECT_TRUE(dut.roundFired(2));
+  EXPECT_TRUE(dut.step(narrow(10.25, 6.5)).utterances.empty());
 }
 
 }  // namespace

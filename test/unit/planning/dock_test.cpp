@@ -187,5 +187,74 @@ TEST(DockModeMachineTest, ADockAskedForWhileTheHumanIsFarWaitsForItToComeAndPass
   EXPECT_EQ(dut2.update(*map, in).mode, RobotMode::kResuming);
 }
 
+TEST(DockModeMachineTest, HoldingAtTheDockPoseKeepsTheRobotOnItToTheSettleTolerance) {
+  // Given a robot that reached its dock within the reached tolerance but 4 cm short of the wall
+  // side: every centimetre is taken from the passage it leaves the human.
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in = dockRequestInNarrow(13.0);
+  ModeOutput out = dut.update(*map, in);
+  ASSERT_EQ(out.mode, RobotMode::kDocking);
+  const Pose2 dock = out.active_goal;
+  in.dock_requested = false;
+  in.robot = {dock.x_m, dock.y_m + 0.04, 0.0};
+  in.stamp_s = 1.0;
+  out = dut.update(*map, in);
+  // Then it holds, settling on the dock pose ...
+  ASSERT_EQ(out.mode, RobotMode::kHolding);
+  EXPECT_TRUE(out.hold_still);
+  EXPECT_TRUE(out.settle);
+  EXPECT_EQ(out.active_goal, dock);
+  const Velocity2 v =
+      settleOn(in.robot, dock.position(), dut.options().dock_settle_tolerance_m, in.limits);
+  EXPECT_LT(v.vy_m_s, 0.0);  // towards the wall (dock below the robot, body frame = world)
+  EXPECT_NEAR(v.vy_m_s, -0.04, 1e-9);  // the route follower's gain, 1/s
+  // ... and stops within the tolerance.
+  const Pose2 near{dock.x_m, dock.y_m + 0.005, 0.0};
+  EXPECT_EQ(settleOn(near, dock.position(), dut.options().dock_settle_tolerance_m, in.limits),
+            Velocity2{});
+  // A hold where the robot stopped because no move left room is no dock pose: no settling.
+  DockModeMachine still;
+  ModeInput blocked = in;
+  blocked.dock_requested = true;
+  blocked.robot = {10.0, 1.575, 0.0};
+  // 1.1 m wide, closed 0.06 m behind the robot: no dock, no wider place, no room to retreat.
+  auto tight = BoxMap::corridor(9.6, 30.0, 1.0, 2.1);
+  blocked.trail = nullptr;
+  blocked.human = {11.5, 1.575, M_PI};
+  blocked.human_velocity = {0.0, 0.0};
+  const ModeOutput o2 = still.update(*tight, blocked);
+  ASSERT_EQ(o2.mode, RobotMode::kHolding);
+  EXPECT_FALSE(o2.settle);
+}
+
+TEST(DockModeMachineTest, ARobotAtItsGoalDocksWhenAskedAndGoesBackToIt) {
+  // Given a robot parked at its goal in the narrow corridor and a person coming who cannot pass.
+  auto map = narrow();
+  DockModeMachine dut;
+  ModeInput in;
+  in.robot = {20.0, 1.575, 0.0};
+  in.goal = {20.0, 1.575, 0.0};
+  in.has_human = true;
+  in.human = {23.0, 1.9, M_PI};
+  ASSERT_EQ(dut.update(*map, in).mode, RobotMode::kGoalReached);
+  // When a dock is asked for, it makes room as on its way ...
+  in.dock_requested = true;
+  in.stamp_s = 0.1;
+  const ModeOutput out = dut.update(*map, in);
+  EXPECT_EQ(out.mode, RobotMode::kDocking);
+  EXPECT_LT(out.active_goal.y_m, 1.2);
+  // ... and once the person has passed it resumes, and is at its goal again there.
+  in.dock_requested = false;
+  in.robot = out.active_goal;
+  in.stamp_s = 2.0;
+  ASSERT_EQ(dut.update(*map, in).mode, RobotMode::kHolding);
+  in.human = {18.0, 1.9, M_PI};
+  in.stamp_s = 4.0;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kResuming);
+  in.robot = in.goal;
+  EXPECT_EQ(dut.update(*map, in).mode, RobotMode::kGoalReached);
+}
+
 }  // namespace
 }  // namespace coopnav

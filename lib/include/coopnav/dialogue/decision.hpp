@@ -316,15 +316,23 @@ class HumanDecision {
 struct CrossedTracker {
   bool seen_ahead{false};
   bool crossed{false};  ///< latched once true
+  /// The human's heading when the robot was first seen ahead (unit, world): "behind" is judged
+  /// along it from then on, so that a heading that flips later (a tracker's heading from the
+  /// noisy velocity of a person standing and waiting) does not put the robot behind them.
+  Eigen::Vector2d axis{0.0, 0.0};
 };
 
 /// [m] Robot position along the human's heading, relative to the human (> 0 = ahead).
 double robotAlongHumanHeading_m(const Pose2& human, const Eigen::Vector2d& robot_m);
 
 /// Pure update of the crossed detection with hysteresis: "ahead" once the robot is more than
-/// hysteresis_m ahead, "crossed" once, having been ahead, it is more than hysteresis_m behind.
+/// hysteresis_m ahead along the human's heading, "crossed" once, having been ahead, it is more
+/// than hysteresis_m behind along the heading it was first seen ahead on (CrossedTracker::axis),
+/// while within max_distance_m of the human. The robot gets behind a person by passing them,
+/// near; far off, "behind" is a person who turned back: no crossing.
 /// Non-finite input leaves the state unchanged.
 CrossedTracker updateCrossed(CrossedTracker previous, const Pose2& human,
-                             const Eigen::Vector2d& robot_m, double hysteresis_m = 0.2);
+                             const Eigen::Vector2d& robot_m, double hysteresis_m = 0.2,
+                             double max_distance_m = 5.0);
 
 }  // namespace coopnav::dialogue

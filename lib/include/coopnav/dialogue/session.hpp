@@ -31,7 +31,8 @@ namespace coopnav::dialogue {
 struct SessionConfig {
   DecisionConfig decision;
   CrowdConfig crowd;
-  double crossed_hysteresis_m{0.2};  ///< [m] CrossedTracker's hysteresis
+  double crossed_hysteresis_m{0.2};    ///< [m] CrossedTracker's hysteresis
+  double crossed_max_distance_m{5.0};  ///< [m] updateCrossed: a crossing is seen this near
   /// [s] A person absent from the agent states this long has left: its interaction ends (and a
   /// new id where it was heading no longer continues it).
   double human_gone_s{2.0};
@@ -228,10 +229,11 @@ class Session {
   /// The robot's one voice: when each utterance starts, and whether it is said at all.
   SpeechTimeline voice_;
   std::map<std::string, double> measured_s_;
-  Pose2 robot_pose_;             ///< as last seen (where "on my left" is)
-  double robot_speed_m_s_{0.0};  ///< [m/s] as last seen (the stand-off watch)
-  double robot_radius_m_{0.0};   ///< [m] as last seen
-  bool robot_known_{false};      ///< agent states were seen
+  Pose2 robot_pose_;                              ///< as last seen (where "on my left" is)
+  double robot_speed_m_s_{0.0};                   ///< [m/s] as last seen (the stand-off watch)
+  Eigen::Vector2d robot_velocity_m_s_{0.0, 0.0};  ///< [m/s] world frame, as last seen
+  double robot_radius_m_{0.0};                    ///< [m] as last seen
+  bool robot_known_{false};                       ///< agent states were seen
   std::optional<std::int64_t> latest_agents_utime_;
 };
 

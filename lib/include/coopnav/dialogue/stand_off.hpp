@@ -1,10 +1,12 @@
 #pragma once
 /// @file Progress of one crossing, watched per human: a mutual wait (robot and person both
-/// still, near each other, the crossing not getting closer) and a dock the person does not come
-/// to pass. Neither is in the paper, whose rounds fire at t_CROSS thresholds and assume the
-/// crossing comes; this is the freezing-robot stand-off (Trautman & Krause 2010) that issue 44
-/// requires to be resolved within a bounded time. Pure: time is an input; HumanDecision decides
-/// what to do about it (decision.hpp, the cooperation assessment).
+/// still, near each other, the crossing not getting closer), a dock the person does not come
+/// to pass, and the robot backing off before a person who follows it (giving way backwards, with
+/// no crossing ahead: the planner's bands yield ground and nothing ever passes). Neither is in the
+/// paper, whose rounds fire at t_CROSS thresholds and assume the crossing comes; this is the
+/// freezing-robot stand-off (Trautman & Krause 2010) that issue 44 requires to be resolved within a
+/// bounded time. Pure: time is an input; HumanDecision decides what to do about it (decision.hpp,
+/// the cooperation assessment).
 
 #include <optional>
 
@@ -42,15 +44,28 @@ struct StandOffConfig {
   /// not coming, and the robot goes on. Counted from the dock request, so it covers the drive to
   /// the dock pose (a few seconds) and a person's late start after hearing the dock's words.
   double dock_wait_s{8.0};
+  /// [s] Not docked, the robot has backed off before a person near it and in front of it this
+  /// long (on average moving away from them at robot_still_m_s or more, while they come after
+  /// it): it is giving way backwards with no end, as the person keeps coming. Long enough for
+  /// a step back that lets a person by; short enough that the robot does not back down a
+  /// corridor before saying anything.
+  double backing_off_s{3.0};
 };
 
 /// One step's view of the robot and one person, from the agent states and the situation.
 struct StandOffInput {
-  double t_s{0.0};                  ///< [s] message time
-  double robot_speed_m_s{0.0};      ///< [m/s]
-  double human_speed_m_s{0.0};      ///< [m/s]
-  double centre_distance_m{0.0};    ///< [m] robot centre to person centre
-  double gap_m{0.0};                ///< [m] surface to surface (centre distance less the radii)
+  double t_s{0.0};                ///< [s] message time
+  double robot_speed_m_s{0.0};    ///< [m/s]
+  double human_speed_m_s{0.0};    ///< [m/s]
+  double centre_distance_m{0.0};  ///< [m] robot centre to person centre
+  double gap_m{0.0};              ///< [m] surface to surface (centre distance less the radii)
+  /// [m/s] The robot's velocity along the direction from the person to the robot (> 0: moving
+  /// away from them) and the person's along the same direction (> 0: coming at the robot).
+  double robot_receding_m_s{0.0};
+  double human_closing_m_s{0.0};
+  /// The person is in front of the robot (along its heading): one coming from behind, as the
+  /// robot drives on, is being followed, not backed off from.
+  bool human_ahead{false};
   std::optional<double> t_cross_s;  ///< [s] nullopt = unknown
 };
 
@@ -58,6 +73,7 @@ enum class StandOff {
   kNone = 0,
   kMutualWait = 1,  ///< both still and near for mutual_wait_s, the crossing no closer
   kDockNoShow = 2,  ///< docked, the person not nearer by dock_progress_m for dock_wait_s
+  kBackingOff = 3,  ///< not docked, backing off before a person who follows for backing_off_s
 };
 const char* toString(StandOff s);
 
@@ -76,6 +92,8 @@ class StandOffWatch {
   double mutualWait_s() const { return mutual_wait_s_; }
   /// [s] How long the dock has seen no progress at the last update (0 when not docked).
   double dockWait_s() const { return dock_wait_s_; }
+  /// [s] How long the robot has been backing off before the person (0 when it is not).
+  double backingOff_s() const { return backing_off_s_; }
   const StandOffConfig& config() const { return config_; }
 
  private:
@@ -88,6 +106,10 @@ class StandOffWatch {
   double dock_best_distance_m_{0.0};
   double mutual_wait_s_{0.0};
   double dock_wait_s_{0.0};
+  std::optional<double> backing_since_s_;
+  double backing_robot_m_{0.0};  ///< [m] the robot's way away from the person since then
+  double backing_human_m_{0.0};  ///< [m] the person's way towards the robot since then
+  double backing_off_s_{0.0};
 };
 
 }  // namespace coopnav::dialogue

@@ -66,6 +66,8 @@ struct ModeMachineOptions {
   /// The dock pose is reached within this [m]: the robot drives there itself (driveTowards), so
   /// it can be tighter than the planner's goal tolerance.
   double dock_reached_tolerance_m{0.05};
+  /// Holding at the dock pose, the robot keeps itself on it to within this [m] (settleOn).
+  double dock_settle_tolerance_m{0.01};
   double goal_tolerance_m{0.2};
   double human_passed_margin_m{0.3};  ///< robot this far behind the human along its heading
   double human_far_m{5.0};            ///< or the human this far away and going away:
@@ -94,8 +96,10 @@ struct ModeInput {
 struct ModeOutput {
   RobotMode mode{RobotMode::kNavigate};
   Pose2 active_goal;       ///< where the planner should go now (dock pose or the goal)
-  bool hold_still{false};  ///< command zero velocity (holding)
-  bool changed{false};     ///< mode changed in this update
+  bool hold_still{false};  ///< command zero velocity (holding) ...
+  /// ... but for keeping on the dock pose (active_goal) when it holds at one (settleOn).
+  bool settle{false};
+  bool changed{false};                     ///< mode changed in this update
   std::optional<DockStatus> dock_failure;  ///< a requested dock that could not be found
   /// Docking: the route the robot drives itself (waypoints to the dock pose; the planner's band
   /// keeps its clearance from walls and would stop short of a flush dock).
@@ -117,6 +121,8 @@ class DockModeMachine {
   static bool humanHasPassed(const Pose2& robot, const Pose2& human, double margin_m);
 
  private:
+  /// Holding where the robot stands (not at a dock pose).
+  void holdHere(const ModeInput& in);
   /// Starts the move of a room decision; false when it is no move (kUnknown).
   bool start(const RoomDecision& d, const ModeInput& in, ModeOutput& out);
 
@@ -125,8 +131,12 @@ class DockModeMachine {
   Pose2 dock_;
   Path2 route_;
   RoomMove dock_move_{RoomMove::kUnknown};  ///< what the dock being driven to is
+  bool on_dock_{false};  ///< holding at the dock pose it drove to (not where it stopped)
   double hold_since_s_{0.0};
   double dock_start_dist_m_{0.0};  ///< robot–human distance when the dock was asked for
+  /// From the human to the robot when the dock was asked for (unit): the human has passed once
+  /// the robot is behind them along it.
+  Eigen::Vector2d dock_axis_{1.0, 0.0};
 };
 
 /// Encounter of the mode input's robot and human.

@@ -41,6 +41,13 @@ double travelTime(double distance_m, const Eigen::Vector2d& dir, double theta_ra
 Velocity2 driveTowards(const Pose2& robot, const Eigen::Vector2d& target, double speed_m_s,
                        double slow_radius_m, const RobotLimits& limits, double distance_m = 0.0);
 
+/// Body-frame command that keeps the robot on `target` (world) once it is there: a slow
+/// proportional approach (the route follower's gain) while it is more than `tolerance_m` off,
+/// zero within it. Holding a dock pose: docking ends within its reached tolerance, and what the
+/// robot stands off the pose, away from the wall, is taken from the passage the dock leaves.
+Velocity2 settleOn(const Pose2& robot, const Eigen::Vector2d& target, double tolerance_m,
+                   const RobotLimits& limits);
+
 /// Length of `route` left from its point nearest `p` (plus the distance to it) [m].
 double lengthLeft(const Path2& route, const Eigen::Vector2d& p);
 

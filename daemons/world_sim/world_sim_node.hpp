@@ -22,6 +22,7 @@
 #include "coopnav/distance/grid_distance_field.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "coopnav/sim/tracker.hpp"
+#include "coopnav/sim/world_run.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/limits.hpp"
@@ -141,10 +142,6 @@ struct WorldSimConfig {
   void resolvePaths(const std::string& base_dir);
 };
 
-/// The first robot-human contact in words, e.g. "human 1 walked into the robot at rest at t
-/// 23.40 s" or "the robot drove into human 2 at 0.32 m/s at t 12.30 s".
-std::string contactDetail(const sim::RobotHumanContact& contact, double fault_speed_m_s);
-
 class WorldSimNode {
  public:
   using Config = WorldSimConfig;
@@ -156,16 +153,10 @@ class WorldSimNode {
   /// The tracker model in force (the scenario's, with the config's overrides).
   const sim::Tracker& tracker() const { return *tracker_; }
   bool publishHumanGoals() const { return publish_human_goals_; }
-  bool ended() const { return phase_ == Phase::kEnded; }
+  bool ended() const { return run_.ended(); }
   const world_sim::Scenario& scenario() const { return scenario_; }
 
  private:
-  enum class Phase { kWaitingReady, kRunning, kEnded };
-  /// Lockstep: how the simulation ended, kept while the acks of its last step are awaited.
-  struct Ending {
-    std::int8_t state;
-    std::string detail;
-  };
   struct PendingCue {
     sim::Cue cue;
     std::int64_t step{-1};
@@ -204,6 +195,8 @@ class WorldSimNode {
   /// Before step 0: goals and a "here" ack, so the daemons know the world before it starts.
   void announce();
   void finish(std::int8_t state, const std::string& detail);
+  /// The end-of-run sentence (sim::endDetail) with what the node knows: the last command's mode
+  /// and words said.
   std::string endDetail(const sim::StepResult& r) const;
 
   Config config_;
@@ -225,11 +218,10 @@ class WorldSimNode {
   std::int64_t retransmits_{0};
   std::int64_t band_step_{-1};  ///< step of the latest bands applied or pending
 
-  Phase phase_{Phase::kWaitingReady};
-  std::set<std::string> ready_;
+  /// Waiting for the participants, running, ended; the lockstep end (lib/sim world_run.hpp).
+  sim::WorldRun run_;
   std::chrono::steady_clock::time_point phase_since_;
   std::int64_t step_{0};  ///< index of the agent states last published
-  std::optional<Ending> ending_;
   std::vector<AgentState> agents_;
 
   std::optional<VelocityCommand> command_;

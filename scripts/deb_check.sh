@@ -6,7 +6,8 @@
 # (/etc/coopnav/<daemon>.yaml, unedited: their maps resolve through the package's links) on an
 # LCM port of their own, checks that `coopnav_ctl wait-ready` hears all of them, and runs
 # narrow_minimal from the installed scenarios to its end with the installed world_sim, recorded
-# by the installed coopnav_record: the installed `coopnav_ctl summarize` must say GOAL_REACHED.
+# by the installed coopnav_record: its summary (the installed `coopnav_ctl summarize`) must say
+# GOAL_REACHED without a contact.
 #
 #   scripts/deb_check.sh [--deb FILE] [--keep]
 #   --deb: check this package instead of building one.   --keep: leave the chroot for a look.
@@ -122,11 +123,12 @@ in_root /usr/bin/coopnav_world_sim --config /etc/coopnav/world_sim.yaml \
 coopnav_wait_recorded "$root$logs/narrow_minimal.lcm"
 in_root /usr/bin/coopnav_ctl summarize "$logs/narrow_minimal.lcm" --out "$logs/summary.json" \
   >"$root$logs/summarize.log" 2>&1 || true
-outcome="$(/usr/bin/python3 -c 'import json, sys
-s = json.load(open(sys.argv[1]))["scenarios"][0]
-print(s["outcome"], s["robot_time_to_goal_s"])' "$root$logs/summary.json" 2>/dev/null || true)"
-echo "world_sim narrow_minimal: exit $rc, outcome ${outcome:-unknown (no summary)}"
-if [ "$rc" != 0 ] || [ "${outcome%% *}" != GOAL_REACHED ]; then
+# scripts/coopnav outcome: the final state, and exit 1 unless every goal was reached without a
+# contact (run.py outcome_failure).
+ok=0
+outcome="$("$COOPNAV_ROOT/scripts/coopnav" outcome "$root$logs/summary.json" 2>&1)" || ok=$?
+echo "world_sim narrow_minimal: exit $rc, outcome $outcome"
+if [ "$rc" != 0 ] || [ "$ok" != 0 ]; then
   tail -n 20 "$root$logs/world_sim.log" "$root$logs/summarize.log"
   echo "FAIL: the installed narrow_minimal run did not reach the goal" >&2
   exit 1

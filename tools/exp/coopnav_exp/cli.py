@@ -24,6 +24,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "population": population.main,
     "run": run.main,
     "run-one": run.run_one_main,
+    "outcome": run.outcome_main,
     "system": system.main,
 }
 

@@ -24,9 +24,6 @@ namespace coopnav {
 
 namespace {
 
-/// Utterances to one person kept while their words have not ended (WorldSimNode::hear).
-constexpr std::size_t kMaxUnendedCuesPerHuman = 16;
-
 /// What the words of an utterance ask of the person (the side as the person sees it).
 sim::Cue cueOf(const UtteranceMsg& u) {
   using dialogue::SpeechAct;
@@ -297,47 +294,34 @@ void WorldSimNode::hear(const utterance_t& msg) {
     throw RejectedMessage("utterance asks human " + std::to_string(msg.human_id) +
                           " to move without a side");
   if (u.slot.delivery != dialogue::Delivery::kSaid) return;  // decided, not said: nobody hears it
-  PendingCue c;
-  c.cue = cueOf(u);
-  // Words are heard when they end, on the simulation's clock: ending further ahead than a
-  // message may be stamped (limits.max_time_jump_s) they would wait unheard all run; ended
-  // longer ago than limits.forget_after_s, the encounter they were said for is long over.
+  sim::Cue cue = cueOf(u);
+  cue.human_id = human->id;
+  std::vector<std::int32_t> group;
+  for (const std::int32_t id : u.group)
+    if (const std::optional<std::size_t> member = tracker_->personOf(id))
+      group.push_back(scenario_.humans[*member].id);  // else: left the scene, nobody to hear it
   const double now_s = sim_->time_s();
   const InputLimits& limits = runtime_.limits();
-  if (!(c.cue.t_s <= now_s + limits.max_time_jump_s))
-    throw RejectedMessage("utterance to human " + std::to_string(msg.human_id) + " ends at t " +
-                          fixed2(c.cue.t_s) +
-                          " s, more than limits.max_time_jump_s = " + fmt(limits.max_time_jump_s) +
-                          " s after the simulation's t " + fixed2(now_s) + " s");
-  if (c.cue.t_s < now_s - limits.forget_after_s)
-    throw DroppedMessage(
-        "utterance to human " + std::to_string(msg.human_id) + " ended at t " + fixed2(c.cue.t_s) +
-        " s, more than limits.forget_after_s = " + fmt(limits.forget_after_s) +
-        " s before the simulation's t " + fixed2(now_s) + " s: nobody acts on it any more");
-  c.cue.human_id = human->id;
-  c.step = msg.step;
-  // Words not yet ended are kept per person up to kMaxUnendedCuesPerHuman: one person hears one
-  // sentence at a time, and the dialogue manager says one per round.
-  const auto unended = [&](std::int32_t id) {
-    return sim_->pendingCues(id) + static_cast<std::size_t>(std::count_if(
-                                       cues_.begin(), cues_.end(),
-                                       [&](const PendingCue& p) { return p.cue.human_id == id; }));
-  };
-  if (unended(human->id) >= kMaxUnendedCuesPerHuman)
-    throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) + ": " +
-                         std::to_string(kMaxUnendedCuesPerHuman) +
-                         " utterances to that person have not ended yet");
+  const std::string to = "utterance to human " + std::to_string(msg.human_id);
+  switch (heard_.offer(cue, msg.step, group, now_s, limits.max_time_jump_s, limits.forget_after_s,
+                       *sim_)) {
+    case sim::HeardWords::Verdict::kEndsTooFarAhead:
+      throw RejectedMessage(
+          to + " ends at t " + fixed2(cue.t_s) + " s, more than limits.max_time_jump_s = " +
+          fmt(limits.max_time_jump_s) + " s after the simulation's t " + fixed2(now_s) + " s");
+    case sim::HeardWords::Verdict::kEndedTooLongAgo:
+      throw DroppedMessage(to + " ended at t " + fixed2(cue.t_s) +
+                           " s, more than limits.forget_after_s = " + fmt(limits.forget_after_s) +
+                           " s before the simulation's t " + fixed2(now_s) +
+                           " s: nobody acts on it any more");
+    case sim::HeardWords::Verdict::kFull:
+      throw DroppedMessage(to + ": " + std::to_string(heard_.maxUnendedPerHuman()) +
+                           " utterances to that person have not ended yet");
+    case sim::HeardWords::Verdict::kKept:
+      break;
+  }
   last_said_ = "\"" + keptText(msg.text, limits.maxTextBytes()) + "\" to human " +
                std::to_string(msg.human_id);
-  cues_.push_back(c);
-  // Words to a group are heard by everyone in it (one plan, said once: crowd.hpp).
-  for (const std::int32_t id : u.group) {
-    const std::optional<std::size_t> member = tracker_->personOf(id);
-    if (!member) continue;  // left the scene since: nobody to hear it
-    c.cue.human_id = scenario_.humans[*member].id;
-    if (unended(c.cue.human_id) >= kMaxUnendedCuesPerHuman) continue;  // that person: full
-    cues_.push_back(c);
-  }
 }
 
 void WorldSimNode::onBands(const bands_t& msg) {
@@ -429,16 +413,12 @@ void WorldSimNode::applyInputs() {
                  step_, command_->step);
     }
   }
-  const double now_s = sim_->time_s();
-  for (PendingCue& c : cues_) {
+  for (const sim::HeardWords::Pending& c : heard_.take(sim_->time_s())) {
     if (lockstep_ && c.step != step_)
       log().info("world_sim: step {}: utterance of step {} to human {}", step_, c.step,
                  c.cue.human_id);
-    // Words that ended before the step they were decided on takes effect are heard now.
-    c.cue.t_s = std::max(c.cue.t_s, now_s);
     sim_->addCue(c.cue);
   }
-  cues_.clear();
   if (band_) {
     sim_->setRobotBand(band_->robot, utimeToSeconds(band_->utime));
     band_.reset();

@@ -20,6 +20,7 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/sim/heard_words.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "coopnav/sim/tracker.hpp"
 #include "coopnav/sim/world_run.hpp"
@@ -157,11 +158,6 @@ class WorldSimNode {
   const world_sim::Scenario& scenario() const { return scenario_; }
 
  private:
-  struct PendingCue {
-    sim::Cue cue;
-    std::int64_t step{-1};
-  };
-
   /// One line per cue whose words ended: heard?, complies?, when it acts; and its record in
   /// cue_outcomes_file.
   void logCue(const sim::CueOutcome& o);
@@ -227,7 +223,7 @@ class WorldSimNode {
   std::optional<VelocityCommand> command_;
   Velocity2 last_command_{0.0, 0.0, 0.0};  ///< body frame, applied over the current step
   std::int64_t stale_commands_{0};
-  std::vector<PendingCue> cues_;
+  sim::HeardWords heard_;  ///< words said, until the step that applies them
   std::optional<BandsSnapshot> band_;
   std::optional<std::int8_t> last_mode_;  ///< of the latest robot command (standstill detail)
   std::string last_said_;                 ///< latest utterance, "text" to human N (same)

@@ -44,7 +44,7 @@ std::string contactDetail(const RobotHumanContact& contact, double fault_speed_m
 
 /// The sentence of a run's end (its SIM status detail) for the step the simulation ended on;
 /// "" while `r.status` is kRunning.
-std::string endDetail(const StepResult& r, const SimSummary& summary, const EndContext& context);
+std::string endDetail(const StepResult& r, const SimSummary& sum, const EndContext& ctx);
 
 /// The run's phases: waiting for every lockstep participant's first status, running, ended. In
 /// lockstep the step on which the simulation ended is answered like every other one before the

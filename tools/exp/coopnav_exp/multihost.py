@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import os
 import subprocess
 import sys
@@ -168,7 +169,6 @@ def _wall(r: run_mod.RunResult) -> str:
 
 def json_timing(out_dir: Path) -> float:
     """A run's wall time from its timing.json (coopnav_exp.timing)."""
-    import json
     doc = json.loads((out_dir / "timing.json").read_text())
     return float(doc["total_s"])
 

@@ -25,7 +25,7 @@ HeardWords::Verdict HeardWords::offer(const Cue& cue, std::int64_t step,
     if (unended(id, sim) >= max_unended_) continue;  // that person: full
     Pending p{cue, step};
     p.cue.human_id = id;
-    pending_.push_back(std::move(p));
+    pending_.push_back(p);
   }
   return Verdict::kKept;
 }

@@ -5,7 +5,9 @@
 # installed daemons (/usr/bin/coopnav_<daemon>) with the installed admin configs
 # (/etc/coopnav/<daemon>.yaml, unedited: their maps resolve through the package's links) on an
 # LCM port of their own, checks that `coopnav_ctl wait-ready` hears all of them, and runs
-# narrow_minimal from the installed scenarios to its end with the installed world_sim.
+# narrow_minimal from the installed scenarios to its end with the installed world_sim, recorded
+# by the installed coopnav_record: its summary (the installed `coopnav_ctl summarize`) must say
+# GOAL_REACHED without a contact.
 #
 #   scripts/deb_check.sh [--deb FILE] [--keep]
 #   --deb: check this package instead of building one.   --keep: leave the chroot for a look.
@@ -109,15 +111,25 @@ if ! in_root /usr/bin/coopnav_ctl wait-ready "${daemons[@]}" --timeout-s 60; the
 fi
 echo "wait-ready: ${daemons[*]} answer from /usr/bin with /etc/coopnav configs"
 
-# A whole run from the installed scenario (its map is the configs' map, maps/open.yaml).
+# A whole run from the installed scenario (its map is the configs' map, maps/open.yaml), recorded
+# with the installed recorder; its outcome is read from the installed `coopnav_ctl summarize`.
+logs=/var/log/coopnav-check
+coopnav_spawn "$root$logs/record.log" chroot "$root" /usr/bin/env -i PATH=/usr/bin:/bin \
+  /usr/bin/coopnav_record -f -c 'COOPNAV_.*' --lcm-url "$url" "$logs/narrow_minimal.lcm"
+for _ in $(seq 1 100); do [ -s "$root$logs/narrow_minimal.lcm" ] && break; sleep 0.1; done
 rc=0
 in_root /usr/bin/coopnav_world_sim --config /etc/coopnav/world_sim.yaml \
-  --set scenario=/etc/coopnav/scenarios/narrow_minimal.yaml \
-  >"$root/var/log/coopnav-check/world_sim.log" 2>&1 || rc=$?
-end="$(grep -o "ended at .*" "$root/var/log/coopnav-check/world_sim.log" | tail -1 || true)"
-echo "world_sim narrow_minimal: exit $rc, $end"
-if [ "$rc" != 0 ] || ! grep -q "reached its goal" <<<"$end"; then
-  tail -n 20 "$root/var/log/coopnav-check/world_sim.log"
+  --set scenario=/etc/coopnav/scenarios/narrow_minimal.yaml >"$root$logs/world_sim.log" 2>&1 || rc=$?
+coopnav_wait_recorded "$root$logs/narrow_minimal.lcm"
+in_root /usr/bin/coopnav_ctl summarize "$logs/narrow_minimal.lcm" --out "$logs/summary.json" \
+  >"$root$logs/summarize.log" 2>&1 || true
+# scripts/coopnav outcome: the final state, and exit 1 unless every goal was reached without a
+# contact (run.py outcome_failure).
+ok=0
+outcome="$("$COOPNAV_ROOT/scripts/coopnav" outcome "$root$logs/summary.json" 2>&1)" || ok=$?
+echo "world_sim narrow_minimal: exit $rc, outcome $outcome"
+if [ "$rc" != 0 ] || [ "$ok" != 0 ]; then
+  tail -n 20 "$root$logs/world_sim.log" "$root$logs/summarize.log"
   echo "FAIL: the installed narrow_minimal run did not reach the goal" >&2
   exit 1
 fi

@@ -1,5 +1,5 @@
-# One scenario run for the bash scripts that still launch runs themselves (scripts/multihost.sh,
-# scripts/population.sh): a thin shell over `scripts/coopnav run-one`
+# One scenario run for a bash script of your own (no script of the tree launches runs itself now):
+# a thin shell over `scripts/coopnav run-one`
 # (tools/exp/coopnav_exp/run.py's run_one, which every launcher shares; config/system.yaml lists
 # the daemons). Sourced after lib.sh, not executed.
 #

@@ -24,9 +24,6 @@ namespace coopnav {
 
 namespace {
 
-/// Utterances to one person kept while their words have not ended (WorldSimNode::hear).
-constexpr std::size_t kMaxUnendedCuesPerHuman = 16;
-
 /// What the words of an utterance ask of the person (the side as the person sees it).
 sim::Cue cueOf(const UtteranceMsg& u) {
   using dialogue::SpeechAct;
@@ -81,20 +78,22 @@ std::string fmt(double x) {
   return s.str();
 }
 
-std::int8_t toSimStatusState(sim::SimStatus s) {
-  switch (s) {
-    case sim::SimStatus::kGoalsReached:
+std::int8_t toSimStatusState(sim::RunEnd e) {
+  switch (e) {
+    case sim::RunEnd::kGoalsReached:
       return sim_status_t::STATE_GOAL_REACHED;
-    case sim::SimStatus::kCollision:
+    case sim::RunEnd::kCollision:
       return sim_status_t::STATE_COLLISION;
-    case sim::SimStatus::kTimeLimit:
+    case sim::RunEnd::kTimeLimit:
       return sim_status_t::STATE_TIME_LIMIT;
-    case sim::SimStatus::kStandstill:
+    case sim::RunEnd::kStandstill:
       return sim_status_t::STATE_STANDSTILL;
-    case sim::SimStatus::kRunning:
+    case sim::RunEnd::kParticipantTimeout:
+      return sim_status_t::STATE_PARTICIPANT_TIMEOUT;
+    case sim::RunEnd::kError:
       break;
   }
-  return sim_status_t::STATE_RUNNING;
+  return sim_status_t::STATE_ERROR;
 }
 
 /// Two decimals, as a time or speed in a sentence.
@@ -112,18 +111,6 @@ std::string commandModeText(std::int8_t mode) {
 }
 
 }  // namespace
-
-std::string contactDetail(const sim::RobotHumanContact& c, double fault_speed_m_s) {
-  const std::string human = "human " + std::to_string(c.human_id);
-  const std::string at = " at t " + fixed2(c.t_s) + " s";
-  if (c.robot_at_fault)
-    return "the robot drove into " + human + " at " + fixed2(c.robot_speed_towards_m_s) + " m/s" +
-           at;
-  if (c.robot_speed_towards_m_s < -fault_speed_m_s)
-    return human + " walked into the robot moving away from it at " +
-           fixed2(-c.robot_speed_towards_m_s) + " m/s" + at;
-  return human + " walked into the robot at rest" + at;
-}
 
 sim::TrackerParams TrackerOverrides::apply(sim::TrackerParams p) const {
   auto set = [](auto& field, auto value) {
@@ -144,7 +131,7 @@ void WorldSimConfig::resolvePaths(const std::string& base_dir) {
 }
 
 WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
-    : config_(config), runtime_(runtime), outputs_(runtime) {
+    : config_(config), runtime_(runtime), outputs_(runtime), run_({}, 0.0) {
   try {
     scenario_ = world_sim::loadScenario(config_.scenario);
     LoadedMap map = world_sim::loadScenarioMap(scenario_);
@@ -178,6 +165,8 @@ WorldSimNode::WorldSimNode(const Config& config, Runtime& runtime)
     throw StartupError(config_.scenario + ": " + e.what());
   }
   lockstep_ = config_.mode == "scenario" ? scenario_.lockstep.enabled : config_.mode == "lockstep";
+  run_ = sim::WorldRun(lockstep_ ? scenario_.lockstep.participants : std::vector<std::string>{},
+                       scenario_.lockstep.step_timeout_s);
   real_time_factor_ =
       config_.real_time_factor > 0.0 ? config_.real_time_factor : scenario_.rates.real_time_factor;
   step_period_s_ = 1.0 / scenario_.rates.publish_hz;
@@ -250,7 +239,7 @@ void WorldSimNode::onStatus(const daemon_status_t& msg) {
   // The band source announces the kinematics it plans for: a scenario whose robot moves
   // otherwise is refused (wire/robot_kinematics.hpp), before the first step when the
   // announcement comes while waiting for the participants, which it does in lockstep.
-  if (msg.name == "band_source" && phase_ != Phase::kEnded) {
+  if (msg.name == "band_source" && !run_.ended()) {
     const std::optional<bool> planned = holonomicFromStatusDetail(msg.detail);
     const bool simulated = scenario_.robot.kinematics == sim::Kinematics::kHolonomic;
     if (planned && *planned != simulated) {
@@ -260,8 +249,8 @@ void WorldSimNode::onStatus(const daemon_status_t& msg) {
       return;
     }
   }
-  if (phase_ != Phase::kWaitingReady || msg.name == runtime_.name()) return;
-  if (ready_.insert(msg.name).second) checkReady();
+  if (msg.name == runtime_.name()) return;
+  if (run_.heard(msg.name)) checkReady();
 }
 
 template <class Store>
@@ -305,47 +294,34 @@ void WorldSimNode::hear(const utterance_t& msg) {
     throw RejectedMessage("utterance asks human " + std::to_string(msg.human_id) +
                           " to move without a side");
   if (u.slot.delivery != dialogue::Delivery::kSaid) return;  // decided, not said: nobody hears it
-  PendingCue c;
-  c.cue = cueOf(u);
-  // Words are heard when they end, on the simulation's clock: ending further ahead than a
-  // message may be stamped (limits.max_time_jump_s) they would wait unheard all run; ended
-  // longer ago than limits.forget_after_s, the encounter they were said for is long over.
+  sim::Cue cue = cueOf(u);
+  cue.human_id = human->id;
+  std::vector<std::int32_t> group;
+  for (const std::int32_t id : u.group)
+    if (const std::optional<std::size_t> member = tracker_->personOf(id))
+      group.push_back(scenario_.humans[*member].id);  // else: left the scene, nobody to hear it
   const double now_s = sim_->time_s();
   const InputLimits& limits = runtime_.limits();
-  if (!(c.cue.t_s <= now_s + limits.max_time_jump_s))
-    throw RejectedMessage("utterance to human " + std::to_string(msg.human_id) + " ends at t " +
-                          fixed2(c.cue.t_s) +
-                          " s, more than limits.max_time_jump_s = " + fmt(limits.max_time_jump_s) +
-                          " s after the simulation's t " + fixed2(now_s) + " s");
-  if (c.cue.t_s < now_s - limits.forget_after_s)
-    throw DroppedMessage(
-        "utterance to human " + std::to_string(msg.human_id) + " ended at t " + fixed2(c.cue.t_s) +
-        " s, more than limits.forget_after_s = " + fmt(limits.forget_after_s) +
-        " s before the simulation's t " + fixed2(now_s) + " s: nobody acts on it any more");
-  c.cue.human_id = human->id;
-  c.step = msg.step;
-  // Words not yet ended are kept per person up to kMaxUnendedCuesPerHuman: one person hears one
-  // sentence at a time, and the dialogue manager says one per round.
-  const auto unended = [&](std::int32_t id) {
-    return sim_->pendingCues(id) + static_cast<std::size_t>(std::count_if(
-                                       cues_.begin(), cues_.end(),
-                                       [&](const PendingCue& p) { return p.cue.human_id == id; }));
-  };
-  if (unended(human->id) >= kMaxUnendedCuesPerHuman)
-    throw DroppedMessage("utterance to human " + std::to_string(msg.human_id) + ": " +
-                         std::to_string(kMaxUnendedCuesPerHuman) +
-                         " utterances to that person have not ended yet");
+  const std::string to = "utterance to human " + std::to_string(msg.human_id);
+  switch (heard_.offer(cue, msg.step, group, now_s, limits.max_time_jump_s, limits.forget_after_s,
+                       *sim_)) {
+    case sim::HeardWords::Verdict::kEndsTooFarAhead:
+      throw RejectedMessage(
+          to + " ends at t " + fixed2(cue.t_s) + " s, more than limits.max_time_jump_s = " +
+          fmt(limits.max_time_jump_s) + " s after the simulation's t " + fixed2(now_s) + " s");
+    case sim::HeardWords::Verdict::kEndedTooLongAgo:
+      throw DroppedMessage(to + " ended at t " + fixed2(cue.t_s) +
+                           " s, more than limits.forget_after_s = " + fmt(limits.forget_after_s) +
+                           " s before the simulation's t " + fixed2(now_s) +
+                           " s: nobody acts on it any more");
+    case sim::HeardWords::Verdict::kFull:
+      throw DroppedMessage(to + ": " + std::to_string(heard_.maxUnendedPerHuman()) +
+                           " utterances to that person have not ended yet");
+    case sim::HeardWords::Verdict::kKept:
+      break;
+  }
   last_said_ = "\"" + keptText(msg.text, limits.maxTextBytes()) + "\" to human " +
                std::to_string(msg.human_id);
-  cues_.push_back(c);
-  // Words to a group are heard by everyone in it (one plan, said once: crowd.hpp).
-  for (const std::int32_t id : u.group) {
-    const std::optional<std::size_t> member = tracker_->personOf(id);
-    if (!member) continue;  // left the scene since: nobody to hear it
-    c.cue.human_id = scenario_.humans[*member].id;
-    if (unended(c.cue.human_id) >= kMaxUnendedCuesPerHuman) continue;  // that person: full
-    cues_.push_back(c);
-  }
 }
 
 void WorldSimNode::onBands(const bands_t& msg) {
@@ -367,13 +343,8 @@ void WorldSimNode::storeBands(const bands_t& msg) {
 // ---- run
 
 void WorldSimNode::checkReady() {
-  if (phase_ != Phase::kWaitingReady) return;
-  const auto& participants =
-      lockstep_ ? scenario_.lockstep.participants : std::vector<std::string>{};
-  std::string missing;
-  for (const auto& p : participants)
-    if (!ready_.count(p)) missing += (missing.empty() ? "" : ", ") + p;
-  if (missing.empty()) {
+  if (run_.phase() != sim::WorldRun::Phase::kWaitingReady) return;
+  if (run_.missing().empty()) {
     start();
     return;
   }
@@ -381,14 +352,13 @@ void WorldSimNode::checkReady() {
   const double waited_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_since_).count();
   if (waited_s > config_.wait_ready_timeout_s) {
-    finish(sim_status_t::STATE_PARTICIPANT_TIMEOUT,
-           "participant(s) never sent a status within wait_ready_timeout_s = " +
-               fmt(config_.wait_ready_timeout_s) + " s: " + missing);
+    const sim::WorldRun::Finish f = run_.neverReady(config_.wait_ready_timeout_s);
+    finish(toSimStatusState(f.end), f.detail);
   }
 }
 
 void WorldSimNode::start() {
-  phase_ = Phase::kRunning;
+  run_.start();
   phase_since_ = std::chrono::steady_clock::now();
   log().info("world_sim: running '{}'", scenario_.name);
   publishStep();
@@ -402,45 +372,32 @@ void WorldSimNode::submitCurrentStep() {
 }
 
 void WorldSimNode::onStepAcknowledged(bool degraded, const std::string& missing) {
-  if (phase_ != Phase::kRunning) return;
-  if (ending_) {
-    // The simulation ended at this step; how it ended does not depend on the acks of it. A
-    // participant silent on it is named, never ignored.
-    std::string detail = ending_->detail;
-    if (degraded) {
-      detail += " (its last step " + std::to_string(step_) +
-                " was not acknowledged within step_timeout_s = " +
-                fmt(scenario_.lockstep.step_timeout_s) + " s by: " + missing + ")";
+  if (run_.phase() != sim::WorldRun::Phase::kRunning) return;
+  if (const auto f = run_.stepAcknowledged(step_, degraded, missing)) {
+    if (f->last_step_unacknowledged)
       log().warn("world_sim: last step {} not acknowledged by {}", step_, missing);
-    }
-    finish(ending_->state, detail);
+    finish(toSimStatusState(f->end), f->detail);
     return;
   }
-  if (degraded) {
-    finish(sim_status_t::STATE_PARTICIPANT_TIMEOUT,
-           "no acknowledgement of step " + std::to_string(step_) + " within step_timeout_s = " +
-               fmt(scenario_.lockstep.step_timeout_s) + " s from: " + missing);
-    return;
-  }
-  if (advance() || ending_) submitCurrentStep();
+  if (advance() || run_.ending()) submitCurrentStep();
 }
 
 void WorldSimNode::tickFast() {
-  if (phase_ != Phase::kRunning) return;
+  if (run_.phase() != sim::WorldRun::Phase::kRunning) return;
   const auto until = std::chrono::steady_clock::now() + kFastSlice;
   while (advance() && std::chrono::steady_clock::now() < until) {
   }
 }
 
 void WorldSimNode::tickRealTime() {
-  if (phase_ != Phase::kRunning) return;
+  if (run_.phase() != sim::WorldRun::Phase::kRunning) return;
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - phase_since_).count();
   const auto due =
       static_cast<std::int64_t>(std::floor(wall_s * real_time_factor_ / step_period_s_));
   int n = 0;
   while (step_ < due && n < kMaxCatchUpSteps && advance()) ++n;
-  if (step_ < due && phase_ == Phase::kRunning && !behind_logged_) {
+  if (step_ < due && run_.phase() == sim::WorldRun::Phase::kRunning && !behind_logged_) {
     behind_logged_ = true;
     log().warn("world_sim: cannot keep up with real_time_factor {} ({} steps behind)",
                real_time_factor_, due - step_);
@@ -456,16 +413,12 @@ void WorldSimNode::applyInputs() {
                  step_, command_->step);
     }
   }
-  const double now_s = sim_->time_s();
-  for (PendingCue& c : cues_) {
+  for (const sim::HeardWords::Pending& c : heard_.take(sim_->time_s())) {
     if (lockstep_ && c.step != step_)
       log().info("world_sim: step {}: utterance of step {} to human {}", step_, c.step,
                  c.cue.human_id);
-    // Words that ended before the step they were decided on takes effect are heard now.
-    c.cue.t_s = std::max(c.cue.t_s, now_s);
     sim_->addCue(c.cue);
   }
-  cues_.clear();
   if (band_) {
     sim_->setRobotBand(band_->robot, utimeToSeconds(band_->utime));
     band_.reset();
@@ -474,7 +427,7 @@ void WorldSimNode::applyInputs() {
 }
 
 bool WorldSimNode::advance() {
-  if (phase_ != Phase::kRunning) return false;
+  if (run_.phase() != sim::WorldRun::Phase::kRunning) return false;
   applyInputs();
   const double t_before_s = sim_->time_s();
   const sim::StepResult r = sim_->step(last_command_);
@@ -484,15 +437,11 @@ bool WorldSimNode::advance() {
   for (const sim::CueOutcome& o : r.cues) logCue(o);
   publishStep();
   if (r.status != sim::SimStatus::kRunning) {
-    if (gate_) {
-      // Lockstep: the last step is answered like every other one before the run ends (and is
-      // published again while its acks are overdue): the participants' outputs of it, e.g. the
-      // path assessor's last CM, are part of the run. Without the wait a lost datagram of the
-      // last step made a lossy run end one step short of the clean one.
-      ending_ = Ending{toSimStatusState(r.status), endDetail(r)};
-      return false;
-    }
-    finish(toSimStatusState(r.status), endDetail(r));
+    // Lockstep (a gate): the last step is answered like every other one before the run ends, and
+    // published again while its acks are overdue (sim::WorldRun).
+    if (const auto f =
+            run_.simulationEnded(sim::runEndOf(r.status), endDetail(r), gate_ != nullptr))
+      finish(toSimStatusState(f->end), f->detail);
     return false;
   }
   // Once per simulated second (a whole second crossed during this step).
@@ -590,7 +539,7 @@ void WorldSimNode::publishStep() {
 }
 
 void WorldSimNode::retransmitIfOverdue() {
-  if (phase_ != Phase::kRunning || !gate_ || gate_->pending() == 0) return;
+  if (run_.phase() != sim::WorldRun::Phase::kRunning || !gate_ || gate_->pending() == 0) return;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - step_published_at_).count() < config_.retransmit_period_s)
     return;
@@ -632,7 +581,7 @@ void WorldSimNode::publishSimStatus(std::int8_t state, const std::string& detail
 }
 
 void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
-  phase_ = Phase::kEnded;
+  run_.finish();
   publishSimStatus(state, detail);
   if (state == sim_status_t::STATE_PARTICIPANT_TIMEOUT) {
     runtime_.setDegraded(detail);
@@ -643,15 +592,15 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
              step_, detail);
   const sim::SimSummary& sum = sim_->summary();
   if (std::isfinite(sum.min_robot_human_clearance_m))
-    log().info(
-        "world_sim: min robot-human clearance {} m at t = {} s; {}",
-        fixed2(sum.min_robot_human_clearance_m), fixed2(sum.min_robot_human_clearance_t_s),
-        sum.first_contact
-            ? "first contact: " +
-                  contactDetail(*sum.first_contact, sim_->spec().settings.contact_fault_speed_m_s) +
-                  (sum.first_contact->robot_at_fault ? " (robot at fault)"
-                                                     : " (robot not at fault)")
-            : std::string("no robot-human contact"));
+    log().info("world_sim: min robot-human clearance {} m at t = {} s; {}",
+               fixed2(sum.min_robot_human_clearance_m), fixed2(sum.min_robot_human_clearance_t_s),
+               sum.first_contact
+                   ? "first contact: " +
+                         sim::contactDetail(*sum.first_contact,
+                                            sim_->spec().settings.contact_fault_speed_m_s) +
+                         (sum.first_contact->robot_at_fault ? " (robot at fault)"
+                                                            : " (robot not at fault)")
+                   : std::string("no robot-human contact"));
   if (sensing_->hasUnmapped())
     log().info("world_sim: min robot clearance to the unmapped obstacles {} m at t = {} s",
                fixed2(sensing_->minUnmappedClearance_m()),
@@ -669,39 +618,17 @@ void WorldSimNode::finish(std::int8_t state, const std::string& detail) {
 }
 
 std::string WorldSimNode::endDetail(const sim::StepResult& r) const {
-  const sim::SimSummary& sum = sim_->summary();
-  switch (r.status) {
-    case sim::SimStatus::kCollision:
-      for (const sim::SimEvent& e : r.events) {
-        if (e.kind != sim::SimEvent::Kind::kCollision || e.agent_id != sim::kRobotId) continue;
-        if (e.other_id == sim::kWallId)
-          return "robot collided with a wall at t = " + fmt(e.t_s) + " s";
-        if (sum.first_contact && sum.first_contact->human_id == e.other_id)
-          return contactDetail(*sum.first_contact, sim_->spec().settings.contact_fault_speed_m_s);
-        return "robot collided with human " + std::to_string(e.other_id) + " at t = " + fmt(e.t_s) +
-               " s";
-      }
-      return "robot collision";
-    case sim::SimStatus::kStandstill: {
-      std::string robot =
-          last_mode_ ? "was " + commandModeText(*last_mode_) : std::string("was never commanded");
-      if (sum.robot_goal_time_s >= 0.0 &&
-          (!last_mode_ || *last_mode_ != velocity_command_t::MODE_GOAL_REACHED))
-        robot += " (at its goal)";
-      return "standstill: no agent moved more than " + fmt(scenario_.standstill_distance_m) +
-             " m for " + fmt(scenario_.standstill_time_s) + " s; the robot " + robot +
-             (last_said_.empty() ? ", had said nothing" : ", last said " + last_said_);
-    }
-    case sim::SimStatus::kGoalsReached:
-      return "robot reached its goal at t = " + fmt(sum.robot_goal_time_s) +
-             " s and every human its own";
-    case sim::SimStatus::kTimeLimit:
-      return "time limit of " + fmt(scenario_.time_limit_s) + " s reached" +
-             (sum.robot_goal_time_s >= 0.0 ? "" : " before the robot reached its goal");
-    case sim::SimStatus::kRunning:
-      break;
+  sim::EndContext c;
+  c.time_limit_s = scenario_.time_limit_s;
+  c.standstill_distance_m = scenario_.standstill_distance_m;
+  c.standstill_time_s = scenario_.standstill_time_s;
+  c.contact_fault_speed_m_s = sim_->spec().settings.contact_fault_speed_m_s;
+  if (last_mode_) {
+    c.robot_mode = commandModeText(*last_mode_);
+    c.robot_mode_at_goal = *last_mode_ == velocity_command_t::MODE_GOAL_REACHED;
   }
-  return "";
+  c.last_said = last_said_;
+  return sim::endDetail(r, sim_->summary(), c);
 }
 
 }  // namespace coopnav

@@ -20,8 +20,10 @@
 #include "coopnav/bands_t.hpp"
 #include "coopnav/daemon_status_t.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
+#include "coopnav/sim/heard_words.hpp"
 #include "coopnav/sim/simulation.hpp"
 #include "coopnav/sim/tracker.hpp"
+#include "coopnav/sim/world_run.hpp"
 #include "coopnav/utterance_t.hpp"
 #include "coopnav/velocity_command_t.hpp"
 #include "runtime/limits.hpp"
@@ -141,10 +143,6 @@ struct WorldSimConfig {
   void resolvePaths(const std::string& base_dir);
 };
 
-/// The first robot-human contact in words, e.g. "human 1 walked into the robot at rest at t
-/// 23.40 s" or "the robot drove into human 2 at 0.32 m/s at t 12.30 s".
-std::string contactDetail(const sim::RobotHumanContact& contact, double fault_speed_m_s);
-
 class WorldSimNode {
  public:
   using Config = WorldSimConfig;
@@ -156,21 +154,10 @@ class WorldSimNode {
   /// The tracker model in force (the scenario's, with the config's overrides).
   const sim::Tracker& tracker() const { return *tracker_; }
   bool publishHumanGoals() const { return publish_human_goals_; }
-  bool ended() const { return phase_ == Phase::kEnded; }
+  bool ended() const { return run_.ended(); }
   const world_sim::Scenario& scenario() const { return scenario_; }
 
  private:
-  enum class Phase { kWaitingReady, kRunning, kEnded };
-  /// Lockstep: how the simulation ended, kept while the acks of its last step are awaited.
-  struct Ending {
-    std::int8_t state;
-    std::string detail;
-  };
-  struct PendingCue {
-    sim::Cue cue;
-    std::int64_t step{-1};
-  };
-
   /// One line per cue whose words ended: heard?, complies?, when it acts; and its record in
   /// cue_outcomes_file.
   void logCue(const sim::CueOutcome& o);
@@ -204,6 +191,8 @@ class WorldSimNode {
   /// Before step 0: goals and a "here" ack, so the daemons know the world before it starts.
   void announce();
   void finish(std::int8_t state, const std::string& detail);
+  /// The end-of-run sentence (sim::endDetail) with what the node knows: the last command's mode
+  /// and words said.
   std::string endDetail(const sim::StepResult& r) const;
 
   Config config_;
@@ -225,17 +214,16 @@ class WorldSimNode {
   std::int64_t retransmits_{0};
   std::int64_t band_step_{-1};  ///< step of the latest bands applied or pending
 
-  Phase phase_{Phase::kWaitingReady};
-  std::set<std::string> ready_;
+  /// Waiting for the participants, running, ended; the lockstep end (lib/sim world_run.hpp).
+  sim::WorldRun run_;
   std::chrono::steady_clock::time_point phase_since_;
   std::int64_t step_{0};  ///< index of the agent states last published
-  std::optional<Ending> ending_;
   std::vector<AgentState> agents_;
 
   std::optional<VelocityCommand> command_;
   Velocity2 last_command_{0.0, 0.0, 0.0};  ///< body frame, applied over the current step
   std::int64_t stale_commands_{0};
-  std::vector<PendingCue> cues_;
+  sim::HeardWords heard_;  ///< words said, until the step that applies them
   std::optional<BandsSnapshot> band_;
   std::optional<std::int8_t> last_mode_;  ///< of the latest robot command (standstill detail)
   std::string last_said_;                 ///< latest utterance, "text" to human N (same)

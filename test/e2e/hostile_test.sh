@@ -231,15 +231,28 @@ startup_probe scenario_65_humans world_sim 3 'crowd_scenario\.yaml|65|64' -c "$(
 startup_probe ros_map_resolution_1e-9 obstacle_distance_server 3 'ros_tiny_resolution\.yaml' \
   -c "$(cfg obstacle_distance_server)" --set "map_file=$tmp/ros_tiny_resolution.yaml"
 
-# SIGTERM while a slow map loads (7): exit 0 within 1 s.
+# SIGTERM while a slow map loads (7): exit 0 within 1 s. A daemon sends its first status (RUNNING)
+# once it is ready: `coopnav_ctl wait-ready`, listening from before the start, hears one only if
+# the map had loaded before the signal.
 why=""
+"$build/tools/coopnav_ctl" --lcm-url "$url" wait-ready obstacle_distance_server --announce \
+  --timeout-s 30 >"$tmp/startup_sigterm.ready" 2>&1 &
+ready_pid=$!
+running+=("$ready_pid")
+for _ in $(seq 1 100); do grep -q '^listening' "$tmp/startup_sigterm.ready" && break; sleep 0.05; done
 start obstacle_distance_server "$tmp/startup_sigterm.log" -c "$(cfg obstacle_distance_server)" \
   --set "map_file=$tmp/slow_map.yaml"
 sleep 0.3
 kill -0 "$pid" 2>/dev/null || why+=" exited before the signal (the map loaded too fast);"
 stop "$pid"
-if grep -a -q 'ready (pid' "$tmp/startup_sigterm.log"; then
-  why+=" the map had loaded before the signal: not a stop during start-up;"
+# A status sent before the exit has reached the listener by now.
+sleep 0.2
+kill -TERM "$ready_pid" 2>/dev/null || true
+ready_rc=0
+wait "$ready_pid" || ready_rc=$?
+forget "$ready_pid"
+if [ "$ready_rc" -eq 0 ]; then
+  why+=" the map had loaded before the signal (a RUNNING status was heard): not a stop during start-up;"
 fi
 report sigterm_during_startup "SIGTERM while loading a 2000x2000 map: exit $rc" - "$stop_ms"
 

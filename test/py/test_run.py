@@ -23,6 +23,22 @@ def test_outcome_failure_names_what_went_wrong():
         "final state PARTICIPANT_TIMEOUT"
 
 
+def test_outcome_command_exits_1_unless_every_run_reached_its_goals(tmp_path, capsys):
+    import json
+    good = {"scenario": "narrow_minimal", "final_state": "GOAL_REACHED", "contact": None}
+    bad = {"scenario": "open_minimal", "final_state": "TIME_LIMIT", "sim_time_s": 60.0}
+    f = tmp_path / "summary.json"
+    f.write_text(json.dumps({"format": "coopnav-summary/1", "scenarios": [good]}))
+    assert cli.main(["outcome", str(f)]) == 0
+    assert capsys.readouterr().out == "narrow_minimal GOAL_REACHED\n"
+    f.write_text(json.dumps({"format": "coopnav-summary/1", "scenarios": [good, bad]}))
+    assert cli.main(["outcome", str(f)]) == 1
+    assert "open_minimal TIME_LIMIT: TIME_LIMIT at t = 60.0 s" in capsys.readouterr().out
+    f.write_text("{}")
+    assert cli.main(["outcome", str(f)]) == 1
+    assert cli.main(["outcome", str(tmp_path / "none.json")]) == 1
+
+
 def test_daemon_args_from_the_environment():
     s = system.load()
     env = {"COOPNAV_DAEMON_ARGS_band_source": " --set a=1  --set b=2 ",

@@ -403,8 +403,9 @@ RobotBehaviourCounts countRobotBehaviour(const RunLog& run) {
 
 namespace {
 
-// What a fault run is judged by (scripts/coopnav faults): the restarts the step acks announced,
-// the daemons that reported themselves degraded (wall-clock status, unique name and detail),
+// What a fault run is judged by (scripts/coopnav faults, multihost): the restarts the step acks
+// announced, the last step each participant acknowledged, the daemons that reported themselves
+// degraded (wall-clock status, unique name and detail),
 // and the situations of a crossing whose obstacle distances were unknown (d_OH or d_OR NaN
 // although the crossing was found: the distance server did not answer in time, or at all, or
 // answered that the point is off the map).
@@ -436,9 +437,15 @@ Json faultsJson(const RunLog& run) {
     ++crossings;
     if (std::isnan(sit.d_oh_m) || std::isnan(sit.d_or_m)) ++distance_unknown;
   }
+  // Who answered the lockstep how far (logic steps, deterministic): a participant behind the
+  // others stopped answering, and a daemon that acknowledged later steps than a peer it waits for
+  // ran those steps without it (what the multihost drop-off is judged by).
+  Json last_acked = Json::object();
+  for (const auto& [participant, step] : run.last_acked_step) last_acked[participant] = step;
   Json f = Json::object();
   f["restarts"] = std::move(restarts);
   f["degraded_daemons"] = std::move(degraded);
+  f["last_acked_step"] = std::move(last_acked);
   f["crossing_situations"] = crossings;
   f["crossing_distance_unknown"] = distance_unknown;
   return f;

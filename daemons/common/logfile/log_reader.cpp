@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -202,7 +203,16 @@ void addEvent(const RawEvent& e, RunLog& run) {
     // Only a restart matters to the tools: its first ack, per daemon and restart step. Acks of an
     // older shape (logs before the restart fields) do not decode: not needed, not corrupt.
     std::vector<step_ack_t> acks;
-    if (!decodeInto(e, acks) || acks.front().restart == step_ack_t::RESTART_NONE) {
+    const bool decoded = decodeInto(e, acks);
+    if (decoded && acks.front().step >= 0) {
+      // Who answered how far: counted as the ack is (not needed), only its step is kept.
+      const auto it = run.last_acked_step.find(acks.front().participant);
+      if (it != run.last_acked_step.end())
+        it->second = std::max(it->second, acks.front().step);
+      else if (run.last_acked_step.size() < RunLog::kMaxAckParticipants)
+        run.last_acked_step.emplace(acks.front().participant, acks.front().step);
+    }
+    if (!decoded || acks.front().restart == step_ack_t::RESTART_NONE) {
       ++run.counts.not_needed;
       return;
     }

@@ -1230,5 +1230,38 @@ TEST(LogTools, SummaryNamesRestartsDegradedDaemonsAndUnknownDistances) {
   EXPECT_EQ(entries.at(0).at("degraded"), true);
 }
 
+// Who answered the lockstep how far (scripts/coopnav multihost: a cut-off participant), from the
+// step acks: the highest step per participant, "I am here" acks (-1) not counted.
+TEST(LogTools, SummaryNamesTheLastStepEachParticipantAcknowledged) {
+  TempDir dir;
+  {
+    LogWriter w(dir.file("run.lcm"));
+    auto ack = [&](const char* who, std::int64_t step) {
+      step_ack_t a{};
+      a.utime = step >= 0 ? utimeOf(static_cast<int>(step)) : 0;
+      a.step = step;
+      a.participant = who;
+      w.put(channels::kStepAck, a);
+    };
+    ack("world_sim", -1);
+    ack("path_assessor", -1);
+    for (int k = 0; k < 10; ++k) {
+      w.put(channels::kAgentStates, statesAt(k));
+      ack("world_sim", k);
+      if (k <= 6) ack("path_assessor", k);  // cut off after step 6
+      ack("dialogue_manager", k);           // went on without it
+    }
+    ack("dialogue_manager", 3);  // a late repeat of an old step: not the last one
+  }
+  const RunLog run = readRunLog(dir.file("run.lcm"));
+  EXPECT_EQ(run.counts.undecodable, 0);
+  const Json s = parseJson(dumpJson(summarizeRun(run, analyseRun(run), "run.lcm")));
+  const Json& last = s.at("faults").at("last_acked_step");
+  ASSERT_EQ(last.size(), 3u);
+  EXPECT_EQ(last.at("world_sim"), 9);
+  EXPECT_EQ(last.at("path_assessor"), 6);
+  EXPECT_EQ(last.at("dialogue_manager"), 9);
+}
+
 }  // namespace
 }  // namespace coopnav::ctl

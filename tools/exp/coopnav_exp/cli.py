@@ -13,16 +13,18 @@ import inspect
 import sys
 from typing import Callable, Sequence
 
-from . import ablation, faults, figures, metrics, population, run, system
+from . import ablation, faults, figures, metrics, multihost, population, run, system
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "ablation": ablation.main,
     "faults": faults.main,
     "figures": figures.main,
     "metrics": metrics.main,
+    "multihost": multihost.main,
     "population": population.main,
     "run": run.main,
     "run-one": run.run_one_main,
+    "outcome": run.outcome_main,
     "system": system.main,
 }
 

@@ -556,3 +556,32 @@ def _run_one_arguments(p: argparse.ArgumentParser) -> None:
 
 
 run_one_main.add_arguments = _run_one_arguments  # type: ignore[attr-defined]
+
+
+# ---- outcome: a run's verdict for a script (scripts/deb_check.sh) ----
+
+def outcome_main(args: argparse.Namespace) -> int:
+    """The outcome of recorded runs from their summary.json (`coopnav_ctl summarize`).
+
+    Prints one line per scenario, "<name> <final state>" and why it failed (outcome_failure: a
+    contact, a standstill, the time limit, any state but GOAL_REACHED); exits 1 when one failed
+    or the file holds no summary, else 0."""
+    try:
+        doc = json.loads(Path(args.summary).read_text())
+        entries = doc["scenarios"]
+    except (OSError, ValueError, KeyError, TypeError) as ex:
+        print(f"coopnav outcome: {args.summary}: no summary ({ex})", file=sys.stderr)
+        return 1
+    failed = not entries
+    for e in entries:
+        why = outcome_failure(e)
+        failed = failed or why is not None
+        print(f"{e.get('scenario')} {e.get('final_state')}" + (f": {why}" if why else ""))
+    return 1 if failed else 0
+
+
+def _outcome_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("summary", type=Path, help="a summary.json")
+
+
+outcome_main.add_arguments = _outcome_arguments  # type: ignore[attr-defined]

@@ -44,6 +44,8 @@ struct PlanOptions {
   /// ahead / one of its people pauses (a study of them; the other draws stay the seed's).
   bool slower_ahead{false};
   bool pause{false};
+  /// generate --max-width-m: only the layouts no wider than this [m] (0: all).
+  double max_width_m{0.0};
 };
 
 /// The generator's ranges with the options' forced draws.
@@ -54,6 +56,7 @@ inline Ranges rangesOf(const PlanOptions& options) {
     r.slower_ahead_p = 1.0;
   }
   if (options.pause) r.pause_p = 1.0;
+  if (options.max_width_m > 0.0) r.max_width_m = options.max_width_m;
   return r;
 }
 
@@ -72,6 +75,7 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
   if (options.crowd) plan["crowd"] = true;
   if (options.slower_ahead) plan["slower_ahead"] = true;
   if (options.pause) plan["pause"] = true;
+  if (options.max_width_m > 0.0) plan["max_width_m"] = options.max_width_m;
   Json list = Json::array();
   std::set<std::string> baselines;
   Json base_list = Json::array();

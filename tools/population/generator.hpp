@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -272,8 +273,11 @@ struct Ranges {
   /// while where it has walked pause_after_m, then goes on. Shorter than world_sim's standstill
   /// time (15 s), so that a robot waiting behind a paused person is not a standstill by itself.
   double pause_p{0.1};
-  double pause_after_min_m{2.0}, pause_after_max_m{8.0};       ///< along its path (at most half)
+  double pause_after_min_m{2.0}, pause_after_max_m{8.0};  ///< along its path (at most half)
   double pause_duration_min_s{3.0}, pause_duration_max_s{10.0};
+  /// Only the layouts no wider than this are drawn from (a study of narrow corridors; the
+  /// layout draw then differs from the full population's).
+  double max_width_m{std::numeric_limits<double>::infinity()};
 };
 
 /// Draws a behaviour's params (2 decimals).
@@ -406,7 +410,11 @@ inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t se
                                                  const std::string& head_on_behaviour = "") {
   if (!head_on_behaviour.empty() && !isBehaviourName(head_on_behaviour))
     throw std::invalid_argument("no behaviour " + head_on_behaviour);
-  const std::vector<Layout> layouts = allLayouts();
+  std::vector<Layout> layouts = allLayouts();
+  layouts.erase(std::remove_if(layouts.begin(), layouts.end(),
+                               [&](const Layout& l) { return l.width_m > r.max_width_m + 1e-9; }),
+                layouts.end());
+  if (layouts.empty()) throw std::invalid_argument("no layout is that narrow");
   const auto& names = behaviourNames();
   Rng rng(seed ^ 0xC00B0A7ULL);
   std::vector<Encounter> out;

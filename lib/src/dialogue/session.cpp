@@ -321,6 +321,25 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
     m.t_cross_s = situation.t_cross_s;
     in.motion = m;
   }
+  // A person ahead walking the robot's way is followed, then passed with words
+  // (overtake_words.hpp), not met as the flowchart's oncoming person; from the words on until
+  // the pass is done. No deadline: the words are said before the robot speeds up to pass.
+  if (config_.overtake.enabled && in.motion && !p.decision->roundFired(1)) {
+    AgentState h;
+    h.id = id;
+    h.pose = {p.position_m.x(), p.position_m.y(), 0.0};
+    h.velocity = {p.velocity_m_s.x(), p.velocity_m_s.y(), 0.0};
+    h.radius_m = p.radius_m;
+    OvertakeWords::Input o;
+    o.t_s = in.t_s;
+    o.t_cross_s = situation.t_cross_s;
+    o.person = sameWayAhead(robot_pose_, robot_radius_m_, {h}, config_.overtake.same_way);
+    o.robot_radius_m = robot_radius_m_;
+    o.heard_by_s = p.heard_by_s;
+    if (o.person || p.overtake.engaged())
+      return {stamp, p.overtake.step(o, config_.overtake, config_.decision.templates),
+              std::nullopt};
+  }
   const DecisionOutput decided = p.decision->step(in);
   for (const auto& r : decided.rounds)
     if (r.round == 2)

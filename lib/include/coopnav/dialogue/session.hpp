@@ -22,6 +22,7 @@
 
 #include "coopnav/dialogue/crowd.hpp"
 #include "coopnav/dialogue/decision.hpp"
+#include "coopnav/dialogue/overtake_words.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/geometry/id_recency.hpp"
 #include "coopnav/geometry/types.hpp"
@@ -31,6 +32,8 @@ namespace coopnav::dialogue {
 struct SessionConfig {
   DecisionConfig decision;
   CrowdConfig crowd;
+  /// A person ahead walking the robot's way: followed in silence, passed with words.
+  OvertakeWordsConfig overtake;
   double crossed_hysteresis_m{0.2};  ///< [m] CrossedTracker's hysteresis
   /// [s] A person absent from the agent states this long has left: its interaction ends (and a
   /// new id where it was heading no longer continues it).
@@ -186,6 +189,8 @@ class Session {
     /// Its decision began while it was absent from the agent states: its absence is judged at
     /// the next agent states (it is not in present_).
     bool judge_absence{false};
+    /// Ahead walking the robot's way: the words and the pass (overtake_words.hpp).
+    OvertakeWords overtake;
   };
   /// What one person's decision produced at this step, emitted once everyone has decided.
   struct Decided {

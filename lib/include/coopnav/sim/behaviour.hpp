@@ -368,7 +368,7 @@ struct BehaviourConfig {
   FacilitatingParams facilitating;
   RecordedParams recorded;
   BodyCheckParams body_check;  ///< every type but kOblivious and kRecorded
-  PauseParams pause;  ///< every type but kRecorded
+  PauseParams pause;           ///< every type but kRecorded
   /// [s] AvoidanceTiming::kRealistic: this person's onset, drawn by the simulator (time to
   /// closest approach below which it starts to yield; replaces the fixed trigger of
   /// facilitating and late_facilitating, and times a responsive person's keeping to a side it

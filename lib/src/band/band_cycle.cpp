@@ -267,7 +267,7 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
 
   Velocity2 command = modeCommand(s, mode_out, r, hold, idle);
   if (mode == RobotMode::kNavigate && !idle && !hold && r.status == PlanStatus::kOk)
-    command = overtakeCommand(s, *robot_goal, command, result);
+    command = overtakeCommand(s, *robot_goal, r, command, result);
   if (go_first_ && !passing_ && mode == RobotMode::kNavigate && !idle)
     command = goFirstCommand(s, r, command, result);
   const GuardOutput g = guard(s, command, result);
@@ -378,17 +378,29 @@ Velocity2 BandCycle::goFirstCommand(const BandCycleInput& s, const PlanResult& r
 // neither follows at a distance nor passes; it keeps a step behind and beside them at their pace
 // (its relative-velocity and safety terms), or stops short of them in a narrow corridor.
 Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
-                                     const Velocity2& planned, BandCycleOutput& out) {
+                                     const PlanResult& r, const Velocity2& planned,
+                                     BandCycleOutput& out) {
   const OvertakeOptions& o = config_.overtake;
   const double stamp_s = seconds(s.utime);
-  const Eigen::Vector2d dir = headingVector(s.robot.pose.theta_rad);
+  // The robot's way: its global path's direction ahead (a holonomic robot's body heading need not
+  // be it), else its heading.
+  Pose2 frame = s.robot.pose;
+  if (r.agent_path.size() >= 2) {
+    const auto foot = projectOntoPath(r.agent_path, s.robot.pose.position());
+    const Path2 ahead = subPath(r.agent_path, foot ? foot->arc_length_m : 0.0, o.lookahead_m);
+    if (ahead.size() >= 2 && (ahead.back() - ahead.front()).norm() > 1e-3) {
+      const Eigen::Vector2d d = ahead.back() - ahead.front();
+      frame.theta_rad = std::atan2(d.y(), d.x());
+    }
+  }
+  const Eigen::Vector2d dir = headingVector(frame.theta_rad);
   // GO_FIRST for a person ahead walking the robot's way: the words to pass them were said.
   if (go_first_ && !passing_) {
     const AgentState* h = human(s, go_first_->human_id);
-    const auto p = h ? sameWayPerson(s.robot.pose, s.robot.radius_m, *h, o.same_way)
-                     : std::optional<SameWayPerson>();
+    const auto p =
+        h ? sameWayPerson(frame, s.robot.radius_m, *h, o.same_way) : std::optional<SameWayPerson>();
     if (p) {
-      const PassLane lane = passLane(*map_, s.robot.pose, s.robot.radius_m, *p, o);
+      const PassLane lane = passLane(*map_, frame, s.robot.radius_m, *p, o);
       passing_ = Passing{p->id, stamp_s, lane.fits ? lane.side : p->robot_side};
       note(out, BandCycleNote::Level::kInfo,
            format("passing human %d on their %s at step %lld%s", p->id,
@@ -399,11 +411,10 @@ Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
   if (passing_) {
     const AgentState* h = human(s, passing_->human_id);
     const char* end = nullptr;
-    double along_m = 0.0;
     if (h == nullptr) {
       end = "the person is not tracked";
     } else {
-      along_m = (h->pose.position() - s.robot.pose.position()).dot(dir);
+      const double along_m = (h->pose.position() - s.robot.pose.position()).dot(dir);
       if (-along_m > h->radius_m + s.robot.radius_m + o.passed_margin_m)
         end = "the person is passed";
       // The last stretch to the goal is the planner's, which stops on it.
@@ -419,20 +430,18 @@ Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
       go_first_.reset();
       return planned;
     }
+    // In the frame of the way, without the "ahead" test: beside the person the robot is still
+    // passing them.
     SameWayPerson p;
     p.id = h->id;
     p.radius_m = h->radius_m;
-    p.along_m = along_m;
-    p.lateral_m =
-        (h->pose.position() - s.robot.pose.position()).dot(Eigen::Vector2d(-dir.y(), dir.x()));
-    PassLane lane;
-    lane.fits = true;
-    lane.side = passing_->side;
-    const double offset_m = h->radius_m + o.pass_clearance_m + s.robot.radius_m;
-    lane.lateral_m = p.lateral_m + (passing_->side == Side::kLeft ? offset_m : -offset_m);
-    return passCommand(s.robot.pose, lane, o, limits_);
+    const Eigen::Vector2d d = h->pose.position() - s.robot.pose.position();
+    p.along_m = d.dot(dir);
+    p.lateral_m = d.dot(Eigen::Vector2d(-dir.y(), dir.x()));
+    const PassLane lane = laneOnSide(*map_, frame, s.robot.radius_m, p, passing_->side, o);
+    return passCommand(s.robot.pose, frame, lane, o, limits_);
   }
-  auto p = sameWayAhead(s.robot.pose, s.robot.radius_m, s.humans, o.same_way);
+  auto p = sameWayAhead(frame, s.robot.radius_m, s.humans, o.same_way);
   // Nearer its goal than where it would reach them, the person is not in the robot's way.
   const double goal_along_m = (goal.position() - s.robot.pose.position()).dot(dir);
   if (p && p->along_m - p->radius_m - s.robot.radius_m > goal_along_m) p.reset();
@@ -446,8 +455,9 @@ Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
     following_id_ = id;
   }
   if (!p) return planned;
+  const double follow_m_s = followSpeed(*p, o, limits_.max_forward_m_s);
   // The gap does not bind yet: the planner drives on.
-  if (followSpeed(*p, o, limits_.max_forward_m_s) >= limits_.max_forward_m_s) return planned;
+  if (follow_m_s >= limits_.max_forward_m_s) return planned;
   // Someone else near (an oncoming person): the planner's band keeps its steering round them;
   // only its pace is held to the person followed.
   for (const auto& h : s.humans) {
@@ -456,13 +466,12 @@ Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
         (h.pose.position() - s.robot.pose.position()).norm() - h.radius_m - s.robot.radius_m;
     if (gap < o.same_way.ahead_range_m) {
       Velocity2 v = planned;
-      const double cap = followSpeed(*p, o, limits_.max_forward_m_s);
-      if (v.vx_m_s > cap) v.vx_m_s = cap;
+      if (v.vx_m_s > follow_m_s) v.vx_m_s = follow_m_s;
       return v;
     }
   }
-  const PassLane lane = passLane(*map_, s.robot.pose, s.robot.radius_m, *p, o);
-  return followCommand(s.robot.pose, *p, lane, o, limits_);
+  const PassLane lane = passLane(*map_, frame, s.robot.radius_m, *p, o);
+  return followCommand(s.robot.pose, frame, *p, lane, o, limits_);
 }
 
 GuardOutput BandCycle::guard(const BandCycleInput& s, const Velocity2& command,

@@ -23,7 +23,9 @@ DecisionOutput OvertakeWords::step(const Input& in, const OvertakeWordsConfig& c
   DecisionOutput out;
   switch (state_) {
     case State::kFollowing: {
-      if (!in.person || in.person->robot_side == Side::kUndefined) break;
+      if (!in.person || in.person->robot_side == Side::kUndefined || in.robot_making_room ||
+          in.t_s < not_before_s_)
+        break;
       const double clearance_m = lateralClearance(*in.person, in.robot_radius_m);
       if (clearance_m < config.pass_clearance_m || in.person->gap_m > config.announce_gap_m) break;
       state_ = State::kSaid;
@@ -31,7 +33,7 @@ DecisionOutput OvertakeWords::step(const Input& in, const OvertakeWordsConfig& c
       const Side side = in.person->robot_side;
       out.utterances.push_back(
           {SpeechAct::kInformDirection, side, 1, renderPassing(config.text, templates, side)});
-      std::array<char, 96> why{};
+      std::array<char, 128> why{};
       std::snprintf(why.data(), why.size(),
                     "overtake: ahead walking the robot's way, gap %.2f m, lane clears by %.2f m "
                     "-> say pass",
@@ -39,15 +41,23 @@ DecisionOutput OvertakeWords::step(const Input& in, const OvertakeWordsConfig& c
       out.rounds.push_back({1, in.t_s, in.t_cross_s, why.data(), ""});
       break;
     }
-    case State::kSaid:
-      // Words first: the pass starts once they have been said (at once when nothing was said:
-      // muted, or not said among several people).
-      if (in.heard_by_s && in.t_s < *in.heard_by_s && *in.heard_by_s >= said_at_s_) break;
+    case State::kSaid: {
+      // Words first: the pass starts once they have been said (muted: at once, as if said).
+      const bool said = in.heard_by_s && *in.heard_by_s > said_at_s_;
+      if (!said && !in.muted) {
+        state_ = State::kFollowing;
+        not_before_s_ = in.t_s + config.retry_s;
+        out.rounds.push_back(
+            {1, in.t_s, in.t_cross_s, "overtake: words not said -> follow on", ""});
+        break;
+      }
+      if ((said && in.t_s < *in.heard_by_s) || in.robot_making_room) break;
       state_ = State::kPassing;
       out.robot_actions.push_back(RobotAction::kGoFirst);
       out.rounds.push_back(
           {1, in.t_s, in.t_cross_s, "overtake: words said -> pass (go first)", ""});
       break;
+    }
     case State::kPassing:
       break;
   }

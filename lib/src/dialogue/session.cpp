@@ -336,6 +336,10 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
     o.person = sameWayAhead(robot_pose_, robot_radius_m_, {h}, config_.overtake.same_way);
     o.robot_radius_m = robot_radius_m_;
     o.heard_by_s = p.heard_by_s;
+    o.muted = config_.muted;
+    for (const auto& [other_id, other] : people_)
+      if (other.decision && (other.decision->docked() || other.last_situation.robot_retreating))
+        o.robot_making_room = true;
     if (o.person || p.overtake.engaged())
       return {stamp, p.overtake.step(o, config_.overtake, config_.decision.templates),
               std::nullopt};

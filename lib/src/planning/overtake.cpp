@@ -17,12 +17,12 @@ Eigen::Vector2d aimPoint(const Pose2& robot, double ahead_m, double lateral_m) {
 
 }  // namespace
 
-PassLane passLane(const DistanceMap& map, const Pose2& robot, double robot_radius_m,
+PassLane passLane(const DistanceMap& map, const Pose2& frame, double robot_radius_m,
                   const SameWayPerson& p, const OvertakeOptions& o) {
   PassLane lane;
-  const Eigen::Vector2d dir = heading(robot);
+  const Eigen::Vector2d dir = heading(frame);
   const Eigen::Vector2d left(-dir.y(), dir.x());
-  const Eigen::Vector2d person = robot.position() + p.along_m * dir + p.lateral_m * left;
+  const Eigen::Vector2d person = frame.position() + p.along_m * dir + p.lateral_m * left;
   const double offset_m = p.radius_m + o.pass_clearance_m + robot_radius_m;
   const double need_m = offset_m + robot_radius_m + o.wall_clearance_m;
   const double range_m = need_m + 1.0;
@@ -48,21 +48,40 @@ PassLane passLane(const DistanceMap& map, const Pose2& robot, double robot_radiu
   return lane;
 }
 
+PassLane laneOnSide(const DistanceMap& map, const Pose2& frame, double robot_radius_m,
+                    const SameWayPerson& p, Side side, const OvertakeOptions& o) {
+  PassLane lane;
+  if (side == Side::kUndefined) return lane;
+  const Eigen::Vector2d dir = heading(frame);
+  const Eigen::Vector2d left(-dir.y(), dir.x());
+  const Eigen::Vector2d person = frame.position() + p.along_m * dir + p.lateral_m * left;
+  const double sign = side == Side::kLeft ? 1.0 : -1.0;
+  const double offset_m = p.radius_m + o.pass_clearance_m + robot_radius_m;
+  const double room_m = map.ray(person, sign * left, offset_m + robot_radius_m + 1.0).distance_m;
+  const double wall_m =
+      std::isfinite(room_m) ? room_m - robot_radius_m - o.wall_clearance_m : offset_m;
+  (side == Side::kLeft ? lane.room_left_m : lane.room_right_m) = room_m;
+  lane.fits = wall_m >= offset_m;
+  lane.side = side;
+  lane.lateral_m = p.lateral_m + sign * std::max(0.0, std::min(offset_m, wall_m));
+  return lane;
+}
+
 double followSpeed(const SameWayPerson& p, const OvertakeOptions& o, double max_m_s) {
   const double pace = std::max(0.0, p.speed_along_m_s);
   const double v = pace + (p.gap_m - o.follow_gap_m) / std::max(o.follow_time_s, 1e-3);
   return std::clamp(v, 0.0, max_m_s);
 }
 
-Velocity2 followCommand(const Pose2& robot, const SameWayPerson& p, const PassLane& lane,
-                        const OvertakeOptions& o, const RobotLimits& limits) {
+Velocity2 followCommand(const Pose2& robot, const Pose2& frame, const SameWayPerson& p,
+                        const PassLane& lane, const OvertakeOptions& o, const RobotLimits& limits) {
   const double speed = followSpeed(p, o, limits.max_forward_m_s);
   if (speed <= 0.0 && !lane.fits) return {};
   // Towards the lane while following: at a standstill behind a person who stopped, the robot
   // still steps into the lane (slowly), so that it can pass once told.
   const double lateral = lane.fits ? lane.lateral_m : 0.0;
   const double step_speed = std::max(speed, std::min(std::abs(lateral), 0.2));
-  const Eigen::Vector2d aim = aimPoint(robot, speed > 0.0 ? o.lookahead_m : 0.0, lateral);
+  const Eigen::Vector2d aim = aimPoint(frame, speed > 0.0 ? o.lookahead_m : 0.0, lateral);
   Velocity2 v = driveTowards(robot, aim, step_speed, 0.0, limits);
   // Never faster along the way than the following speed.
   if (v.vx_m_s > speed && v.vx_m_s > 0.0) {
@@ -73,9 +92,9 @@ Velocity2 followCommand(const Pose2& robot, const SameWayPerson& p, const PassLa
   return v;
 }
 
-Velocity2 passCommand(const Pose2& robot, const PassLane& lane, const OvertakeOptions& o,
-                      const RobotLimits& limits) {
-  const Eigen::Vector2d aim = aimPoint(robot, o.lookahead_m, lane.fits ? lane.lateral_m : 0.0);
+Velocity2 passCommand(const Pose2& robot, const Pose2& frame, const PassLane& lane,
+                      const OvertakeOptions& o, const RobotLimits& limits) {
+  const Eigen::Vector2d aim = aimPoint(frame, o.lookahead_m, lane.lateral_m);
   return driveTowards(robot, aim, limits.max_forward_m_s, 0.0, limits);
 }
 

@@ -180,9 +180,10 @@ class BandCycle {
   /// Behind a person ahead walking the robot's way (overtake.hpp): GO_FIRST for them passes
   /// them in the lane beside them; else the robot follows them (its pace capped to theirs, in
   /// that lane where one fits). `planned` when there is nobody to follow.
-  /// `goal`: the robot's; a person beyond it is not in its way.
-  Velocity2 overtakeCommand(const BandCycleInput& s, const Pose2& goal, const Velocity2& planned,
-                            BandCycleOutput& out);
+  /// `goal`: the robot's; a person beyond it is not in its way. `result`: the plan (its global
+  /// path gives the robot's way).
+  Velocity2 overtakeCommand(const BandCycleInput& s, const Pose2& goal, const PlanResult& result,
+                            const Velocity2& planned, BandCycleOutput& out);
   /// The safety guard applied to `command`, noted when its action changes.
   GuardOutput guard(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   void referencePaths(const BandCycleInput& s, const PlanResult& result,

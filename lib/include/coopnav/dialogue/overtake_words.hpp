@@ -28,6 +28,8 @@ struct OvertakeWordsConfig {
   double pass_clearance_m{0.2};
   /// [m] Said within this surface gap of the person: near enough to be about to pass.
   double announce_gap_m{3.0};
+  /// [s] Words decided but not said are decided again no sooner than this.
+  double retry_s{3.0};
   /// "{dir}" is the robot's side as the person sees it (TextTemplates' left / right words).
   std::string text{"Excuse me, I will pass on your {dir}."};
 };
@@ -45,9 +47,15 @@ class OvertakeWords {
     double robot_radius_m{0.47};
     /// [s] When the words said to the person so far end; nullopt: nothing said (or muted).
     std::optional<double> heard_by_s;
+    /// The robot says nothing (SessionConfig::muted): it acts as if it had.
+    bool muted{false};
+    /// The robot makes room for someone (docked, retreating): no pass is announced or begun.
+    bool robot_making_room{false};
   };
 
-  /// The words (once), then GO_FIRST once they have been said.
+  /// The words, then GO_FIRST once they have been said; words decided but not said (not
+  /// muted: told to a group, or contradicting what another was told) are no pass: the robot
+  /// follows on and may say them again later.
   DecisionOutput step(const Input& in, const OvertakeWordsConfig& config,
                       const TextTemplates& templates);
   State state() const { return state_; }
@@ -57,6 +65,7 @@ class OvertakeWords {
  private:
   State state_{State::kFollowing};
   double said_at_s_{0.0};
+  double not_before_s_{-1e300};  ///< [s] no words before this (a retry)
 };
 
 /// `text` with every "{dir}" replaced by the templates' word for `side`.

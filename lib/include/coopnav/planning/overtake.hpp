@@ -53,23 +53,29 @@ struct PassLane {
   double room_right_m{0.0};  ///< ... on its right
 };
 
-/// The lane beside `p` (the robot at `robot`, its heading the way): on a side where the room
-/// from the person's centre to the wall holds the person's radius, pass_clearance_m, the robot's
-/// body and wall_clearance_m. Both fit: the side the robot is already on, else the roomier one.
-PassLane passLane(const DistanceMap& map, const Pose2& robot, double robot_radius_m,
+/// The lane beside `p`, seen in `frame` (the robot's position, its heading the way it goes: its
+/// path's direction, not a holonomic robot's body heading): on a side where the room from the
+/// person's centre to the wall holds the person's radius, pass_clearance_m, the robot's body and
+/// wall_clearance_m. Both fit: the side the robot is already on, else the roomier one.
+PassLane passLane(const DistanceMap& map, const Pose2& frame, double robot_radius_m,
                   const SameWayPerson& p, const OvertakeOptions& o);
+
+/// The lane on `side` while passing: as passLane's, but kept on that side, its offset from the
+/// person cut where the wall comes nearer than the robot's body and wall_clearance_m.
+PassLane laneOnSide(const DistanceMap& map, const Pose2& frame, double robot_radius_m,
+                    const SameWayPerson& p, Side side, const OvertakeOptions& o);
 
 /// [m/s] The following speed: the person's pace (never backwards), plus the gap error over
 /// follow_time_s, at most max_m_s.
 double followSpeed(const SameWayPerson& p, const OvertakeOptions& o, double max_m_s);
 
-/// Body-frame command while following: along the robot's way at followSpeed, towards the lane
-/// when one fits (else on its own line).
-Velocity2 followCommand(const Pose2& robot, const SameWayPerson& p, const PassLane& lane,
-                        const OvertakeOptions& o, const RobotLimits& limits);
+/// Body-frame command while following: along the way (`frame`'s heading) at followSpeed,
+/// towards the lane when one fits (else on its own line).
+Velocity2 followCommand(const Pose2& robot, const Pose2& frame, const SameWayPerson& p,
+                        const PassLane& lane, const OvertakeOptions& o, const RobotLimits& limits);
 
 /// Body-frame command while passing: along the lane at the robot's full speed.
-Velocity2 passCommand(const Pose2& robot, const PassLane& lane, const OvertakeOptions& o,
-                      const RobotLimits& limits);
+Velocity2 passCommand(const Pose2& robot, const Pose2& frame, const PassLane& lane,
+                      const OvertakeOptions& o, const RobotLimits& limits);
 
 }  // namespace coopnav

@@ -109,6 +109,7 @@ struct OvertakeWordsYaml : dialogue::OvertakeWordsConfig {
     v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
     v("pass_clearance_m", pass_clearance_m, Range{0.0, 2.0});
     v("announce_gap_m", announce_gap_m, Range{0.0, 50.0});
+    v("retry_s", retry_s, Range{0.0, 600.0});
     v("text", text);
   }
 };

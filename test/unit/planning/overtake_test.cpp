@@ -62,6 +62,28 @@ TEST(OvertakeTest, BothSidesFitTheRobotKeepsItsOwn) {
   EXPECT_EQ(l2.side, Side::kLeft);
 }
 
+TEST(OvertakeTest, WhilePassingTheLaneKeepsItsSideAndStaysOffTheWall) {
+  // 2.6 m corridor, the person 0.2 m left of the centre (y 1.5): 1.5 m to the right wall from
+  // their centre, 0.04 m short of a full lane. Passing on their right anyway (told so), the lane
+  // is cut to keep the robot's body wall_clearance_m off the wall.
+  const auto map = BoxMap::corridor(0.0, 40.0, 0.0, 2.6);
+  const Pose2 robot{10.0, 1.3, 0.0};
+  const OvertakeOptions o;
+  const SameWayPerson p = ahead(robot, 11.0, 1.5, 0.5);
+  const PassLane lane = laneOnSide(*map, robot, kRobotRadius_m, p, Side::kRight, o);
+  EXPECT_FALSE(lane.fits);
+  EXPECT_EQ(lane.side, Side::kRight);
+  EXPECT_NEAR(robot.y_m + lane.lateral_m, kRobotRadius_m + o.wall_clearance_m, 1e-6);
+  // Room enough: the full offset from the person.
+  const auto wide = BoxMap::corridor(0.0, 40.0, 0.0, 4.0);
+  const Pose2 robot2{10.0, 2.3, 0.0};
+  const SameWayPerson p2 = ahead(robot2, 11.0, 2.5, 0.5);
+  const PassLane full = laneOnSide(*wide, robot2, kRobotRadius_m, p2, Side::kRight, o);
+  EXPECT_TRUE(full.fits);
+  EXPECT_NEAR(full.lateral_m, p2.lateral_m - (0.3 + o.pass_clearance_m + kRobotRadius_m), 1e-9);
+  EXPECT_FALSE(laneOnSide(*wide, robot, kRobotRadius_m, p, Side::kUndefined, o).fits);
+}
+
 TEST(OvertakeTest, FollowSpeedMatchesThePaceAtTheGap) {
   const Pose2 robot{10.0, 1.15, 0.0};
   OvertakeOptions o;

@@ -99,6 +99,7 @@ struct OvertakeYaml : OvertakeOptions {
   void visit(V& v) {
     v("ahead_range_m", same_way.ahead_range_m, Range{0.5, 50.0});
     v("min_speed_along_m_s", same_way.min_speed_along_m_s, Range{-1.0, 1.0});
+    v("standing_speed_m_s", same_way.standing_speed_m_s, Range{0.0, 2.0});
     v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
     v("follow_gap_m", follow_gap_m, Range{0.3, 10.0});
     v("follow_time_s", follow_time_s, Range{0.2, 30.0});

@@ -159,6 +159,7 @@ void Session::see(const SceneSnapshot& a, std::int64_t now, std::set<std::int32_
     p.seen = true;
     p.position_m = h.pose.position();
     p.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
+    p.heading_rad = h.pose.theta_rad;
     p.radius_m = h.radius_m;
     const bool was = p.crossed.crossed;
     p.crossed =
@@ -327,7 +328,7 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
   if (config_.overtake.enabled && in.motion && !p.decision->roundFired(1)) {
     AgentState h;
     h.id = id;
-    h.pose = {p.position_m.x(), p.position_m.y(), 0.0};
+    h.pose = {p.position_m.x(), p.position_m.y(), p.heading_rad};
     h.velocity = {p.velocity_m_s.x(), p.velocity_m_s.y(), 0.0};
     h.radius_m = p.radius_m;
     OvertakeWords::Input o;

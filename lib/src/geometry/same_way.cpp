@@ -18,7 +18,13 @@ std::optional<SameWayPerson> sameWayPerson(const Pose2& robot, double robot_radi
   p.speed_along_m_s = Eigen::Vector2d(h.velocity.vx_m_s, h.velocity.vy_m_s).dot(dir);
   if (!std::isfinite(p.along_m) || !std::isfinite(p.lateral_m) || !std::isfinite(p.speed_along_m_s))
     return std::nullopt;
-  if (p.along_m <= 0.0 || p.speed_along_m_s < o.min_speed_along_m_s) return std::nullopt;
+  if (p.along_m <= 0.0) return std::nullopt;
+  const double speed_m_s = std::hypot(h.velocity.vx_m_s, h.velocity.vy_m_s);
+  if (speed_m_s >= o.standing_speed_m_s) {
+    if (p.speed_along_m_s < o.min_speed_along_m_s) return std::nullopt;
+  } else if (!(std::cos(h.pose.theta_rad - robot.theta_rad) > 0.0)) {
+    return std::nullopt;
+  }
   // The person faces the robot's way: the robot, at -lateral from them, is on their left when
   // lateral < 0.
   constexpr double kStraightBehind_m = 0.01;

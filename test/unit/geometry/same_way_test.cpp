@@ -47,6 +47,18 @@ TEST(SameWayTest, StandingAheadCountsOncomingBehindOrAsideDoNot) {
   EXPECT_FALSE(sameWayAhead(kRobot, kRobotRadius_m, {person(1, 9.0, 1.0, 0.5)}, {}));
 }
 
+TEST(SameWayTest, SomeoneStandingCountsOnlyFacingTheRobotsWay) {
+  AgentState h = person(1, 5.0, 1.0, 0.0);
+  h.pose.theta_rad = M_PI;  // stopped facing the robot (made room, waiting for it to go by)
+  EXPECT_FALSE(sameWayAhead(kRobot, kRobotRadius_m, {h}, {}));
+  h.pose.theta_rad = 0.3;  // stopped on the way (a phone)
+  EXPECT_TRUE(sameWayAhead(kRobot, kRobotRadius_m, {h}, {}));
+  // Walking, the velocity says where to, whatever the heading.
+  h.velocity.vx_m_s = 0.5;
+  h.pose.theta_rad = M_PI;
+  EXPECT_TRUE(sameWayAhead(kRobot, kRobotRadius_m, {h}, {}));
+}
+
 TEST(SameWayTest, TheNearestIsFollowed) {
   const std::vector<AgentState> people{person(1, 7.0, 1.0, 0.5), person(2, 4.5, 0.8, 0.4),
                                        person(3, 3.5, 1.0, -1.0)};

@@ -182,6 +182,7 @@ class Session {
     std::int64_t last_seen_utime{0};         ///< [us] set when first seen
     Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
     Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
+    double heading_rad{0.0};                 ///< [rad] as last seen (a person standing faces it)
     double radius_m{0.3};                    ///< [m] as last seen
     std::optional<StampedPath> path;         ///< the latest path assessment
     /// Joined late (joinLate): its rounds so far are unknown, nothing is decided for it.

@@ -18,9 +18,13 @@ namespace coopnav {
 struct SameWayOptions {
   /// [m] Surface gap along the robot's way beyond which nobody is followed yet.
   double ahead_range_m{6.0};
-  /// [m/s] A person walks the robot's way when their velocity along the robot's heading is at
-  /// least this: a small negative value keeps a person standing (tracker noise) or shuffling.
+  /// [m/s] A person walking (at standing_speed_m_s or faster) goes the robot's way when their
+  /// velocity along the robot's way is at least this ...
   double min_speed_along_m_s{-0.1};
+  /// [m/s] ... slower, they stand, and go the robot's way when they face it (heading within 90°
+  /// of it): someone who stopped on the way, not one who stopped facing the robot to let it by.
+  /// Under a walk (>= 0.5 m/s), above a tracked person's velocity noise.
+  double standing_speed_m_s{0.2};
   /// [m] ... and is in the robot's way when the lateral distance between centres is below the
   /// two radii plus this: a person the robot already clears by it is not followed.
   double lane_margin_m{0.6};

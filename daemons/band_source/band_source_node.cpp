@@ -138,6 +138,7 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   cc.modes = config_.dock.options;
   cc.guard = config_.guard.options;
   cc.go_first = config_.go_first;
+  cc.overtake = config_.overtake;
   cc.max_iterations = config_.max_iterations;
   cc.free_running_time_budget_s = config_.free_running_time_budget_s;
   cc.reference_paths_republish_s = config_.reference_paths_republish_s;

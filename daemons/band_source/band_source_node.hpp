@@ -92,6 +92,25 @@ struct GoFirstYaml : GoFirstOptions {
   }
 };
 
+/// Following a person ahead walking the robot's way and passing them (lib planning/overtake.hpp,
+/// README "Behind a slower person"); defaults: lib's.
+struct OvertakeYaml : OvertakeOptions {
+  template <class V>
+  void visit(V& v) {
+    v("ahead_range_m", same_way.ahead_range_m, Range{0.5, 50.0});
+    v("min_speed_along_m_s", same_way.min_speed_along_m_s, Range{-1.0, 1.0});
+    v("standing_speed_m_s", same_way.standing_speed_m_s, Range{0.0, 2.0});
+    v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
+    v("follow_gap_m", follow_gap_m, Range{0.3, 10.0});
+    v("follow_time_s", follow_time_s, Range{0.2, 30.0});
+    v("pass_clearance_m", pass_clearance_m, Range{0.0, 2.0});
+    v("wall_clearance_m", wall_clearance_m, Range{0.0, 1.0});
+    v("lookahead_m", lookahead_m, Range{0.3, 10.0});
+    v("passed_margin_m", passed_margin_m, Range{0.0, 10.0});
+    v("max_pass_s", max_pass_s, Range{1.0, 600.0});
+  }
+};
+
 struct BandSourceConfig {
   /// The known map: the same file as the other map-loading daemons of a run.
   MapSource map;
@@ -115,6 +134,8 @@ struct BandSourceConfig {
   GuardOptionsYaml guard;
   /// Going first past a person who made room (robot action GO_FIRST).
   GoFirstYaml go_first;
+  /// Behind a slower person walking the robot's way: follow, and pass when told (GO_FIRST).
+  OvertakeYaml overtake;
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
   /// Goals of humans the goals message does not give.
@@ -136,6 +157,7 @@ struct BandSourceConfig {
     v("dock", dock);
     v("guard", guard);
     v("go_first", go_first);
+    v("overtake", overtake);
     v("planner", planner);
     v("goal_inference", goal_inference);
     v("scan", scan);

@@ -36,6 +36,7 @@ dialogue::SessionConfig DialogueManagerConfig::sessionConfig() const {
   dialogue::SessionConfig c;
   c.decision = decisionConfig();
   c.crowd = crowd;
+  c.overtake = overtake;
   c.crossed_hysteresis_m = crossed_hysteresis_m;
   c.crossed_max_distance_m = crossed_max_distance_m;
   c.human_gone_s = human_gone_s;

@@ -99,6 +99,23 @@ struct StandOffConfigYaml : dialogue::StandOffConfig {
   }
 };
 
+/// Behind a person ahead walking the robot's way (lib/dialogue/overtake_words.hpp); the defaults
+/// are lib/dialogue's.
+struct OvertakeWordsYaml : dialogue::OvertakeWordsConfig {
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled);
+    v("ahead_range_m", same_way.ahead_range_m, Range{0.5, 50.0});
+    v("min_speed_along_m_s", same_way.min_speed_along_m_s, Range{-1.0, 1.0});
+    v("standing_speed_m_s", same_way.standing_speed_m_s, Range{0.0, 2.0});
+    v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
+    v("pass_clearance_m", pass_clearance_m, Range{0.0, 2.0});
+    v("announce_gap_m", announce_gap_m, Range{0.0, 50.0});
+    v("retry_s", retry_s, Range{0.0, 600.0});
+    v("text", text);
+  }
+};
+
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
@@ -113,6 +130,7 @@ struct DialogueManagerConfig {
   double forecast_threshold{dialogue::DecisionConfig{}.forecast_threshold};
   CrowdConfigYaml crowd;
   StandOffConfigYaml stand_off;
+  OvertakeWordsYaml overtake;
   double crossed_hysteresis_m{dialogue::SessionConfig{}.crossed_hysteresis_m};
   double crossed_max_distance_m{dialogue::SessionConfig{}.crossed_max_distance_m};
   double human_gone_s{dialogue::SessionConfig{}.human_gone_s};
@@ -149,6 +167,7 @@ struct DialogueManagerConfig {
     v("forecast_threshold", forecast_threshold, Range{0.0, 1.0});
     v("crowd", crowd);
     v("stand_off", stand_off);
+    v("overtake", overtake);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("crossed_max_distance_m", crossed_max_distance_m, Range{0.1, 100.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});

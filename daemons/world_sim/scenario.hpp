@@ -368,6 +368,12 @@ struct HumanSpecYaml {
     // Every behaviour's but oblivious's (which ignores it): lib/include/coopnav/sim/behaviour.hpp.
     SimParamsYaml<sim::BodyCheckParams> body_check{&spec.behaviour.body_check};
     v("body_check", body_check);
+    // A pause stops a walker (lib/include/coopnav/sim/behaviour.hpp PauseParams); a recorded
+    // human's track is what it is.
+    if (!known || spec.behaviour.type != sim::BehaviourType::kRecorded) {
+      SimParamsYaml<sim::PauseParams> pause{&spec.behaviour.pause};
+      v("pause", pause);
+    }
     if (known) {
       visitParams(v);
     } else {

@@ -154,6 +154,7 @@ std::string print(Scenario sc, const std::string& source_dir = "") {
     hp.nested("late_facilitating", h.behaviour.late_facilitating);
     hp.nested("responsive", h.behaviour.responsive);
     hp.nested("facilitating", h.behaviour.facilitating);
+    if (h.behaviour.pause.duration_s > 0.0) hp.nested("pause", h.behaviour.pause);
     if (h.behaviour.type == sim::BehaviourType::kRecorded) {
       const sim::RecordedParams& r = h.behaviour.recorded;
       const RecordedSource& src = sc.recorded_sources[i];

@@ -56,6 +56,12 @@ ActionWordsCheck checkActionWords(const RunLog& run) {
     if (!makes_room && told != nullptr && sayingSo(told->speech_act) &&
         told->speech_act == utterance_t::ACT_INFORM_GOING_FIRST)
       continue;
+    // Passing a person ahead walking the robot's way (decided "overtake: ...",
+    // lib/dialogue/overtake_words.hpp) after telling them the side: "Excuse me, I will pass on
+    // your left." are its words of going.
+    if (!makes_room && told != nullptr && told->speech_act == utterance_t::ACT_INFORM_DIRECTION &&
+        a.reason.find("overtake:") != std::string::npos)
+      continue;
     // Words saying so decided with the action.
     const utterance_t* with = nullptr;
     for (const auto& u : run.utterances) {

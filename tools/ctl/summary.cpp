@@ -331,7 +331,20 @@ Json dialogueChecks(const RunLog& run) {
                                 last_action->reason.find("stand-off:") != std::string::npos;
     const bool ends_stand_off = u.speech_act == utterance_t::ACT_INFORM_GOING_FIRST ||
                                 u.speech_act == utterance_t::ACT_INFORM_RESUMING || stand_off_dock;
-    if ((u.round == 1 || u.round == 2) && !ends_stand_off) {
+    // The words announcing a pass of a person ahead walking the robot's way (the GO_FIRST for
+    // them that follows is decided "overtake: ...", lib/dialogue/overtake_words.hpp): the robot
+    // is about to cross them, from behind, where the flowchart's crossing of two bands
+    // converging is beyond its horizon while the robot follows at their pace.
+    bool announces_pass = false;
+    if (u.speech_act == utterance_t::ACT_INFORM_DIRECTION)
+      for (const auto& a : run.actions)
+        if (a.human_id == u.human_id && a.utime >= u.utime &&
+            a.action == robot_action_t::ACTION_GO_FIRST &&
+            a.reason.find("overtake:") != std::string::npos) {
+          announces_pass = true;
+          break;
+        }
+    if ((u.round == 1 || u.round == 2) && !ends_stand_off && !announces_pass) {
       const situation_t* latest = nullptr;
       for (const auto& sit : run.situations)
         if (sit.human_id == u.human_id && sit.utime <= u.utime &&

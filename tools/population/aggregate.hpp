@@ -40,7 +40,25 @@ struct PlanOptions {
   std::string head_on_behaviour;  ///< generate --behaviour: every head-on human's behaviour
   bool muted_twins{false};        ///< generate --cue-effect: every encounter also runs muted
   bool crowd{false};              ///< generate --crowd: crowd encounters (generateCrowdPopulation)
+  /// generate --slower-ahead / --pause: every encounter's widened variant is a slower person
+  /// ahead / one of its people pauses (a study of them; the other draws stay the seed's).
+  bool slower_ahead{false};
+  bool pause{false};
+  /// generate --max-width-m: only the layouts no wider than this [m] (0: all).
+  double max_width_m{0.0};
 };
+
+/// The generator's ranges with the options' forced draws.
+inline Ranges rangesOf(const PlanOptions& options) {
+  Ranges r;
+  if (options.slower_ahead) {
+    r.abreast_p = 0.0;
+    r.slower_ahead_p = 1.0;
+  }
+  if (options.pause) r.pause_p = 1.0;
+  if (options.max_width_m > 0.0) r.max_width_m = options.max_width_m;
+  return r;
+}
 
 /// The run of an encounter with the dialogue manager muted (same scenario file and seed).
 inline std::string mutedTwinName(const std::string& name) { return name + "_muted"; }
@@ -55,6 +73,9 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
   if (!options.head_on_behaviour.empty()) plan["head_on_behaviour"] = options.head_on_behaviour;
   if (options.muted_twins) plan["cue_effect"] = true;
   if (options.crowd) plan["crowd"] = true;
+  if (options.slower_ahead) plan["slower_ahead"] = true;
+  if (options.pause) plan["pause"] = true;
+  if (options.max_width_m > 0.0) plan["max_width_m"] = options.max_width_m;
   Json list = Json::array();
   std::set<std::string> baselines;
   Json base_list = Json::array();
@@ -70,6 +91,10 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
       j["robot_kinematics"] = e.differential ? "differential" : "holonomic";
       j["tracker_noise"] = e.tracker_noise;
       j["variant"] = e.variant;
+      int paused = 0;
+      for (const auto& h : e.humans)
+        if (h.pause_duration_s > 0.0) paused = h.id;
+      j["paused_human"] = paused == 0 ? Json() : Json(paused);
     }
     if (options.muted_twins) j["muted_twin"] = mutedTwinName(e.name);
     Json humans = Json::array();
@@ -83,6 +108,8 @@ inline Json planJson(const std::vector<Encounter>& encounters, std::uint64_t see
       Json params = Json::object();
       for (const auto& [k, v] : h.params) params[k] = v;
       hj["params"] = std::move(params);
+      if (h.pause_duration_s > 0.0)
+        hj["pause"] = {{"after_m", h.pause_after_m}, {"duration_s", h.pause_duration_s}};
       if (!e.kind.empty()) hj["group"] = h.group;
       humans.push_back(std::move(hj));
     }
@@ -609,7 +636,7 @@ inline Json aggregatePopulation(const Json& plan, const std::map<std::string, Js
       ++causes_by_behaviour[contact_behaviour.empty() ? "(none)" : contact_behaviour][cause];
     }
     r["contact"] = std::move(contact);
-    for (const char* k : {"robot_kinematics", "tracker_noise", "variant"})
+    for (const char* k : {"robot_kinematics", "tracker_noise", "variant", "paused_human"})
       if (e.contains(k)) r[k] = e.at(k);
     r["min_clearance_m"] = numberOrNull(field(run, "min_clearance_m"));
     r["min_clearance_t_s"] = numberOrNull(field(run, "min_clearance_t_s"));

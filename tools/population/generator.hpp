@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -228,6 +229,10 @@ struct HumanSpec {
   std::vector<std::array<double, 2>> via;
   std::string start_theta;
   int group{0};
+  /// Pauses on the way (scenario key pause): stands pause_duration_s once it has walked
+  /// pause_after_m along its path; 0 s = no pause.
+  double pause_after_m{0.0};
+  double pause_duration_s{0.0};
 };
 
 struct Encounter {
@@ -264,6 +269,15 @@ struct Ranges {
   double abreast_spacing_min_m{0.7}, abreast_spacing_max_m{0.9};  ///< centre to centre
   double slower_speed_min_m_s{0.4}, slower_speed_max_m_s{0.6};    ///< below the robot's 0.7
   double slower_ahead_min_m{3.0}, slower_ahead_max_m{6.0};        ///< ahead of the robot
+  /// One of the people (any, even odds) pauses on the way, after the draws above: stands for a
+  /// while where it has walked pause_after_m, then goes on. Shorter than world_sim's standstill
+  /// time (15 s), so that a robot waiting behind a paused person is not a standstill by itself.
+  double pause_p{0.1};
+  double pause_after_min_m{2.0}, pause_after_max_m{8.0};  ///< along its path (at most half)
+  double pause_duration_min_s{3.0}, pause_duration_max_s{10.0};
+  /// Only the layouts no wider than this are drawn from (a study of narrow corridors; the
+  /// layout draw then differs from the full population's).
+  double max_width_m{std::numeric_limits<double>::infinity()};
 };
 
 /// Draws a behaviour's params (2 decimals).
@@ -307,17 +321,15 @@ inline bool isBehaviourName(const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-/// The draws that widen a head-on encounter to what found the freezing robot (issue 44): a
-/// differential-drive robot, a people tracker's noise, and either a second person abreast of
-/// the head-on one (a pair walking together: same behaviour, speed and params, group 1) or a
-/// person ahead of the robot walking its way slower than it (the robot follows, and passes
-/// where the corridor allows). From a stream of the encounter's own (seeded by its seed), after
-/// every other draw: the rest of the encounter, and every other encounter, stay as drawn.
-inline void widen(Encounter& e, const Ranges& r) {
-  Rng w(e.seed ^ 0x3D1DE11ULL);
+/// The variant of the draws that widen a head-on encounter to what found the freezing robot
+/// (issue 44; widen() draws the robot's kinematics and the tracker before it): either a second
+/// person abreast of the head-on one (a pair walking together: same behaviour, speed and params,
+/// group 1) or a person ahead of the robot walking its way slower than it (the robot follows,
+/// and passes where the corridor allows). From a stream of the encounter's own (seeded by its
+/// seed), after every other draw: the rest of the encounter, and every other encounter, stay as
+/// drawn.
+inline void widenVariant(Encounter& e, const Ranges& r, Rng& w) {
   const Layout& l = e.layout;
-  e.differential = w.unit() < r.differential_p;
-  e.tracker_noise = w.unit() < r.tracker_noise_p;
   const double v = w.unit();
   HumanSpec& h = e.humans.front();
   if (v < r.abreast_p) {
@@ -368,6 +380,21 @@ inline void widen(Encounter& e, const Ranges& r) {
   }
 }
 
+/// The widened draws (widenVariant), then a pause of one of the people: from the same stream,
+/// after every earlier draw, so an encounter drawn before pauses existed keeps all it had.
+inline void widen(Encounter& e, const Ranges& r) {
+  Rng w(e.seed ^ 0x3D1DE11ULL);
+  e.differential = w.unit() < r.differential_p;
+  e.tracker_noise = w.unit() < r.tracker_noise_p;
+  widenVariant(e, r, w);
+  if (e.humans.empty() || !(w.unit() < r.pause_p)) return;
+  HumanSpec& h = e.humans[w.index(e.humans.size())];
+  const double path_m = std::hypot(h.goal_x_m - h.start_x_m, h.goal_y_m - h.start_y_m);
+  const double after_m = w.uniform(r.pause_after_min_m, r.pause_after_max_m);
+  h.pause_after_m = quantize(std::min(after_m, 0.5 * path_m), 0.1);
+  h.pause_duration_s = quantize(w.uniform(r.pause_duration_min_s, r.pause_duration_max_s), 0.1);
+}
+
 /// The n encounters of `seed`. The head-on human's behaviour runs through the six in a seeded
 /// order per block of six (every behaviour equally often); everything else is drawn.
 ///
@@ -383,7 +410,11 @@ inline std::vector<Encounter> generatePopulation(std::size_t n, std::uint64_t se
                                                  const std::string& head_on_behaviour = "") {
   if (!head_on_behaviour.empty() && !isBehaviourName(head_on_behaviour))
     throw std::invalid_argument("no behaviour " + head_on_behaviour);
-  const std::vector<Layout> layouts = allLayouts();
+  std::vector<Layout> layouts = allLayouts();
+  layouts.erase(std::remove_if(layouts.begin(), layouts.end(),
+                               [&](const Layout& l) { return l.width_m > r.max_width_m + 1e-9; }),
+                layouts.end());
+  if (layouts.empty()) throw std::invalid_argument("no layout is that narrow");
   const auto& names = behaviourNames();
   Rng rng(seed ^ 0xC00B0A7ULL);
   std::vector<Encounter> out;
@@ -969,6 +1000,9 @@ inline std::string scenarioYaml(const Encounter& e, bool with_humans = true,
     y += "    speed_m_s: " + fmt("%.2f", h.speed_m_s) + "\n";
     y += "    velocity_noise_m_s: " + fmt("%.2f", h.velocity_noise_m_s) + "\n";
     if (!h.params.empty()) y += "    params: " + paramsYaml(h.params) + "\n";
+    if (h.pause_duration_s > 0.0)
+      y += "    pause: {after_m: " + fmt("%.1f", h.pause_after_m) +
+           ", duration_s: " + fmt("%.1f", h.pause_duration_s) + "}\n";
   }
   return y;
 }

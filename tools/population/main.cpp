@@ -2,12 +2,16 @@
 // (docs/population.md).
 //   coopnav_population generate --n N --seed S --out DIR --maps-dir config/maps
 //                               [--behaviour B] [--cue-effect | --crowd]
+//                               [--slower-ahead] [--pause] [--max-width-m W]
 //     DIR/scenarios/*.yaml (encounters and one run without humans per layout), DIR/maps/ (the
 //     maps they use), DIR/plan.json, DIR/jobs.txt (one "name<TAB>scenario" line per run, and
 //     with --cue-effect after each encounter its muted twin "name_muted<TAB>scenario<TAB>muted").
 //     --behaviour: every head-on human gets behaviour B, the other draws stay the seed's.
 //     --crowd: crowd encounters instead (flows, a group abreast, people standing talking, a
 //     junction: generator.hpp generateCrowdPopulation).
+//     --slower-ahead, --pause: every encounter's widened variant is a slower person ahead, one
+//     of its people pauses (the draws forced; the rest as the seed draws it). --max-width-m: only
+//     the layouts no wider than W are drawn from.
 //   coopnav_population aggregate --dir DIR
 //     reads DIR/plan.json and DIR/runs/<name>/summary.json (and cue_outcomes.jsonl beside it,
 //     world_sim's cue_outcomes_file: what the humans heard), writes DIR/population.json and
@@ -50,9 +54,9 @@ std::string readFile(const fs::path& p) {
 
 int generate(std::size_t n, std::uint64_t seed, const fs::path& out, const fs::path& maps_dir,
              const pop::PlanOptions& options) {
-  const auto encounters = options.crowd
-                              ? pop::generateCrowdPopulation(n, seed)
-                              : pop::generatePopulation(n, seed, {}, options.head_on_behaviour);
+  const auto encounters = options.crowd ? pop::generateCrowdPopulation(n, seed)
+                                        : pop::generatePopulation(n, seed, pop::rangesOf(options),
+                                                                  options.head_on_behaviour);
   fs::create_directories(out / "scenarios");
   fs::create_directories(out / "maps");
   // Stale files of an earlier, larger population in the same folder would be run again.
@@ -314,6 +318,17 @@ int main(int argc, char** argv) {
                 "a wall, a junction (docs/population.md \"Crowds\")")
       ->excludes(cue_flag)
       ->excludes("--behaviour");
+  gen->add_flag("--slower-ahead", plan_options.slower_ahead,
+                "every encounter has a slower person ahead walking the robot's way (its widened "
+                "variant forced; the other draws stay the seed's)")
+      ->excludes("--crowd");
+  gen->add_flag("--pause", plan_options.pause,
+                "in every encounter one of the people pauses on the way (the pause draw forced)")
+      ->excludes("--crowd");
+  gen->add_option("--max-width-m", plan_options.max_width_m,
+                  "only the corridors no wider than this [m] (a study of narrow ones)")
+      ->check(CLI::Range(1.7, 100.0))
+      ->excludes("--crowd");
   auto* agg = app.add_subcommand("aggregate", "write population.json and population.txt");
   agg->add_option("--dir", dir, "the population folder")->required();
   auto* chk = app.add_subcommand("check", "check population.json against the plan and the table");

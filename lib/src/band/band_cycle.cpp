@@ -83,6 +83,7 @@ BandCycle::BandCycle(const BandCycleConfig& config, std::shared_ptr<const Distan
 void BandCycle::restamp(std::int64_t utime) {
   if (last_refs_utime_) last_refs_utime_ = utime;
   if (go_first_) go_first_->since_s = seconds(utime);
+  if (passing_) passing_->since_s = seconds(utime);
   if (planner_memory_check_utime_) planner_memory_check_utime_ = utime;
   // A goal belief is a track in the old time base: later observations would be refused as older.
   goal_beliefs_.clear();
@@ -121,8 +122,9 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
     dock_req = s.action->dock;
     resume_req = !s.action->dock && !s.action->go_first;
     if (dock_req) dock_for = s.action->human_id;
-    // Any newer action ends going first; GO_FIRST starts it.
+    // Any newer action ends going first (and a pass); GO_FIRST starts it.
     go_first_.reset();
+    passing_.reset();
     if (s.action->go_first) go_first_ = GoingFirst{s.action->human_id, stamp_s};
   }
 
@@ -264,7 +266,9 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   result.room_plans = roomPlans(s, r, obstacles);
 
   Velocity2 command = modeCommand(s, mode_out, r, hold, idle);
-  if (go_first_ && mode == RobotMode::kNavigate && !idle)
+  if (mode == RobotMode::kNavigate && !idle && !hold && r.status == PlanStatus::kOk)
+    command = overtakeCommand(s, *robot_goal, r, command, result);
+  if (go_first_ && !passing_ && mode == RobotMode::kNavigate && !idle)
     command = goFirstCommand(s, r, command, result);
   const GuardOutput g = guard(s, command, result);
   result.command_body = g.command_body;
@@ -373,6 +377,106 @@ Velocity2 BandCycle::goFirstCommand(const BandCycleInput& s, const PlanResult& r
   const double lateral = side * std::max(0.0, std::min(wanted, room));
   const Path2 route{pos, ahead.back() + lateral * left};
   return followRoute(s.robot.pose, route, gf.speed_m_s, limits_);
+}
+
+// Not in the paper (issue 44): the planner's band behind a slower person walking the robot's way
+// neither follows at a distance nor passes; it keeps a step behind and beside them at their pace
+// (its relative-velocity and safety terms), or stops short of them in a narrow corridor.
+Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
+                                     const PlanResult& r, const Velocity2& planned,
+                                     BandCycleOutput& out) {
+  const OvertakeOptions& o = config_.overtake;
+  const double stamp_s = seconds(s.utime);
+  // The robot's way: its global path's direction ahead (a holonomic robot's body heading need not
+  // be it), else its heading.
+  Pose2 frame = s.robot.pose;
+  if (r.agent_path.size() >= 2) {
+    const auto foot = projectOntoPath(r.agent_path, s.robot.pose.position());
+    const Path2 ahead = subPath(r.agent_path, foot ? foot->arc_length_m : 0.0, o.lookahead_m);
+    if (ahead.size() >= 2 && (ahead.back() - ahead.front()).norm() > 1e-3) {
+      const Eigen::Vector2d d = ahead.back() - ahead.front();
+      frame.theta_rad = std::atan2(d.y(), d.x());
+    }
+  }
+  const Eigen::Vector2d dir = headingVector(frame.theta_rad);
+  // GO_FIRST for a person ahead walking the robot's way: the words to pass them were said.
+  if (go_first_ && !passing_) {
+    const AgentState* h = human(s, go_first_->human_id);
+    const auto p =
+        h ? sameWayPerson(frame, s.robot.radius_m, *h, o.same_way) : std::optional<SameWayPerson>();
+    if (p) {
+      const PassLane lane = passLane(*map_, frame, s.robot.radius_m, *p, o);
+      passing_ = Passing{p->id, stamp_s, lane.fits ? lane.side : p->robot_side};
+      note(out, BandCycleNote::Level::kInfo,
+           format("passing human %d on their %s at step %lld%s", p->id,
+                  passing_->side == Side::kLeft ? "left" : "right", static_cast<long long>(s.step),
+                  lane.fits ? "" : " (no lane fits now)"));
+    }
+  }
+  if (passing_) {
+    const AgentState* h = human(s, passing_->human_id);
+    const char* end = nullptr;
+    if (h == nullptr) {
+      end = "the person is not tracked";
+    } else {
+      const double along_m = (h->pose.position() - s.robot.pose.position()).dot(dir);
+      if (-along_m > h->radius_m + s.robot.radius_m + o.passed_margin_m)
+        end = "the person is passed";
+      // The last stretch to the goal is the planner's, which stops on it.
+      if ((goal.position() - s.robot.pose.position()).dot(dir) < o.lookahead_m)
+        end = "the goal is near";
+      if (stamp_s - passing_->since_s > o.max_pass_s) end = "overtake.max_pass_s is over";
+    }
+    if (end != nullptr) {
+      note(out, BandCycleNote::Level::kInfo,
+           format("passing human %d ends at step %lld: %s", passing_->human_id,
+                  static_cast<long long>(s.step), end));
+      passing_.reset();
+      go_first_.reset();
+      return planned;
+    }
+    // In the frame of the way, without the "ahead" test: beside the person the robot is still
+    // passing them.
+    SameWayPerson p;
+    p.id = h->id;
+    p.radius_m = h->radius_m;
+    const Eigen::Vector2d d = h->pose.position() - s.robot.pose.position();
+    p.along_m = d.dot(dir);
+    p.lateral_m = d.dot(Eigen::Vector2d(-dir.y(), dir.x()));
+    const PassLane lane = laneOnSide(*map_, frame, s.robot.radius_m, p, passing_->side, o);
+    return passCommand(s.robot.pose, frame, lane, o, limits_);
+  }
+  auto p = sameWayAhead(frame, s.robot.radius_m, s.humans, o.same_way);
+  // Nearer its goal than where it would reach them, the person is not in the robot's way.
+  const double goal_along_m = (goal.position() - s.robot.pose.position()).dot(dir);
+  if (p && p->along_m - p->radius_m - s.robot.radius_m > goal_along_m) p.reset();
+  const std::optional<std::int32_t> id = p ? std::optional<std::int32_t>(p->id) : std::nullopt;
+  if (id != following_id_) {
+    note(out, BandCycleNote::Level::kInfo,
+         id ? format("following human %d (ahead, walking the robot's way) from step %lld", *id,
+                     static_cast<long long>(s.step))
+            : format("following human %d ends at step %lld", *following_id_,
+                     static_cast<long long>(s.step)));
+    following_id_ = id;
+  }
+  if (!p) return planned;
+  const double follow_m_s = followSpeed(*p, o, limits_.max_forward_m_s);
+  // The gap does not bind yet: the planner drives on.
+  if (follow_m_s >= limits_.max_forward_m_s) return planned;
+  // Someone else near (an oncoming person): the planner's band keeps its steering round them;
+  // only its pace is held to the person followed.
+  for (const auto& h : s.humans) {
+    if (h.id == p->id) continue;
+    const double gap =
+        (h.pose.position() - s.robot.pose.position()).norm() - h.radius_m - s.robot.radius_m;
+    if (gap < o.same_way.ahead_range_m) {
+      Velocity2 v = planned;
+      if (v.vx_m_s > follow_m_s) v.vx_m_s = follow_m_s;
+      return v;
+    }
+  }
+  const PassLane lane = passLane(*map_, frame, s.robot.radius_m, *p, o);
+  return followCommand(s.robot.pose, frame, *p, lane, o, limits_);
 }
 
 GuardOutput BandCycle::guard(const BandCycleInput& s, const Velocity2& command,

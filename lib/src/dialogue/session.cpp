@@ -161,6 +161,7 @@ void Session::see(const SceneSnapshot& a, std::int64_t now, std::set<std::int32_
     p.seen = true;
     p.position_m = h.pose.position();
     p.velocity_m_s = {h.velocity.vx_m_s, h.velocity.vy_m_s};
+    p.heading_rad = h.pose.theta_rad;
     p.radius_m = h.radius_m;
     const bool was = p.crossed.crossed;
     p.crossed = updateCrossed(p.crossed, h.pose, a.robot.pose.position(),
@@ -328,6 +329,29 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
     }
     m.t_cross_s = situation.t_cross_s;
     in.motion = m;
+  }
+  // A person ahead walking the robot's way is followed, then passed with words
+  // (overtake_words.hpp), not met as the flowchart's oncoming person; from the words on until
+  // the pass is done. No deadline: the words are said before the robot speeds up to pass.
+  if (config_.overtake.enabled && in.motion && !p.decision->roundFired(1)) {
+    AgentState h;
+    h.id = id;
+    h.pose = {p.position_m.x(), p.position_m.y(), p.heading_rad};
+    h.velocity = {p.velocity_m_s.x(), p.velocity_m_s.y(), 0.0};
+    h.radius_m = p.radius_m;
+    OvertakeWords::Input o;
+    o.t_s = in.t_s;
+    o.t_cross_s = situation.t_cross_s;
+    o.person = sameWayAhead(robot_pose_, robot_radius_m_, {h}, config_.overtake.same_way);
+    o.robot_radius_m = robot_radius_m_;
+    o.heard_by_s = p.heard_by_s;
+    o.muted = config_.muted;
+    for (const auto& [other_id, other] : people_)
+      if (other.decision && (other.decision->docked() || other.last_situation.robot_retreating))
+        o.robot_making_room = true;
+    if (o.person || p.overtake.engaged())
+      return {stamp, p.overtake.step(o, config_.overtake, config_.decision.templates),
+              std::nullopt};
   }
   const DecisionOutput decided = p.decision->step(in);
   for (const auto& r : decided.rounds)

@@ -436,6 +436,38 @@ class BodyCheckedBehaviour final : public HumanBehaviour {
   BodyCheck check_;
 };
 
+/// A person who stops for a while (PauseParams): the model runs every step as usual, so that
+/// what it remembers (a side chosen, a yield under way) stays its own, but while the pause lasts
+/// the person stands. Standing is what a person reading a phone does whoever comes: no body check
+/// is needed to stand still.
+class PausingBehaviour final : public HumanBehaviour {
+ public:
+  PausingBehaviour(std::unique_ptr<HumanBehaviour> model, const PauseParams& p)
+      : model_(std::move(model)), p_(p) {}
+  Velocity2 desiredVelocity(const BehaviourContext& ctx) override {
+    const Velocity2 want = model_->desiredVelocity(ctx);
+    if (!since_s_ && ctx.self != nullptr && ctx.reference_path != nullptr &&
+        ctx.reference_path->size() >= 2) {
+      const auto proj = projectOntoPath(*ctx.reference_path, ctx.self->pose.position());
+      if (proj && proj->arc_length_m >= p_.after_m) since_s_ = ctx.t_s;
+    }
+    paused_ = since_s_ && ctx.t_s - *since_s_ < p_.duration_s - 1e-9;
+    return paused_ ? Velocity2{} : want;
+  }
+  BehaviourStatus status() const override {
+    BehaviourStatus s = model_->status();
+    if (paused_) s.mode = "pause";
+    return s;
+  }
+  const char* name() const override { return model_->name(); }
+
+ private:
+  std::unique_ptr<HumanBehaviour> model_;
+  PauseParams p_;
+  std::optional<double> since_s_;  ///< [s] sim time the pause began
+  bool paused_{false};
+};
+
 std::unique_ptr<HumanBehaviour> makeModel(const BehaviourConfig& config,
                                           const PlannerAdapterFactory& planner_factory) {
   switch (config.type) {
@@ -618,9 +650,12 @@ std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory) {
   std::unique_ptr<HumanBehaviour> model = makeModel(config, planner_factory);
   // Only the oblivious human walks into a robot in its way; a recorded one is a replay.
-  if (config.type == BehaviourType::kOblivious || config.type == BehaviourType::kRecorded)
-    return model;
-  return std::make_unique<BodyCheckedBehaviour>(std::move(model), config.body_check);
+  if (config.type == BehaviourType::kRecorded) return model;
+  if (config.type != BehaviourType::kOblivious)
+    model = std::make_unique<BodyCheckedBehaviour>(std::move(model), config.body_check);
+  if (config.pause.duration_s > 0.0)
+    model = std::make_unique<PausingBehaviour>(std::move(model), config.pause);
+  return model;
 }
 
 }  // namespace coopnav::sim

@@ -110,6 +110,7 @@ TEST(PopulationGenerator, DrawsStayInTheirRanges) {
 TEST(PopulationGenerator, WidenedEncountersKeepTheOtherDraws) {
   pop::Ranges none;
   none.differential_p = none.tracker_noise_p = none.abreast_p = none.slower_ahead_p = 0.0;
+  none.pause_p = 0.0;
   const auto plain = pop::generatePopulation(600, 13, none);
   const auto wide = pop::generatePopulation(600, 13);
   ASSERT_EQ(plain.size(), wide.size());
@@ -181,6 +182,51 @@ TEST(PopulationGenerator, WidenedEncountersKeepTheOtherDraws) {
   EXPECT_LT(abreast, 110);
   EXPECT_GT(slower, 60);
   EXPECT_LT(slower, 120);
+}
+
+// A person who pauses (issue 44): drawn after every other widened draw, so that the
+// encounters are what they were without pauses but for the pause itself.
+TEST(PopulationGenerator, PausesAddNothingButThePause) {
+  pop::Ranges no_pause;
+  no_pause.pause_p = 0.0;
+  const auto plain = pop::generatePopulation(600, 17, no_pause);
+  const auto paused = pop::generatePopulation(600, 17);
+  ASSERT_EQ(plain.size(), paused.size());
+  int pauses = 0;
+  for (std::size_t i = 0; i < paused.size(); ++i) {
+    const pop::Encounter& p = plain[i];
+    const pop::Encounter& w = paused[i];
+    EXPECT_EQ(p.differential, w.differential);
+    EXPECT_EQ(p.tracker_noise, w.tracker_noise);
+    EXPECT_EQ(p.variant, w.variant);
+    ASSERT_EQ(p.humans.size(), w.humans.size());
+    int here = 0;
+    for (std::size_t k = 0; k < w.humans.size(); ++k) {
+      const pop::HumanSpec& a = p.humans[k];
+      const pop::HumanSpec& b = w.humans[k];
+      EXPECT_EQ(a.pause_duration_s, 0.0);
+      EXPECT_EQ(a.start_x_m, b.start_x_m);
+      EXPECT_EQ(a.start_y_m, b.start_y_m);
+      EXPECT_EQ(a.speed_m_s, b.speed_m_s);
+      EXPECT_EQ(a.params, b.params);
+      if (b.pause_duration_s == 0.0) continue;
+      ++here;
+      EXPECT_GE(b.pause_duration_s, 3.0 - 1e-9);
+      EXPECT_LE(b.pause_duration_s, 10.0 + 1e-9);
+      EXPECT_GT(b.pause_after_m, 0.0);
+      EXPECT_LE(b.pause_after_m, 8.0 + 1e-9);
+      const double path_m = std::hypot(b.goal_x_m - b.start_x_m, b.goal_y_m - b.start_y_m);
+      EXPECT_LE(b.pause_after_m, 0.5 * path_m + 0.05);
+    }
+    EXPECT_LE(here, 1);
+    pauses += here;
+    EXPECT_EQ(pop::scenarioYaml(w).find("    pause: {after_m: ") != std::string::npos, here == 1);
+    if (here == 0) {
+      EXPECT_EQ(pop::scenarioYaml(p), pop::scenarioYaml(w));
+    }
+  }
+  EXPECT_GT(pauses, 35);  // p 0.1 of 600
+  EXPECT_LT(pauses, 90);
 }
 
 TEST(PopulationGenerator, NarrowestCorridorStillFitsARobotAndAHuman) {

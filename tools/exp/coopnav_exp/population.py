@@ -222,6 +222,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="PROFILE",
                         help="a profile of config/system.yaml: paper, calibrated or forecast "
                              "(as scripts/run.sh)")
+    parser.add_argument("--slower-ahead", action="store_true",
+                        help="every encounter has a slower person ahead walking the robot's way")
+    parser.add_argument("--pause", action="store_true",
+                        help="in every encounter one of the people pauses on the way")
+    parser.add_argument("--max-width-m", default=None, metavar="W",
+                        help="only the corridors no wider than W m (a study of narrow ones)")
     kind = parser.add_mutually_exclusive_group()
     kind.add_argument("--cue-effect", action="store_true",
                       help="every head-on human responsive, every encounter also run muted")
@@ -294,6 +300,12 @@ def generate(args: argparse.Namespace, out: Path) -> int:
         gen += ["--behaviour", "responsive", "--cue-effect"]
     if args.crowd:
         gen += ["--crowd"]
+    if getattr(args, "slower_ahead", False):
+        gen += ["--slower-ahead"]
+    if getattr(args, "pause", False):
+        gen += ["--pause"]
+    if getattr(args, "max_width_m", None):
+        gen += ["--max-width-m", str(args.max_width_m)]
     return subprocess.run(gen, check=False).returncode
 
 

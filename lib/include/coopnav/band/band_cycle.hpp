@@ -26,6 +26,7 @@
 #include "coopnav/geometry/types.hpp"
 #include "coopnav/planning/dock.hpp"
 #include "coopnav/planning/goal_inference.hpp"
+#include "coopnav/planning/overtake.hpp"
 #include "coopnav/planning/room.hpp"
 #include "coopnav/planning/safety_guard.hpp"
 
@@ -52,6 +53,8 @@ struct BandCycleConfig {
   ModeMachineOptions modes;
   GuardOptions guard;
   GoFirstOptions go_first;
+  /// Following a person ahead who walks the robot's way, and passing them (overtake.hpp).
+  OvertakeOptions overtake;
   int max_iterations{0};                    ///< total LM iterations per cycle (0: the planner's)
   double free_running_time_budget_s{0.0};   ///< [s] per free-running cycle, 0 = none
   double reference_paths_republish_s{0.0};  ///< [s] of message time; 0 = only on a change
@@ -174,6 +177,13 @@ class BandCycle {
   /// else `planned`; ends going first once the person is passed, gone or the time is up.
   Velocity2 goFirstCommand(const BandCycleInput& s, const PlanResult& result,
                            const Velocity2& planned, BandCycleOutput& out);
+  /// Behind a person ahead walking the robot's way (overtake.hpp): GO_FIRST for them passes
+  /// them in the lane beside them; else the robot follows them (its pace capped to theirs, in
+  /// that lane where one fits). `planned` when there is nobody to follow.
+  /// `goal`: the robot's; a person beyond it is not in its way. `result`: the plan (its global
+  /// path gives the robot's way).
+  Velocity2 overtakeCommand(const BandCycleInput& s, const Pose2& goal, const PlanResult& result,
+                            const Velocity2& planned, BandCycleOutput& out);
   /// The safety guard applied to `command`, noted when its action changes.
   GuardOutput guard(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   void referencePaths(const BandCycleInput& s, const PlanResult& result,
@@ -202,7 +212,16 @@ class BandCycle {
     double since_s{0.0};
   };
   std::optional<GoingFirst> go_first_;
-  std::map<std::int32_t, RefPath> refs_;  ///< published reference path per human id
+  /// Passing a person ahead walking the robot's way (GO_FIRST for them): who, since when, and
+  /// the robot's side as they see it.
+  struct Passing {
+    std::int32_t human_id{0};
+    double since_s{0.0};
+    Side side{Side::kUndefined};
+  };
+  std::optional<Passing> passing_;
+  std::optional<std::int32_t> following_id_;  ///< the person followed (noted when it changes)
+  std::map<std::int32_t, RefPath> refs_;      ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;
   /// Goal inference (nullptr when disabled or without candidates): one belief per human whose

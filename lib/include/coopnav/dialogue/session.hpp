@@ -22,6 +22,7 @@
 
 #include "coopnav/dialogue/crowd.hpp"
 #include "coopnav/dialogue/decision.hpp"
+#include "coopnav/dialogue/overtake_words.hpp"
 #include "coopnav/dialogue/speech_timing.hpp"
 #include "coopnav/geometry/id_recency.hpp"
 #include "coopnav/geometry/types.hpp"
@@ -31,6 +32,8 @@ namespace coopnav::dialogue {
 struct SessionConfig {
   DecisionConfig decision;
   CrowdConfig crowd;
+  /// A person ahead walking the robot's way: followed in silence, passed with words.
+  OvertakeWordsConfig overtake;
   double crossed_hysteresis_m{0.2};    ///< [m] CrossedTracker's hysteresis
   double crossed_max_distance_m{5.0};  ///< [m] updateCrossed: a crossing is seen this near
   /// [s] A person absent from the agent states this long has left: its interaction ends (and a
@@ -180,6 +183,7 @@ class Session {
     std::int64_t last_seen_utime{0};         ///< [us] set when first seen
     Eigen::Vector2d position_m{0.0, 0.0};    ///< [m] as last seen (track continuity)
     Eigen::Vector2d velocity_m_s{0.0, 0.0};  ///< [m/s] as last seen
+    double heading_rad{0.0};                 ///< [rad] as last seen (a person standing faces it)
     double radius_m{0.3};                    ///< [m] as last seen
     std::optional<StampedPath> path;         ///< the latest path assessment
     /// Joined late (joinLate): its rounds so far are unknown, nothing is decided for it.
@@ -187,6 +191,8 @@ class Session {
     /// Its decision began while it was absent from the agent states: its absence is judged at
     /// the next agent states (it is not in present_).
     bool judge_absence{false};
+    /// Ahead walking the robot's way: the words and the pass (overtake_words.hpp).
+    OvertakeWords overtake;
   };
   /// What one person's decision produced at this step, emitted once everyone has decided.
   struct Decided {

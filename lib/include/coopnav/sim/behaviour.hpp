@@ -290,6 +290,20 @@ struct BodyCheckParams {
   }
 };
 
+/// A person who stops for a while on the way and then goes on (to read a phone, to look
+/// round): once it has walked after_m along its reference path it stands where it is for
+/// duration_s, whatever the robot does, then walks on with its behaviour. Any behaviour but a
+/// recorded one (scenario key `pause`); duration_s 0 = never pauses.
+struct PauseParams {
+  double after_m{0.0};     ///< [m] arc length along the reference path where it stops
+  double duration_s{0.0};  ///< [s] how long it stands; 0 = no pause
+  template <class V>
+  void visit(V& v) {
+    v.number("after_m", after_m, 0.0, 1000.0);
+    v.number("duration_s", duration_s, 0.0, 600.0);
+  }
+};
+
 /// When a person who yields of its own accord starts to (scenario key `avoidance_timing`).
 enum class AvoidanceTiming : std::uint8_t {
   /// The behaviour's fixed trigger: facilitating at t_ca < trigger_ttc_s or a robot within
@@ -354,6 +368,7 @@ struct BehaviourConfig {
   FacilitatingParams facilitating;
   RecordedParams recorded;
   BodyCheckParams body_check;  ///< every type but kOblivious and kRecorded
+  PauseParams pause;           ///< every type but kRecorded
   /// [s] AvoidanceTiming::kRealistic: this person's onset, drawn by the simulator (time to
   /// closest approach below which it starts to yield; replaces the fixed trigger of
   /// facilitating and late_facilitating, and times a responsive person's keeping to a side it
@@ -374,7 +389,8 @@ using PlannerAdapterFactory =
     std::function<std::unique_ptr<HumanPlannerAdapter>(const FacilitatingParams&)>;
 
 /// Creates a behaviour; every type but kOblivious and kRecorded with the body check
-/// (body_check.hpp) on its desired velocity. Throws std::invalid_argument for planner: band without
+/// (body_check.hpp) on its desired velocity, every type but kRecorded with its pause
+/// (PauseParams) when it has one. Throws std::invalid_argument for planner: band without
 /// an adapter factory.
 std::unique_ptr<HumanBehaviour> makeBehaviour(const BehaviourConfig& config,
                                               const PlannerAdapterFactory& planner_factory = {});

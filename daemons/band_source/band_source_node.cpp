@@ -138,6 +138,7 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   cc.modes = config_.dock.options;
   cc.guard = config_.guard.options;
   cc.go_first = config_.go_first;
+  cc.slow = config_.slow;
   cc.max_iterations = config_.max_iterations;
   cc.free_running_time_budget_s = config_.free_running_time_budget_s;
   cc.reference_paths_republish_s = config_.reference_paths_republish_s;
@@ -324,7 +325,8 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   if (action_)
     in.action =
         CycleAction{action_->action == dialogue::RobotAction::kDock, action_->stamp.human_id,
-                    action_->action == dialogue::RobotAction::kGoFirst};
+                    action_->action == dialogue::RobotAction::kGoFirst,
+                    action_->action == dialogue::RobotAction::kSlow};
   action_.reset();
   in.planner_points = scan_points_.planner;
   in.guard_points = scan_points_.guard;

@@ -133,6 +133,32 @@ TEST_F(BandCycleTest, ADockIsForTheHumanItWasAskedForUntilAResume) {
       << toString(resumed.mode);
 }
 
+// SLOW (the dialogue's make_time): the command's speed is capped at slow.speed_m_s, its direction
+// and curvature kept, until the next action; a SLOW for someone not tracked ends at once.
+TEST_F(BandCycleTest, ASlowCapsTheCommandUntilTheNextAction) {
+  const double cap = cycleConfig().slow.speed_m_s;
+  const auto speed = [](const Velocity2& v) { return std::hypot(v.vx_m_s, v.vy_m_s); };
+  BandCycle free_cycle(cycleConfig(), BoxMap::corridor(0.0, 20.0, 0.45, 2.70), nullptr, {});
+  const Velocity2 full = free_cycle.step(input(0, 3.0, 9.0)).command_body;
+  ASSERT_GT(speed(full), cap + 0.05);  // the test means something
+  BandCycleInput slow = input(0, 3.0, 9.0);
+  slow.action = CycleAction{false, 1, false, true};
+  const BandCycleOutput slowed = cycle_.step(slow);
+  EXPECT_EQ(slowed.mode, RobotMode::kNavigate);
+  EXPECT_NEAR(speed(slowed.command_body), cap, 1e-9);
+  EXPECT_NEAR(slowed.command_body.omega_rad_s * speed(full),
+              full.omega_rad_s * speed(slowed.command_body), 1e-9);
+  EXPECT_LE(speed(cycle_.step(input(1, 3.0, 8.9)).command_body), cap + 1e-9);
+  BandCycleInput resume = input(2, 3.0, 8.8);
+  resume.action = CycleAction{false, 1};
+  EXPECT_GT(speed(cycle_.step(resume).command_body), cap + 0.05);
+  BandCycleInput stray = input(3, 3.0, 8.7);
+  stray.action = CycleAction{false, 42, false, true};
+  const BandCycleOutput ended = cycle_.step(stray);
+  EXPECT_TRUE(noted(ended, "slowing for human 42 ends at step 3: the person is not tracked"));
+  EXPECT_GT(speed(ended.command_body), cap + 0.05);
+}
+
 class BandCycleMemoryTest : public BandCycleTest {
  protected:
   static BandCycleConfig small() {

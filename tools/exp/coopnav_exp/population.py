@@ -220,7 +220,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "real walkers' (world_sim avoidance_timing=realistic)")
     parser.add_argument("--profile", default=os.environ.get("COOPNAV_PROFILE", "paper"),
                         metavar="PROFILE",
-                        help="a profile of config/system.yaml: paper, calibrated or forecast "
+                        help="a profile of config/system.yaml: paper, calibrated, forecast or make_time "
                              "(as scripts/run.sh)")
     kind = parser.add_mutually_exclusive_group()
     kind.add_argument("--cue-effect", action="store_true",

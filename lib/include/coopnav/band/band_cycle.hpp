@@ -44,6 +44,16 @@ struct GoFirstOptions {
   double max_s{20.0};
 };
 
+/// Slowing while the dialogue waits for evidence (robot action SLOW, the dialogue manager's
+/// make_time; the band source's README "Slowing").
+struct SlowOptions {
+  /// [m/s] Cap on the command's speed while slowed: under half the robot's walk, so that a dock
+  /// or a stop decided late is still done before the person arrives.
+  double speed_m_s{0.3};
+  /// [s] Slowing ends after this long even without a newer action.
+  double max_s{10.0};
+};
+
 /// The band source's tuning, as its YAML gives it (config/band_source.yaml); the daemon fills
 /// every field.
 struct BandCycleConfig {
@@ -52,6 +62,7 @@ struct BandCycleConfig {
   ModeMachineOptions modes;
   GuardOptions guard;
   GoFirstOptions go_first;
+  SlowOptions slow;
   int max_iterations{0};                    ///< total LM iterations per cycle (0: the planner's)
   double free_running_time_budget_s{0.0};   ///< [s] per free-running cycle, 0 = none
   double reference_paths_republish_s{0.0};  ///< [s] of message time; 0 = only on a change
@@ -74,6 +85,7 @@ struct CycleAction {
   bool dock{false};  ///< DOCK (else RESUME, or GO_FIRST when go_first)
   std::int32_t human_id{0};
   bool go_first{false};  ///< GO_FIRST: drive on past this person (goFirstCommand)
+  bool slow{false};      ///< SLOW: drive on at most at slow.speed_m_s (slowCommand)
 };
 
 struct BandCycleInput {
@@ -174,6 +186,9 @@ class BandCycle {
   /// else `planned`; ends going first once the person is passed, gone or the time is up.
   Velocity2 goFirstCommand(const BandCycleInput& s, const PlanResult& result,
                            const Velocity2& planned, BandCycleOutput& out);
+  /// While slowed (SLOW): `command` with its speed capped at slow.speed_m_s; ends slowing once
+  /// the person is passed, gone or the time is up.
+  Velocity2 slowCommand(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   /// The safety guard applied to `command`, noted when its action changes.
   GuardOutput guard(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   void referencePaths(const BandCycleInput& s, const PlanResult& result,
@@ -202,6 +217,7 @@ class BandCycle {
     double since_s{0.0};
   };
   std::optional<GoingFirst> go_first_;
+  std::optional<GoingFirst> slow_;        ///< slowed (SLOW) for this human since this time
   std::map<std::int32_t, RefPath> refs_;  ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;

@@ -35,6 +35,8 @@ ROUND2 = re.compile(
     r"human (\d+) round 2 on CM (\S+) m against d_h (\S+) m, IsContributing (\w+),"
     r"(?: p_contributing (\S+),)?")
 BRANCH = re.compile(r"human (\d+) round 2 \(t_cross ([^)]*)\): (.*)$")
+# The make-time profile's wait (daemons/dialogue_manager/README.md "Making time"), before its round 2.
+DEFERRED = re.compile(r"human (\d+) round 2 deferred \(t_cross ([^)]*)\)")
 MADE_ROOM_M = 0.3
 
 
@@ -48,6 +50,7 @@ def num(text):
 def round2_of(log_path):
     """human id -> {is_contributing, p, branch} of its first round 2."""
     out = {}
+    deferred = set()
     if not log_path.exists():
         return out
     for line in log_path.read_text(errors="replace").splitlines():
@@ -63,6 +66,13 @@ def round2_of(log_path):
             if hid in out and out[hid]["branch"] is None:
                 out[hid]["branch"] = m.group(3)
                 out[hid]["t_cross"] = m.group(2).split()[0]
+            continue
+        m = DEFERRED.search(line)
+        if m:
+            deferred.add(int(m.group(1)))
+    for hid in deferred:
+        if hid in out:
+            out[hid]["deferred"] = True
     return out
 
 
@@ -131,7 +141,7 @@ def study(root, threshold):
                          "expected": h.get("expected_contributing"),
                          "cm": judged(r, "cm", threshold), "forecast": judged(r, "forecast", threshold),
                          "decision": decision_of(r["branch"]), "branch": r["branch"], "p": r["p"],
-                         "t_cross": t_cross})
+                         "t_cross": t_cross, "deferred": r.get("deferred", False)})
     return rows, contacts_at_fault, ttg, len(pop["runs"])
 
 
@@ -165,6 +175,13 @@ def main(argv=None):
                 print(f"    ... with p_contributing {label} at round 2 "
                       f"(confidence {args.confidence}): "
                       f"{share((r['decision'], r[truth]) for r in sub)}")
+        waited = [r for r in rows if r["deferred"]]
+        if waited:
+            decided = [r for r in waited if r["decision"] is not None]
+            print(f"  round 2 deferred (make_time): {len(waited)}; then decided ask more / dock "
+                  f"{len(decided)} (p decisive {sum(1 for r in decided if r['p'] is not None and (r['p'] >= args.confidence or r['p'] <= 1 - args.confidence))}), "
+                  f"no decision on the person {len(waited) - len(decided)}; "
+                  f"decisions matching made_room {share((r['decision'], r['made_room']) for r in decided)}")
         t_cross = [r["t_cross"] for r in rows if r["t_cross"] is not None]
         if t_cross:
             print(f"  t_CROSS at round 2: median {statistics.median(t_cross):.2f} s, "

@@ -281,8 +281,17 @@ void BandSourceNode::onRobotAction(const robot_action_t& msg) {
                   log().info("band_source: robot action {} for human {} at step {} ({})",
                              a.action == dialogue::RobotAction::kDock     ? "DOCK"
                              : a.action == dialogue::RobotAction::kResume ? "RESUME"
+                             : a.action == dialogue::RobotAction::kSlow   ? "SLOW"
                                                                           : "GO_FIRST",
                              a.stamp.human_id, a.stamp.step, a.reason);
+                  // One action per cycle (the latest): a SLOW or a RESUME for one human does not
+                  // replace a DOCK or GO_FIRST for another decided at the same step.
+                  const bool weak = a.action == dialogue::RobotAction::kSlow ||
+                                    a.action == dialogue::RobotAction::kResume;
+                  if (weak && action_ && action_->stamp.human_id != a.stamp.human_id &&
+                      (action_->action == dialogue::RobotAction::kDock ||
+                       action_->action == dialogue::RobotAction::kGoFirst))
+                    return;
                   action_ = std::move(a);
                 });
 }

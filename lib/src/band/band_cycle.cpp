@@ -120,7 +120,10 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   std::int32_t dock_for = -1;
   if (s.action) {
     dock_req = s.action->dock;
-    resume_req = !s.action->dock && !s.action->go_first && !s.action->slow;
+    // A RESUME ends the dock of the human it is for: one for someone else (the end of their
+    // slowing, their crossing) leaves a dock for another human in place.
+    resume_req = !s.action->dock && !s.action->go_first && !s.action->slow &&
+                 (!dock_human_id_ || *dock_human_id_ == s.action->human_id);
     if (dock_req) dock_for = s.action->human_id;
     // Any newer action ends going first and slowing; GO_FIRST and SLOW start them.
     go_first_.reset();

@@ -125,8 +125,12 @@ TEST_F(BandCycleTest, ADockIsForTheHumanItWasAskedForUntilAResume) {
       << (docking.notes.empty() ? "" : docking.notes[0].text);
   const BandCycleOutput still = cycle_.step(input(3, 3.0, 8.7));
   EXPECT_NE(still.mode, RobotMode::kNavigate);
-  // A RESUME ends it.
-  BandCycleInput resume = input(4, 3.0, 8.6);
+  // A RESUME for someone else (the end of their slowing) leaves it in place ...
+  BandCycleInput other = input(4, 3.0, 8.6);
+  other.action = CycleAction{false, 2};
+  EXPECT_NE(cycle_.step(other).mode, RobotMode::kNavigate);
+  // ... a RESUME for human 1 ends it.
+  BandCycleInput resume = input(5, 3.0, 8.5);
   resume.action = CycleAction{false, 1};
   const BandCycleOutput resumed = cycle_.step(resume);
   EXPECT_TRUE(resumed.mode == RobotMode::kResuming || resumed.mode == RobotMode::kNavigate)

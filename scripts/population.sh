@@ -9,7 +9,7 @@
 # muted twins included; 2 bad arguments or files. A line per finished run says where it stands.
 #
 #   scripts/population.sh [--n N] [--seed S] [-j JOBS] [--out DIR] [--no-build]
-#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated|forecast]
+#                         [--tracker-noise] [--goals-withheld] [--profile paper|calibrated|forecast|make_time]
 #                         [--realistic-timing] [--cue-effect | --crowd] [--slurm ...]
 #
 # The entry point of `scripts/coopnav population` (tools/exp/coopnav_exp/population.py: the

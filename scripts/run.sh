@@ -4,7 +4,7 @@
 # records an LCM log, and prints the transcript (what the robot said and did, when, and why);
 # then the CM table beside the paper's Table I. Writes runs/<timestamp>/ and runs/latest.
 #
-#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated|forecast] [--speech]
+#   scripts/run.sh [--out DIR] [--no-build] [--profile paper|calibrated|forecast|make_time] [--speech]
 #                  [scenario.yaml ...]
 #
 # The program is `scripts/coopnav run` (tools/exp/coopnav_exp/run.py; --help says everything).

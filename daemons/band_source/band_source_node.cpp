@@ -139,6 +139,7 @@ BandSourceNode::BandSourceNode(const Config& config, Runtime& runtime)
   cc.guard = config_.guard.options;
   cc.go_first = config_.go_first;
   cc.overtake = config_.overtake;
+  cc.slow = config_.slow;
   cc.max_iterations = config_.max_iterations;
   cc.free_running_time_budget_s = config_.free_running_time_budget_s;
   cc.reference_paths_republish_s = config_.reference_paths_republish_s;
@@ -281,8 +282,17 @@ void BandSourceNode::onRobotAction(const robot_action_t& msg) {
                   log().info("band_source: robot action {} for human {} at step {} ({})",
                              a.action == dialogue::RobotAction::kDock     ? "DOCK"
                              : a.action == dialogue::RobotAction::kResume ? "RESUME"
+                             : a.action == dialogue::RobotAction::kSlow   ? "SLOW"
                                                                           : "GO_FIRST",
                              a.stamp.human_id, a.stamp.step, a.reason);
+                  // One action per cycle (the latest): a SLOW or a RESUME for one human does not
+                  // replace a DOCK or GO_FIRST for another decided at the same step.
+                  const bool weak = a.action == dialogue::RobotAction::kSlow ||
+                                    a.action == dialogue::RobotAction::kResume;
+                  if (weak && action_ && action_->stamp.human_id != a.stamp.human_id &&
+                      (action_->action == dialogue::RobotAction::kDock ||
+                       action_->action == dialogue::RobotAction::kGoFirst))
+                    return;
                   action_ = std::move(a);
                 });
 }
@@ -325,7 +335,8 @@ void BandSourceNode::plan(const AgentStatesSnapshot& s, StepNode::Step& step) {
   if (action_)
     in.action =
         CycleAction{action_->action == dialogue::RobotAction::kDock, action_->stamp.human_id,
-                    action_->action == dialogue::RobotAction::kGoFirst};
+                    action_->action == dialogue::RobotAction::kGoFirst,
+                    action_->action == dialogue::RobotAction::kSlow};
   action_.reset();
   in.planner_points = scan_points_.planner;
   in.guard_points = scan_points_.guard;

@@ -111,6 +111,16 @@ struct OvertakeYaml : OvertakeOptions {
   }
 };
 
+/// Slowing while round 2 waits for evidence (robot_action_t.ACTION_SLOW, README "Slowing");
+/// defaults: lib's.
+struct SlowYaml : SlowOptions {
+  template <class V>
+  void visit(V& v) {
+    v("speed_m_s", speed_m_s, Range{0.05, 2.0});
+    v("max_s", max_s, Range{1.0, 600.0});
+  }
+};
+
 struct BandSourceConfig {
   /// The known map: the same file as the other map-loading daemons of a run.
   MapSource map;
@@ -136,6 +146,8 @@ struct BandSourceConfig {
   GoFirstYaml go_first;
   /// Behind a slower person walking the robot's way: follow, and pass when told (GO_FIRST).
   OvertakeYaml overtake;
+  /// Slowing while the dialogue waits for evidence (robot action SLOW).
+  SlowYaml slow;
   /// The dual-band planner (defaults: lib/include/coopnav/band/band_config.hpp, CoHAN 2.0 sim).
   BandPlannerConfigYaml planner;
   /// Goals of humans the goals message does not give.
@@ -158,6 +170,7 @@ struct BandSourceConfig {
     v("guard", guard);
     v("go_first", go_first);
     v("overtake", overtake);
+    v("slow", slow);
     v("planner", planner);
     v("goal_inference", goal_inference);
     v("scan", scan);

@@ -29,6 +29,7 @@ dialogue::DecisionConfig DialogueManagerConfig::decisionConfig() const {
   c.resolve_stand_offs = stand_off.resolve;
   c.go_first_when_not_docked = stand_off.go_first;
   c.stand_off = stand_off;
+  c.make_time = make_time;
   return c;
 }
 

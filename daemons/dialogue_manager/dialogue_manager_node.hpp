@@ -116,6 +116,17 @@ struct OvertakeWordsYaml : dialogue::OvertakeWordsConfig {
   }
 };
 
+/// Slow down and decide round 2 later while the forecast cannot tell (lib/dialogue/decision.hpp
+/// MakeTimeConfig; README "Making time"); defaults: lib's.
+struct MakeTimeYaml : dialogue::MakeTimeConfig {
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled);
+    v("confidence", confidence, Range{0.5, 1.0});
+    v("latest_t_cross_s", latest_t_cross_s, Range{0.0, 60.0});
+  }
+};
+
 struct DialogueManagerConfig {
   double round1_t_cross_s{dialogue::DecisionConfig{}.round1_t_cross_s};
   double round2_t_cross_s{dialogue::DecisionConfig{}.round2_t_cross_s};
@@ -131,6 +142,7 @@ struct DialogueManagerConfig {
   CrowdConfigYaml crowd;
   StandOffConfigYaml stand_off;
   OvertakeWordsYaml overtake;
+  MakeTimeYaml make_time;
   double crossed_hysteresis_m{dialogue::SessionConfig{}.crossed_hysteresis_m};
   double crossed_max_distance_m{dialogue::SessionConfig{}.crossed_max_distance_m};
   double human_gone_s{dialogue::SessionConfig{}.human_gone_s};
@@ -168,6 +180,7 @@ struct DialogueManagerConfig {
     v("crowd", crowd);
     v("stand_off", stand_off);
     v("overtake", overtake);
+    v("make_time", make_time);
     v("crossed_hysteresis_m", crossed_hysteresis_m, Range{0.0, 5.0});
     v("crossed_max_distance_m", crossed_max_distance_m, Range{0.1, 100.0});
     v("human_gone_s", human_gone_s, Range{0.1, 600.0});
@@ -183,6 +196,10 @@ struct DialogueManagerConfig {
               "must be less than round1_t_cross_s (round 2 comes after round 1)");
     v.require(round2_latest_t_cross_s <= round2_t_cross_s, "round2_latest_t_cross_s",
               "must not exceed round2_t_cross_s (it bounds how long round 2 waits)");
+    v.require(make_time.latest_t_cross_s <= round2_latest_t_cross_s, "make_time.latest_t_cross_s",
+              "must not exceed round2_latest_t_cross_s (making time only waits longer)");
+    v.require(!make_time.enabled || judgement == "forecast", "make_time.enabled",
+              "needs judgement: forecast (it waits for the forecast to be decisive)");
     v("limits", limits);
   }
   dialogue::DecisionConfig decisionConfig() const;

@@ -382,6 +382,50 @@ TEST_F(DialogueManagerTest, TheForecastProfileDecidesRoundTwoOnPContributing) {
   }
 }
 
+// make_time (config/dialogue_manager_make_time.yaml): round 2 due with the forecast undecided ->
+// ACTION_SLOW, nothing said; decided later: human 1 once its forecast is decisive (asked for more,
+// the robot resumes its speed), human 2 at make_time.latest_t_cross_s on the threshold (dock).
+TEST_F(DialogueManagerTest, TheMakeTimeProfileSlowsAndDecidesRoundTwoLater) {
+  start({"-c", ::coopnav::test::sourceDir() + "/config/dialogue_manager_make_time.yaml"});
+  primePeers();
+  const auto sits = [](double t1, double t2) {
+    return std::vector<Sit>{{1, t1, T, F, T, situation_t::DIR_LEFT, 0.6},
+                            {2, t2, T, F, T, situation_t::DIR_LEFT, 0.6}};
+  };
+  const auto paths = [](double p1, double p2) {
+    return std::vector<Path>{{1, 0.05, F, path_assessment_t::REC_RECORDING, p1},
+                             {2, 0.05, F, path_assessment_t::REC_RECORDING, p2}};
+  };
+  fullStep(1, sits(6.9, 6.9), {});
+  fullStep(2, sits(3.9, 3.9), paths(0.5, 0.3));
+  settle();
+  // Both undecided (0.5, 0.3 within (0.15, 0.85)): one SLOW each, no round-2 words yet.
+  ASSERT_EQ(actions_.size(), 2u);
+  for (const auto& a : actions_) {
+    EXPECT_EQ(a.action, robot_action_t::ACTION_SLOW);
+    EXPECT_NE(a.reason.find("round 2 deferred: "), std::string::npos) << a.reason;
+  }
+  EXPECT_EQ(utterancesOf(1).size(), 1u);
+  EXPECT_EQ(utterancesOf(2).size(), 1u);
+  // Human 1 decisive at 3.5 s, human 2 still undecided above 2 s: only human 1 decides.
+  fullStep(3, sits(3.5, 2.5), paths(0.9, 0.3));
+  settle();
+  ASSERT_EQ(utterancesOf(1).size(), 2u);
+  EXPECT_EQ(utterancesOf(1)[1].speech_act, utterance_t::ACT_ASK_TO_MOVE_MORE);
+  EXPECT_EQ(utterancesOf(2).size(), 1u);
+  ASSERT_EQ(actions_.size(), 3u);
+  EXPECT_EQ(actions_[2].human_id, 1);
+  EXPECT_EQ(actions_[2].action, robot_action_t::ACTION_RESUME);
+  // Human 2 at the latest t_CROSS (2 s): decided on p 0.3 < 0.5 -> dock, said.
+  fullStep(4, sits(3.4, 2.0), paths(0.9, 0.3));
+  settle();
+  ASSERT_EQ(utterancesOf(2).size(), 2u);
+  EXPECT_EQ(utterancesOf(2)[1].speech_act, utterance_t::ACT_INFORM_DOCKING);
+  ASSERT_EQ(actions_.size(), 4u);
+  EXPECT_EQ(actions_[3].human_id, 2);
+  EXPECT_EQ(actions_[3].action, robot_action_t::ACTION_DOCK);
+}
+
 TEST_F(DialogueManagerTest, WithoutThePrecautionUnknownPredicatesNeverLeadToADock) {
   start({"--set", "precautionary_dock=false"});
   primePeers();

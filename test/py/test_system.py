@@ -34,7 +34,7 @@ def test_the_repository_description_loads():
     assert s.lockstep_names() == ["band_source", "situation_assessor", "path_assessor",
                                   "dialogue_manager"]
     assert s.world.name == "world_sim"
-    assert set(s.profiles) == {"paper", "calibrated", "forecast"}
+    assert set(s.profiles) == {"paper", "calibrated", "forecast", "make_time"}
 
 
 def test_every_paper_scenario_waits_for_exactly_the_lockstep_daemons(source_dir: Path):

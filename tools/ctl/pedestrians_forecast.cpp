@@ -343,7 +343,79 @@ ForecastStudy runForecastStudy(const std::vector<PedestrianPair>& pairs,
       << " ambiguous)\n";
   }
   s.misses = o.str();
+  for (const auto& ds : seqs) {
+    const auto fold = std::find_if(cal.folds.begin(), cal.folds.end(),
+                                   [&](const CalibrationFold& f) { return f.held_out_ds == ds; });
+    if (fold == cal.folds.end() || fold->window_settings.empty()) continue;
+    s.end_of_interaction.push_back(
+        endOfInteraction(pairsWhere(pairs, ds, true), ds, fold->window_settings.front()));
+  }
   return s;
+}
+
+// Two walkers nearly in line at t0: the side each is on of the other is noise, and so is the
+// sign of CA until one steps off (the side rule's deadband and memory, path_assessment.hpp).
+EndOfInteractionFold endOfInteraction(const std::vector<PedestrianPair>& pairs,
+                                      const std::string& ds, const CalibrationSetting& setting) {
+  EndOfInteractionFold f;
+  f.ds = ds;
+  f.pairs = pairs.size();
+  PedestrianEvaluation e = evaluateWalkers(pairs, settingConfig(setting), setting.window);
+  scoreEvaluation(e);
+  f.ranking = e.ranking;
+  f.agreement = e.agreement;
+  const double tau_m = setting.tau_m;
+  for (std::size_t p = 0; p < pairs.size() && 2 * p + 1 < e.walkers.size(); ++p) {
+    const PedestrianPair& pair = pairs[p];
+    const auto at = [](const PedestrianTrack& tr, double t_s) {
+      std::size_t i = 0;
+      while (i + 1 < tr.t_s.size() && tr.t_s[i + 1] <= t_s) ++i;
+      if (i + 1 >= tr.t_s.size() || tr.t_s[i] >= t_s) return Eigen::Vector2d(tr.x_m[i], tr.y_m[i]);
+      const double w = (t_s - tr.t_s[i]) / (tr.t_s[i + 1] - tr.t_s[i]);
+      return Eigen::Vector2d(tr.x_m[i] + w * (tr.x_m[i + 1] - tr.x_m[i]),
+                             tr.y_m[i] + w * (tr.y_m[i + 1] - tr.y_m[i]));
+    };
+    const Eigen::Vector2d pa = at(pair.a, pair.t0_s), pb = at(pair.b, pair.t0_s);
+    const Eigen::Vector2d ua(pair.heading_a[0], pair.heading_a[1]);
+    const Eigen::Vector2d ub(pair.heading_b[0], pair.heading_b[1]);
+    const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& d) {
+      return u.x() * d.y() - u.y() * d.x();
+    };
+    // The lateral gap as each walker sees it; in line when either is within the threshold.
+    const double gap_m = std::min(std::abs(cross(ua, pb - pa)), std::abs(cross(ub, pa - pb)));
+    const bool in_line = gap_m < assessment::kForecastInLineM;
+    f.pairs_in_line += in_line ? 1 : 0;
+    const WalkerResult& a = e.walkers[2 * p];
+    const WalkerResult& b = e.walkers[2 * p + 1];
+    const std::string where = "pair " + std::to_string(p) + " (ids " + std::to_string(a.id) + "/" +
+                              std::to_string(b.id) + ", gap at t0 " + fmt("%.2f", gap_m) + " m" +
+                              (in_line ? ", in line" : "") + ")";
+    if (a.cm_m && b.cm_m && std::abs(a.dev_away_m - b.dev_away_m) >= kRankingMinDifferenceM) {
+      const bool right = a.dev_away_m > b.dev_away_m ? *a.cm_m > *b.cm_m : *b.cm_m > *a.cm_m;
+      ++f.ranked;
+      f.ranked_right += right ? 1 : 0;
+      f.ranked_in_line += in_line ? 1 : 0;
+      f.ranked_right_in_line += in_line && right ? 1 : 0;
+      if (!right)
+        f.misses.push_back("ranking: " + where + ": dev_away " + fmt("%.2f", a.dev_away_m) + " / " +
+                           fmt("%.2f", b.dev_away_m) + " m, CM " + fmt("%.2f", *a.cm_m) + " / " +
+                           fmt("%.2f", *b.cm_m) + " m");
+    }
+    for (const WalkerResult* w : {&a, &b}) {
+      if (!w->cm_m) continue;
+      const bool said = *w->cm_m > tau_m, truth = w->dev_away_m >= kStepAwayTruthM;
+      ++f.judged;
+      f.agreeing += said == truth ? 1 : 0;
+      f.judged_in_line += in_line ? 1 : 0;
+      f.agreeing_in_line += in_line && said == truth ? 1 : 0;
+      if (said != truth)
+        f.misses.push_back(std::string(said ? "agreement FP: " : "agreement FN: ") + where +
+                           ": walker " + std::to_string(w->id) + " dev_away " +
+                           fmt("%.2f", w->dev_away_m) + " m, CM " + fmt("%.2f", *w->cm_m) +
+                           " m against tau " + fmt("%.3f", tau_m) + " m");
+    }
+  }
+  return f;
 }
 
 std::string formatDecisionTables(const std::vector<DecisionTable>& tables) {
@@ -373,6 +445,23 @@ std::string formatForecastStudy(const ForecastStudy& s) {
     << kBootstrapSeed << ")\n";
   o << formatDecisionTables(s.tables);
   o << "forecast misses at 2 s (LOSO):\n" << s.misses;
+  o << "end-of-interaction judgement held out (calibrated CM, round-1 fit on the other sequence, "
+       "read at the crossing; in line: the other within "
+    << fmt("%.2f", assessment::kForecastInLineM)
+    << " m of the walker's line at t0, the sign of CA ambiguous until one steps off):\n";
+  const auto share = [](std::size_t k, std::size_t n) {
+    return n == 0 ? std::string("-")
+                  : std::to_string(k) + "/" + std::to_string(n) + " = " +
+                        fmt("%.3f", static_cast<double>(k) / static_cast<double>(n));
+  };
+  for (const auto& f : s.end_of_interaction) {
+    o << "  " << f.ds << " (" << f.pairs << " pairs, " << f.pairs_in_line << " in line): ranking "
+      << share(f.ranked_right, f.ranked) << " (in line "
+      << share(f.ranked_right_in_line, f.ranked_in_line) << "), agreement "
+      << share(f.agreeing, f.judged) << " (in line " << share(f.agreeing_in_line, f.judged_in_line)
+      << "); both >= 0.9: " << (f.ranking >= 0.9 && f.agreement >= 0.9 ? "yes" : "NO") << "\n";
+    for (const auto& m : f.misses) o << "    " << m << "\n";
+  }
   const auto& names = assessment::forecastFeatureNames();
   o << "forecast coefficients (standardised features):\n";
   const auto row = [&](const std::string& label, const ForecastModel& m) {
@@ -383,6 +472,10 @@ std::string formatForecastStudy(const ForecastStudy& s) {
   };
   for (const auto& [ds, m] : s.fold_models) row("without " + ds, m);
   row("all pairs (profile)", s.model);
+  for (const auto& f : s.end_of_interaction) {
+    o << "RESULT pedestrians_end_ranking_" << f.ds << " " << fmt("%.4f", f.ranking) << "\n";
+    o << "RESULT pedestrians_end_agreement_" << f.ds << " " << fmt("%.4f", f.agreement) << "\n";
+  }
   for (const auto& t : s.tables) {
     std::string key;
     if (t.judge.rfind("paper", 0) == 0) key = "paper_cm";

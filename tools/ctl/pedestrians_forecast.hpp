@@ -81,12 +81,34 @@ DecisionTable scoreJudgements(const std::string& judge, const std::string& note,
                               const std::vector<PedestrianPair>& pairs,
                               const std::vector<std::vector<Judgement>>& judgements);
 
+/// The end-of-interaction judgement on one held-out sequence (ForecastStudy::end_of_interaction).
+struct EndOfInteractionFold {
+  std::string ds;
+  std::size_t pairs{0};
+  std::size_t pairs_in_line{0};  ///< the other within kForecastInLineM of the walker's line at t0
+  std::size_t ranked{0}, ranked_right{0};                  ///< all pairs judged
+  std::size_t ranked_in_line{0}, ranked_right_in_line{0};  ///< ... of them in line
+  std::size_t judged{0}, agreeing{0};                      ///< all walkers with a CM
+  std::size_t judged_in_line{0}, agreeing_in_line{0};      ///< ... of pairs in line
+  double ranking{0.0}, agreement{0.0};                     ///< NaN when none
+  std::vector<std::string> misses;  ///< one line per pair ranked wrong or walker judged wrong
+};
+
+/// The end-of-interaction judgement of `setting` on the pairs of one sequence `ds`.
+EndOfInteractionFold endOfInteraction(const std::vector<PedestrianPair>& pairs,
+                                      const std::string& ds, const CalibrationSetting& setting);
+
 struct ForecastStudy {
   std::vector<DecisionTable> tables;  ///< paper, calibrated (LOSO), calibrated (shipped), forecast
   assessment::ForecastModel model;    ///< fit on all pairs (the profile)
   std::vector<std::pair<std::string, assessment::ForecastModel>> fold_models;  ///< per held out
   /// Per sequence: walkers the forecast (LOSO) ranks wrong at 2 s, as the misses table.
   std::string misses;
+  /// Per held-out sequence, the end-of-interaction judgement (the calibrated CM's round-1 fit on
+  /// the other sequence, read at the crossing): ranking and agreement, split by whether the two
+  /// walkers started nearly in line (the sign of CA ambiguous), and every pair it ranks wrong and
+  /// walker it judges wrong.
+  std::vector<EndOfInteractionFold> end_of_interaction;
 };
 
 /// The whole study (deterministic). cal: calibrate(pairs): its folds' round-1 fits are the

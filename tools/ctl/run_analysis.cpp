@@ -31,8 +31,8 @@ std::string speechActName(std::int8_t act) {
 }
 
 std::string robotActionName(std::int8_t action) {
-  static const char* const kNames[] = {"DOCK", "RESUME", "GO_FIRST"};
-  return codeName(kNames, robot_action_t::ACTION_DOCK, 3, action, "ACTION_");
+  static const char* const kNames[] = {"DOCK", "RESUME", "GO_FIRST", "SLOW"};
+  return codeName(kNames, robot_action_t::ACTION_DOCK, 4, action, "ACTION_");
 }
 
 std::string recorderCommandName(std::int8_t command) {

@@ -19,8 +19,10 @@ cooperating, "-> dock" (also the precautionary one) as judged not: the branches 
 judgement. The others ("!still": the person needs to do no more; repeat Dir with the robot free;
 unknowns) decide nothing on the person and are left out of the decision share (they stay in the
 judgement share).
-Also: contacts with the robot at fault and the median time-to-goal ratio (against the run
-without humans).
+Also: the decision share split by whether p_contributing at round 2 was decisive (>= confidence
+or <= 1 - confidence, the make-time profile's test) or not; the t_CROSS round 2 decided at
+(median; the make-time profile defers it); contacts with the robot at fault and the time-to-goal
+ratio against the run without humans (median and 95th percentile).
 """
 import argparse
 import json
@@ -33,6 +35,8 @@ ROUND2 = re.compile(
     r"human (\d+) round 2 on CM (\S+) m against d_h (\S+) m, IsContributing (\w+),"
     r"(?: p_contributing (\S+),)?")
 BRANCH = re.compile(r"human (\d+) round 2 \(t_cross ([^)]*)\): (.*)$")
+# The make-time profile's wait (daemons/dialogue_manager/README.md "Making time"), before its round 2.
+DEFERRED = re.compile(r"human (\d+) round 2 deferred \(t_cross ([^)]*)\)")
 MADE_ROOM_M = 0.3
 
 
@@ -46,6 +50,7 @@ def num(text):
 def round2_of(log_path):
     """human id -> {is_contributing, p, branch} of its first round 2."""
     out = {}
+    deferred = set()
     if not log_path.exists():
         return out
     for line in log_path.read_text(errors="replace").splitlines():
@@ -60,6 +65,14 @@ def round2_of(log_path):
             hid = int(m.group(1))
             if hid in out and out[hid]["branch"] is None:
                 out[hid]["branch"] = m.group(3)
+                out[hid]["t_cross"] = m.group(2).split()[0]
+            continue
+        m = DEFERRED.search(line)
+        if m:
+            deferred.add(int(m.group(1)))
+    for hid in deferred:
+        if hid in out:
+            out[hid]["deferred"] = True
     return out
 
 
@@ -87,6 +100,17 @@ def share(pairs):
     return f"{hit}/{len(pairs)} = {hit / len(pairs):.3f}"
 
 
+def percentile(values, q):
+    """The q-quantile (0..1), linear between order statistics."""
+    v = sorted(values)
+    if not v:
+        return None
+    k = (len(v) - 1) * q
+    lo = int(k)
+    hi = min(lo + 1, len(v) - 1)
+    return v[lo] + (v[hi] - v[lo]) * (k - lo)
+
+
 def study(root, threshold):
     pop = json.loads((root / "population.json").read_text())
     rows = []
@@ -111,11 +135,13 @@ def study(root, threshold):
                         if sh.get("id") == h["id"] and sh.get("ca_m"):
                             ca = sh["ca_m"][-1]
             r = r2[h["id"]]
+            t_cross = num(r["t_cross"]) if r.get("t_cross") else None
             rows.append({"run": run["name"], "behaviour": h["behaviour"],
                          "made_room": None if ca is None else ca >= MADE_ROOM_M,
                          "expected": h.get("expected_contributing"),
                          "cm": judged(r, "cm", threshold), "forecast": judged(r, "forecast", threshold),
-                         "decision": decision_of(r["branch"]), "branch": r["branch"], "p": r["p"]})
+                         "decision": decision_of(r["branch"]), "branch": r["branch"], "p": r["p"],
+                         "t_cross": t_cross, "deferred": r.get("deferred", False)})
     return rows, contacts_at_fault, ttg, len(pop["runs"])
 
 
@@ -123,6 +149,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("dirs", nargs="+", type=Path)
     ap.add_argument("--threshold", type=float, default=0.5)
+    ap.add_argument("--confidence", type=float, default=0.85,
+                    help="p_contributing decisive at >= this or <= 1 - this (make_time)")
     ap.add_argument("--rows", action="store_true", help="print every person's row")
     args = ap.parse_args(argv)
     for root in args.dirs:
@@ -141,9 +169,27 @@ def main(argv=None):
                   f"{share((r['cm'], r[truth]) for r in rows)}")
             print(f"    judgement at round 2, p_contributing >= {args.threshold}: "
                   f"{share((r['forecast'], r[truth]) for r in rows)}")
+            for label, keep in (("decisive", True), ("undecided", False)):
+                sub = [r for r in rows if r["p"] is not None and
+                       (r["p"] >= args.confidence or r["p"] <= 1 - args.confidence) == keep]
+                print(f"    ... with p_contributing {label} at round 2 "
+                      f"(confidence {args.confidence}): "
+                      f"{share((r['decision'], r[truth]) for r in sub)}")
+        waited = [r for r in rows if r["deferred"]]
+        if waited:
+            decided = [r for r in waited if r["decision"] is not None]
+            print(f"  round 2 deferred (make_time): {len(waited)}; then decided ask more / dock "
+                  f"{len(decided)} (p decisive {sum(1 for r in decided if r['p'] is not None and (r['p'] >= args.confidence or r['p'] <= 1 - args.confidence))}), "
+                  f"no decision on the person {len(waited) - len(decided)}; "
+                  f"decisions matching made_room {share((r['decision'], r['made_room']) for r in decided)}")
+        t_cross = [r["t_cross"] for r in rows if r["t_cross"] is not None]
+        if t_cross:
+            print(f"  t_CROSS at round 2: median {statistics.median(t_cross):.2f} s, "
+                  f"min {min(t_cross):.2f} s")
         print(f"  contacts with the robot at fault: {at_fault}")
         if ttg:
             print(f"  time to goal / baseline: median {statistics.median(ttg):.3f}, "
+                  f"p95 {percentile(ttg, 0.95):.3f}, "
                   f"mean {statistics.fmean(ttg):.3f} over {len(ttg)} runs")
     return 0
 

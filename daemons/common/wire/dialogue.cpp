@@ -144,7 +144,7 @@ RobotActionMsg fromLcm(const robot_action_t& msg) {
   RobotActionMsg out;
   out.stamp = {msg.utime, msg.step, msg.human_id};
   if (msg.action != robot_action_t::ACTION_DOCK && msg.action != robot_action_t::ACTION_RESUME &&
-      msg.action != robot_action_t::ACTION_GO_FIRST)
+      msg.action != robot_action_t::ACTION_GO_FIRST && msg.action != robot_action_t::ACTION_SLOW)
     reject("unknown action " + std::to_string(msg.action));
   out.action = static_cast<dialogue::RobotAction>(msg.action);
   out.reason = msg.reason;

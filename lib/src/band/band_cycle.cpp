@@ -84,6 +84,7 @@ void BandCycle::restamp(std::int64_t utime) {
   if (last_refs_utime_) last_refs_utime_ = utime;
   if (go_first_) go_first_->since_s = seconds(utime);
   if (passing_) passing_->since_s = seconds(utime);
+  if (slow_) slow_->since_s = seconds(utime);
   if (planner_memory_check_utime_) planner_memory_check_utime_ = utime;
   // A goal belief is a track in the old time base: later observations would be refused as older.
   goal_beliefs_.clear();
@@ -120,12 +121,17 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
   std::int32_t dock_for = -1;
   if (s.action) {
     dock_req = s.action->dock;
-    resume_req = !s.action->dock && !s.action->go_first;
+    // A RESUME ends the dock of the human it is for: one for someone else (the end of their
+    // slowing, their crossing) leaves a dock for another human in place.
+    resume_req = !s.action->dock && !s.action->go_first && !s.action->slow &&
+                 (!dock_human_id_ || *dock_human_id_ == s.action->human_id);
     if (dock_req) dock_for = s.action->human_id;
-    // Any newer action ends going first (and a pass); GO_FIRST starts it.
+    // Any newer action ends going first (and a pass) and slowing; GO_FIRST and SLOW start them.
     go_first_.reset();
     passing_.reset();
+    slow_.reset();
     if (s.action->go_first) go_first_ = GoingFirst{s.action->human_id, stamp_s};
+    if (s.action->slow) slow_ = GoingFirst{s.action->human_id, stamp_s};
   }
 
   // --- mode: navigate / dock / hold / retreat / resume ---
@@ -270,6 +276,7 @@ BandCycleOutput BandCycle::step(const BandCycleInput& s) {
     command = overtakeCommand(s, *robot_goal, r, command, result);
   if (go_first_ && !passing_ && mode == RobotMode::kNavigate && !idle)
     command = goFirstCommand(s, r, command, result);
+  if (slow_ && mode == RobotMode::kNavigate && !idle) command = slowCommand(s, command, result);
   const GuardOutput g = guard(s, command, result);
   result.command_body = g.command_body;
   result.guard = g.action;
@@ -477,6 +484,33 @@ Velocity2 BandCycle::overtakeCommand(const BandCycleInput& s, const Pose2& goal,
   }
   const PassLane lane = passLane(*map_, frame, s.robot.radius_m, *p, o);
   return followCommand(s.robot.pose, frame, *p, lane, o, limits_);
+}
+
+// The dialogue waits for the person's cooperation to show (make_time): the robot drives on along
+// its plan, slower, so that the crossing comes later and a late dock stays possible. The cap
+// scales the whole command (its direction and curvature kept); the guard then applies as always.
+Velocity2 BandCycle::slowCommand(const BandCycleInput& s, const Velocity2& command,
+                                 BandCycleOutput& out) {
+  const AgentState* h = human(s, slow_->human_id);
+  const char* end = nullptr;
+  if (h == nullptr)
+    end = "the person is not tracked";
+  else if (DockModeMachine::humanHasPassed(s.robot.pose, motionPose(*h),
+                                           modes_.options().human_passed_margin_m))
+    end = "the person is passed";
+  else if (seconds(s.utime) - slow_->since_s > config_.slow.max_s)
+    end = "slow.max_s is over";
+  if (end != nullptr) {
+    note(out, BandCycleNote::Level::kInfo,
+         format("slowing for human %d ends at step %lld: %s", slow_->human_id,
+                static_cast<long long>(s.step), end));
+    slow_.reset();
+    return command;
+  }
+  const double speed_m_s = std::hypot(command.vx_m_s, command.vy_m_s);
+  if (speed_m_s <= config_.slow.speed_m_s) return command;
+  const double k = config_.slow.speed_m_s / speed_m_s;
+  return {command.vx_m_s * k, command.vy_m_s * k, command.omega_rad_s * k};
 }
 
 GuardOutput BandCycle::guard(const BandCycleInput& s, const Velocity2& command,

@@ -124,6 +124,8 @@ const char* toString(RobotAction a) {
       return "resume";
     case RobotAction::kGoFirst:
       return "go_first";
+    case RobotAction::kSlow:
+      return "slow";
   }
   return "?";
 }
@@ -241,9 +243,13 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
     const bool responded = config_.round2_response_s <= 0.0 || !in.heard_by_s ||
                            in.t_s >= *in.heard_by_s + config_.round2_response_s ||
                            *t_cross <= config_.round2_latest_t_cross_s;
-    if (fired_[0] && !fired_round1_now && !fired_[1] && *t_cross <= config_.round2_t_cross_s &&
-        responded) {
+    // A round 2 waiting for evidence (make_time) is decided at a later step whatever t_CROSS
+    // does meanwhile: the slowed robot makes it grow.
+    const bool due = round2_deferred_ || (*t_cross <= config_.round2_t_cross_s && responded);
+    if (fired_[0] && !fired_round1_now && !fired_[1] && due && !deferRound2(in, out)) {
       round2(in, out);
+      // Decided: the robot goes on at full speed unless it now makes room (DOCK replaces SLOW).
+      if (slowed_ && !docked_) out.robot_actions.push_back(RobotAction::kResume);
     }
   }
   if (in.crossed && !fired_[2]) round3(in, out);
@@ -258,7 +264,44 @@ DecisionOutput HumanDecision::step(const DecisionInput& in) {
     if (!fired_[0] && what != StandOff::kBackingOff) what = StandOff::kNone;
     if (what != StandOff::kNone) resolveStandOff(in, what, out);
   }
+  // The band source acts on the latest action: any after a SLOW ends the slowing.
+  if (!out.robot_actions.empty()) slowed_ = out.robot_actions.back() == RobotAction::kSlow;
   return out;
+}
+
+// Not in the paper (MakeTimeConfig): round 2 is due; wait, slowed, while the forecast cannot yet
+// tell on the branch that reads it.
+bool HumanDecision::deferRound2(const DecisionInput& in, DecisionOutput& out) {
+  const MakeTimeConfig& mt = config_.make_time;
+  if (!mt.enabled || config_.judgement != CooperationJudgement::kForecast) return false;
+  const SituationSnapshot& s = in.situation;
+  const double t_cross = *s.t_cross_s;  // known: step() checked it
+  // Only the branch that reads the judgement waits: the others decide nothing on the person.
+  if (lessThan(in.path.cm_window_m, s.d_h_m) != Tristate::kTrue ||
+      s.robot_is_constrained != Tristate::kTrue)
+    return false;
+  const std::optional<double>& p = in.path.p_contributing;
+  const bool decisive =
+      p && std::isfinite(*p) && (*p >= mt.confidence || *p <= 1.0 - mt.confidence);
+  if (decisive || t_cross <= mt.latest_t_cross_s) return false;
+  if (!round2_deferred_) {
+    round2_deferred_ = true;
+    RoundOutcome r{2, in.t_s, s.t_cross_s, "", ""};
+    r.deferred = true;
+    std::array<char, 96> why{};
+    if (p && std::isfinite(*p))
+      std::snprintf(why.data(), why.size(), "p_contributing %.2f within (%.2f, %.2f)", *p,
+                    1.0 - mt.confidence, mt.confidence);
+    else
+      std::snprintf(why.data(), why.size(), "p_contributing unknown");
+    r.branch = "still & robot_constrained & forecast undecided -> slow, wait";
+    std::array<char, 64> until{};
+    std::snprintf(until.data(), until.size(), "; decided by t_cross %.1f s", mt.latest_t_cross_s);
+    r.reason = std::string(why.data()) + until.data();
+    out.rounds.push_back(r);
+    out.robot_actions.push_back(RobotAction::kSlow);
+  }
+  return true;
 }
 
 // Not in the paper (stand_off.hpp). Who goes is decided by the cooperation assessment, the
@@ -522,7 +565,7 @@ void HumanDecision::round3(const DecisionInput& in, DecisionOutput& out) {
   ended_ = true;
   RoundOutcome r{3, in.t_s, std::nullopt, "", ""};
   if (recorder_started_) out.recorder_commands.push_back(RecorderCommand::kStop);
-  if (docked_) {
+  if (docked_ || slowed_) {
     out.robot_actions.push_back(RobotAction::kResume);
     docked_ = false;
   }
@@ -544,9 +587,10 @@ DecisionOutput HumanDecision::endInteraction(double t_s, const std::string& reas
   if (ended_) return out;
   ended_ = true;
   if (recorder_started_ && !fired_[2]) out.recorder_commands.push_back(RecorderCommand::kStop);
-  if (docked_) {
+  if (docked_ || slowed_) {
     out.robot_actions.push_back(RobotAction::kResume);
     docked_ = false;
+    slowed_ = false;
   }
   out.rounds.push_back({0, t_s, std::nullopt, "interaction ended", reason});
   return out;

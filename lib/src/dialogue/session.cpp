@@ -355,7 +355,7 @@ Session::Decided Session::decide(std::int64_t step, std::int32_t id, const Stamp
   }
   const DecisionOutput decided = p.decision->step(in);
   for (const auto& r : decided.rounds)
-    if (r.round == 2)
+    if (r.round == 2 && !r.deferred)
       note(out, SessionNote::Level::kInfo,
            "step " + std::to_string(stamp.step) + " human " + std::to_string(id) +
                " round 2 on CM " + formatOptional(in.path.cm_window_m) + " m against d_h " +
@@ -407,11 +407,13 @@ void Session::emit(const Stamp& stamp, const DecisionOutput& decision,
     if (!quiet)
       note(out, r.degraded ? SessionNote::Level::kWarn : SessionNote::Level::kInfo,
            "step " + std::to_string(stamp.step) + " " + who + " round " + std::to_string(r.round) +
-               " (t_cross " + formatTCross(r.t_cross_s) + "): " + r.branch +
-               (r.reason.empty() ? "" : "; ") + r.reason);
+               (r.deferred ? " deferred" : "") + " (t_cross " + formatTCross(r.t_cross_s) +
+               "): " + r.branch + (r.reason.empty() ? "" : "; ") + r.reason);
     if (why.empty())
-      why = (r.round > 0 ? "round " + std::to_string(r.round) + ": " : std::string()) + r.branch +
-            (r.reason.empty() ? "" : " (" + r.reason + ")");
+      why =
+          (r.round > 0 ? "round " + std::to_string(r.round) + (r.deferred ? " deferred" : "") + ": "
+                       : std::string()) +
+          r.branch + (r.reason.empty() ? "" : " (" + r.reason + ")");
   }
   // Order of docs/lockstep.md row 4: utterances, robot actions, recorder controls.
   const double t_s = seconds(stamp.utime);

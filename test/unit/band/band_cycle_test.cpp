@@ -125,12 +125,42 @@ TEST_F(BandCycleTest, ADockIsForTheHumanItWasAskedForUntilAResume) {
       << (docking.notes.empty() ? "" : docking.notes[0].text);
   const BandCycleOutput still = cycle_.step(input(3, 3.0, 8.7));
   EXPECT_NE(still.mode, RobotMode::kNavigate);
-  // A RESUME ends it.
-  BandCycleInput resume = input(4, 3.0, 8.6);
+  // A RESUME for someone else (the end of their slowing) leaves it in place ...
+  BandCycleInput other = input(4, 3.0, 8.6);
+  other.action = CycleAction{false, 2};
+  EXPECT_NE(cycle_.step(other).mode, RobotMode::kNavigate);
+  // ... a RESUME for human 1 ends it.
+  BandCycleInput resume = input(5, 3.0, 8.5);
   resume.action = CycleAction{false, 1};
   const BandCycleOutput resumed = cycle_.step(resume);
   EXPECT_TRUE(resumed.mode == RobotMode::kResuming || resumed.mode == RobotMode::kNavigate)
       << toString(resumed.mode);
+}
+
+// SLOW (the dialogue's make_time): the command's speed is capped at slow.speed_m_s, its direction
+// and curvature kept, until the next action; a SLOW for someone not tracked ends at once.
+TEST_F(BandCycleTest, ASlowCapsTheCommandUntilTheNextAction) {
+  const double cap = cycleConfig().slow.speed_m_s;
+  const auto speed = [](const Velocity2& v) { return std::hypot(v.vx_m_s, v.vy_m_s); };
+  BandCycle free_cycle(cycleConfig(), BoxMap::corridor(0.0, 20.0, 0.45, 2.70), nullptr, {});
+  const Velocity2 full = free_cycle.step(input(0, 3.0, 9.0)).command_body;
+  ASSERT_GT(speed(full), cap + 0.05);  // the test means something
+  BandCycleInput slow = input(0, 3.0, 9.0);
+  slow.action = CycleAction{false, 1, false, true};
+  const BandCycleOutput slowed = cycle_.step(slow);
+  EXPECT_EQ(slowed.mode, RobotMode::kNavigate);
+  EXPECT_NEAR(speed(slowed.command_body), cap, 1e-9);
+  EXPECT_NEAR(slowed.command_body.omega_rad_s * speed(full),
+              full.omega_rad_s * speed(slowed.command_body), 1e-9);
+  EXPECT_LE(speed(cycle_.step(input(1, 3.0, 8.9)).command_body), cap + 1e-9);
+  BandCycleInput resume = input(2, 3.0, 8.8);
+  resume.action = CycleAction{false, 1};
+  EXPECT_GT(speed(cycle_.step(resume).command_body), cap + 0.05);
+  BandCycleInput stray = input(3, 3.0, 8.7);
+  stray.action = CycleAction{false, 42, false, true};
+  const BandCycleOutput ended = cycle_.step(stray);
+  EXPECT_TRUE(noted(ended, "slowing for human 42 ends at step 3: the person is not tracked"));
+  EXPECT_GT(speed(ended.command_body), cap + 0.05);
 }
 
 class BandCycleMemoryTest : public BandCycleTest {

@@ -154,8 +154,11 @@ TEST(ConversionsDialogue, RobotActionRoundTripAndRejection) {
   const robot_action_t go = toLcm({4'000'000, 40, 2}, RobotAction::kGoFirst, "stand-off");
   EXPECT_EQ(go.action, robot_action_t::ACTION_GO_FIRST);
   EXPECT_EQ(fromLcm(go).action, RobotAction::kGoFirst);
+  const robot_action_t slow = toLcm({4'000'000, 40, 2}, RobotAction::kSlow, "round 2 deferred");
+  EXPECT_EQ(slow.action, robot_action_t::ACTION_SLOW);
+  EXPECT_EQ(fromLcm(slow).action, RobotAction::kSlow);
   robot_action_t bad = m;
-  bad.action = 4;
+  bad.action = 5;
   EXPECT_THROW(fromLcm(bad), RejectedMessage);
   bad = m;
   bad.step = -7;

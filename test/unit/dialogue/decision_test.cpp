@@ -533,6 +533,150 @@ TEST(DecisionJudgement, NamesParseBack) {
   EXPECT_EQ(DecisionConfig{}.judgement, CooperationJudgement::kCm);  // the paper's by default
 }
 
+// Making time (MakeTimeConfig, issue 46): round 2 due on the branch that reads the judgement,
+// the forecast undecided -> the robot slows and round 2 waits until the forecast is decisive, a
+// non-judging input changes the branch, or t_CROSS <= latest_t_cross_s.
+DecisionConfig makeTime() {
+  DecisionConfig c = withJudgement(CooperationJudgement::kForecast);
+  c.make_time.enabled = true;
+  return c;  // confidence 0.85, latest 2.0 s
+}
+
+/// Round 2 due (robot constrained, CM 0.1 < d_h 0.8) at t_s with this t_CROSS and forecast.
+DecisionInput dueAt(double t_s, double t_cross_s, std::optional<double> p) {
+  DecisionInput in = round2Input(T, F, 0.1, true);
+  in.t_s = t_s;
+  in.situation.t_cross_s = t_cross_s;
+  in.path.p_contributing = p;
+  return in;
+}
+
+TEST(DecisionMakeTime, AnUndecidedForecastSlowsOnceAndDecidesWhenDecisive) {
+  for (const bool cooperating : {true, false}) {
+    HumanDecision dut(makeTime());
+    dut.step(neutral(10.0, 6.9));
+    // Due at 3.9 s, p 0.55: no branch yet, one SLOW, nothing said, no recorder reset.
+    DecisionOutput out = dut.step(dueAt(13.0, 3.9, 0.55));
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_EQ(out.rounds[0].round, 2);
+    EXPECT_TRUE(out.rounds[0].deferred);
+    EXPECT_EQ(out.rounds[0].branch, "still & robot_constrained & forecast undecided -> slow, wait");
+    EXPECT_EQ(out.rounds[0].reason,
+              "p_contributing 0.55 within (0.15, 0.85); decided by t_cross 2.0 s");
+    EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kSlow});
+    EXPECT_TRUE(out.utterances.empty());
+    EXPECT_TRUE(out.recorder_commands.empty());
+    EXPECT_FALSE(dut.roundFired(2));
+    EXPECT_TRUE(dut.slowed());
+    // Still undecided, t_CROSS back above 4 s (the robot is slower): nothing more, still slow.
+    out = dut.step(dueAt(13.5, 4.3, 0.8));
+    EXPECT_TRUE(out.empty());
+    EXPECT_TRUE(dut.slowed());
+    // Decisive: round 2 on it, and the slowing ends with the decision.
+    out = dut.step(dueAt(14.0, 3.2, cooperating ? 0.9 : 0.1));
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_FALSE(out.rounds[0].deferred);
+    EXPECT_TRUE(dut.roundFired(2));
+    EXPECT_FALSE(dut.slowed());
+    EXPECT_EQ(out.recorder_commands, std::vector<Rec>{Rec::kReset});
+    ASSERT_EQ(out.utterances.size(), 1u);
+    if (cooperating) {
+      EXPECT_EQ(out.utterances[0].act, Act::kAskToMoveMore);
+      EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+    } else {
+      EXPECT_EQ(out.utterances[0].act, Act::kInformDocking);
+      EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+    }
+    EXPECT_TRUE(dut.step(dueAt(14.5, 3.0, 0.5)).empty());  // fired once
+  }
+}
+
+TEST(DecisionMakeTime, TheLatestTCrossDecidesOnTheThreshold) {
+  for (const std::optional<double> p :
+       {std::optional<double>{0.6}, std::optional<double>{0.4}, std::optional<double>{}}) {
+    HumanDecision dut(makeTime());
+    dut.step(neutral(10.0, 6.9));
+    EXPECT_EQ(dut.step(dueAt(13.0, 3.9, p)).robot_actions,
+              std::vector<RobotAction>{RobotAction::kSlow});
+    EXPECT_TRUE(dut.step(dueAt(13.5, 2.1, p)).empty());
+    const DecisionOutput out = dut.step(dueAt(14.0, 2.0, p));
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_FALSE(dut.slowed());
+    if (p && *p >= 0.5) {  // the forecast profile's own reading, forecast_threshold 0.5
+      EXPECT_EQ(out.utterances.at(0).act, Act::kAskToMoveMore);
+      EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+    } else {  // !contributing, or unknown: the precautionary dock
+      EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kDock});
+      EXPECT_EQ(out.rounds[0].degraded, !p.has_value());
+    }
+  }
+}
+
+TEST(DecisionMakeTime, OnlyTheBranchThatReadsThePersonWaits) {
+  // Decisive at once, robot free, or the person already made the room needed: round 2 as without.
+  struct Case {
+    Tristate robot;
+    double cm_m;
+    std::optional<double> p;
+  };
+  for (const Case& c :
+       {Case{T, 0.1, 0.9}, Case{T, 0.1, 0.15}, Case{F, 0.1, 0.5}, Case{T, 0.9, 0.5}}) {
+    HumanDecision dut(makeTime());
+    dut.step(neutral(10.0, 6.9));
+    DecisionInput in = dueAt(13.0, 3.9, c.p);
+    in.situation.robot_is_constrained = c.robot;
+    in.path.cm_window_m = c.cm_m;
+    const DecisionOutput out = dut.step(in);
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_FALSE(out.rounds[0].deferred) << out.rounds[0].branch;
+    EXPECT_TRUE(dut.roundFired(2));
+    for (const RobotAction a : out.robot_actions) EXPECT_NE(a, RobotAction::kSlow);
+  }
+  // Waiting, the person makes the room (CM >= d_h): round 2 fires, silent, the robot resumes.
+  HumanDecision dut(makeTime());
+  dut.step(neutral(10.0, 6.9));
+  dut.step(dueAt(13.0, 3.9, 0.5));
+  DecisionInput in = dueAt(13.5, 3.5, 0.5);
+  in.path.cm_window_m = 0.9;
+  const DecisionOutput out = dut.step(in);
+  ASSERT_EQ(out.rounds.size(), 1u);
+  EXPECT_EQ(out.rounds[0].branch, "!still -> silent");
+  EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+}
+
+TEST(DecisionMakeTime, OffOrUnderTheCmJudgementNothingChanges) {
+  DecisionConfig off = withJudgement(CooperationJudgement::kForecast);
+  DecisionConfig cm = makeTime();
+  cm.judgement = CooperationJudgement::kCm;
+  for (const DecisionConfig& c : {off, cm, DecisionConfig{}}) {
+    HumanDecision dut(c);
+    dut.step(neutral(10.0, 6.9));
+    const DecisionOutput out = dut.step(dueAt(13.0, 3.9, 0.55));
+    ASSERT_EQ(out.rounds.size(), 1u);
+    EXPECT_FALSE(out.rounds[0].deferred);
+    EXPECT_TRUE(dut.roundFired(2));
+  }
+}
+
+TEST(DecisionMakeTime, ACrossingOrAnEndWhileSlowedResumes) {
+  for (const bool crossed : {true, false}) {
+    HumanDecision dut(makeTime());
+    dut.step(neutral(10.0, 6.9));
+    dut.step(dueAt(13.0, 3.9, 0.5));
+    ASSERT_TRUE(dut.slowed());
+    DecisionOutput out;
+    if (crossed) {
+      DecisionInput in = neutral(15.0, 0.0);
+      in.crossed = true;
+      out = dut.step(in);
+    } else {
+      out = dut.endInteraction(15.0, "gone");
+    }
+    EXPECT_EQ(out.robot_actions, std::vector<RobotAction>{RobotAction::kResume});
+    EXPECT_FALSE(dut.slowed());
+  }
+}
+
 TEST(Decision, CrossingAfterADockResumesAndStops) {
   HumanDecision dut;
   dut.step(neutral(0.0, 6.0));

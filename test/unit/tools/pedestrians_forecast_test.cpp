@@ -82,6 +82,40 @@ TEST(PedestriansForecast, ShippedProfileIsTheFitOnAllPairs) {
   std::remove(tmp.c_str());
 }
 
+// Issue 46 item 5: the end-of-interaction judgement per sequence, split by walkers that start
+// nearly in line (the sign of CA ambiguous), with every miss listed. The shipped calibrated
+// setting (γ_s 0.01, human_side, τ 0.3 m, round 1) on each sequence: its counts are the
+// evaluation's own, and both scores reach 0.9 on each (the held-out fits: coopnav_ctl forecast).
+TEST(PedestriansForecast, EndOfInteractionPerSequenceCountsItsMissesAndInLinePairs) {
+  const auto pairs = loadPedestrianPairs(pairsPath());
+  CalibrationSetting shipped;
+  shipped.gamma_per_s = 0.01;
+  shipped.side_rule = assessment::SideRule::kHumanSide;
+  shipped.tau_m = 0.3;
+  std::size_t in_line = 0;
+  for (const std::string ds : {"UCY_zara01", "UCY_students03"}) {
+    std::vector<PedestrianPair> seq;
+    for (const auto& p : pairs)
+      if (p.ds == ds) seq.push_back(p);
+    ASSERT_FALSE(seq.empty()) << ds;
+    const EndOfInteractionFold f = endOfInteraction(seq, ds, shipped);
+    PedestrianEvaluation e = evaluateWalkers(seq, settingConfig(shipped));
+    scoreEvaluation(e);
+    EXPECT_EQ(f.pairs, seq.size());
+    EXPECT_EQ(f.ranked, e.pairs_judged);
+    EXPECT_EQ(f.ranked_right, e.pairs_ranked_right);
+    EXPECT_EQ(f.judged, e.walkers_judged);
+    EXPECT_EQ(f.agreeing, e.true_positive + e.true_negative);
+    EXPECT_EQ(f.misses.size(), (f.ranked - f.ranked_right) + (f.judged - f.agreeing));
+    EXPECT_LE(f.ranked_in_line, f.pairs_in_line);
+    EXPECT_LE(f.judged_in_line, 2 * f.pairs_in_line);
+    EXPECT_GE(f.ranking, 0.9) << ds;
+    EXPECT_GE(f.agreement, 0.9) << ds;
+    in_line += f.pairs_in_line;
+  }
+  EXPECT_GT(in_line, 0u);  // the data has walkers starting in line: the split is not empty
+}
+
 TEST(PedestriansForecast, BadProfileNamesWhatIsWrong) {
   const std::string tmp =
       ::testing::TempDir() + "forecast_bad_" + std::to_string(::getpid()) + ".yaml";

@@ -220,7 +220,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "real walkers' (world_sim avoidance_timing=realistic)")
     parser.add_argument("--profile", default=os.environ.get("COOPNAV_PROFILE", "paper"),
                         metavar="PROFILE",
-                        help="a profile of config/system.yaml: paper, calibrated or forecast "
+                        help="a profile of config/system.yaml: paper, calibrated, forecast or make_time "
                              "(as scripts/run.sh)")
     parser.add_argument("--slower-ahead", action="store_true",
                         help="every encounter has a slower person ahead walking the robot's way")

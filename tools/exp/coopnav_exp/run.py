@@ -5,7 +5,7 @@ world_sim in lockstep, an LCM log; then the transcript (what the robot said and 
 why) and, over all scenarios, the CM table beside the paper's Table I. Writes runs/<timestamp>/
 and runs/latest (or --out DIR).
 
-  scripts/coopnav run [--out DIR] [--no-build] [--profile paper|calibrated|forecast] [--speech]
+  scripts/coopnav run [--out DIR] [--no-build] [--profile paper|calibrated|forecast|make_time] [--speech]
                       [scenario.yaml ...]
   (scripts/run.sh takes the same options.) Default scenarios:
   config/scenarios/{open,narrow}_{facilitating,minimal}.yaml. --profile: the path assessment
@@ -400,7 +400,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="output folder (default runs/<UTC timestamp>, linked as runs/latest)")
     p.add_argument("--no-build", action="store_true", help="run the build as it is")
     p.add_argument("--profile", default="paper", metavar="PROFILE",
-                   help="a profile of config/system.yaml: paper, calibrated or forecast "
+                   help="a profile of config/system.yaml: paper, calibrated, forecast or make_time "
                         "(default paper)")
     p.add_argument("--speech", action="store_true",
                    help="espeak-ng says each utterance into DIR/<scenario>/speech/*.wav")

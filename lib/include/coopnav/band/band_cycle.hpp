@@ -45,6 +45,16 @@ struct GoFirstOptions {
   double max_s{20.0};
 };
 
+/// Slowing while the dialogue waits for evidence (robot action SLOW, the dialogue manager's
+/// make_time; the band source's README "Slowing").
+struct SlowOptions {
+  /// [m/s] Cap on the command's speed while slowed: under half the robot's walk, so that a dock
+  /// or a stop decided late is still done before the person arrives.
+  double speed_m_s{0.3};
+  /// [s] Slowing ends after this long even without a newer action.
+  double max_s{10.0};
+};
+
 /// The band source's tuning, as its YAML gives it (config/band_source.yaml); the daemon fills
 /// every field.
 struct BandCycleConfig {
@@ -55,6 +65,7 @@ struct BandCycleConfig {
   GoFirstOptions go_first;
   /// Following a person ahead who walks the robot's way, and passing them (overtake.hpp).
   OvertakeOptions overtake;
+  SlowOptions slow;
   int max_iterations{0};                    ///< total LM iterations per cycle (0: the planner's)
   double free_running_time_budget_s{0.0};   ///< [s] per free-running cycle, 0 = none
   double reference_paths_republish_s{0.0};  ///< [s] of message time; 0 = only on a change
@@ -77,6 +88,7 @@ struct CycleAction {
   bool dock{false};  ///< DOCK (else RESUME, or GO_FIRST when go_first)
   std::int32_t human_id{0};
   bool go_first{false};  ///< GO_FIRST: drive on past this person (goFirstCommand)
+  bool slow{false};      ///< SLOW: drive on at most at slow.speed_m_s (slowCommand)
 };
 
 struct BandCycleInput {
@@ -184,6 +196,9 @@ class BandCycle {
   /// path gives the robot's way).
   Velocity2 overtakeCommand(const BandCycleInput& s, const Pose2& goal, const PlanResult& result,
                             const Velocity2& planned, BandCycleOutput& out);
+  /// While slowed (SLOW): `command` with its speed capped at slow.speed_m_s; ends slowing once
+  /// the person is passed, gone or the time is up.
+  Velocity2 slowCommand(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   /// The safety guard applied to `command`, noted when its action changes.
   GuardOutput guard(const BandCycleInput& s, const Velocity2& command, BandCycleOutput& out);
   void referencePaths(const BandCycleInput& s, const PlanResult& result,
@@ -221,6 +236,7 @@ class BandCycle {
   };
   std::optional<Passing> passing_;
   std::optional<std::int32_t> following_id_;  ///< the person followed (noted when it changes)
+  std::optional<GoingFirst> slow_;            ///< slowed (SLOW) for this human since this time
   std::map<std::int32_t, RefPath> refs_;      ///< published reference path per human id
   std::optional<std::int64_t> last_refs_utime_;
   std::set<std::int32_t> humans_without_goal_;

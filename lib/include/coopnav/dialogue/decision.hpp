@@ -59,7 +59,9 @@ const char* toString(RoomPlan p);
 
 /// Robot actions; values mirror coopnav_robot_action_t.ACTION_*.
 /// kGoFirst: not docked, the person made room: the robot passes them now (a stand-off's end).
-enum class RobotAction : std::int8_t { kDock = 1, kResume = 2, kGoFirst = 3 };
+/// kSlow: the robot drives on at the band source's slow speed while round 2 waits for evidence
+/// (MakeTimeConfig); any later action ends it (kResume: on at full speed).
+enum class RobotAction : std::int8_t { kDock = 1, kResume = 2, kGoFirst = 3, kSlow = 4 };
 const char* toString(RobotAction a);
 
 /// English text templates; "{dir}" is replaced by left_word / right_word.
@@ -116,6 +118,32 @@ const char* toString(CooperationJudgement j);
 /// "cm" or "forecast"; false when neither.
 bool parseCooperationJudgement(const std::string& s, CooperationJudgement& out);
 
+/// Making time for round 2 (issue 46; not in the paper). Real walkers start to step aside
+/// 0.8–2.4 s before the closest approach, so at round 2 (t_CROSS ≈ 4 s) no judgement of the
+/// person knows more than chance. When round 2 is due on the branch that reads the judgement
+/// (StillNeedsToContribute and RobotIsConstrained both true) and the forecast is not decisive
+/// (p_contributing unknown, or neither it nor 1 - p_contributing reaches `confidence`), the robot
+/// slows (RobotAction::kSlow, the band source's slow speed) and round 2 waits: it is decided at
+/// the first step where the forecast is decisive, or where a round-2 input that does not read
+/// the person changes the branch, or at t_CROSS <= latest_t_cross_s, whatever the forecast then
+/// says (the judgement of DecisionConfig::judgement, as without making time). Slower, the robot
+/// reaches a given t_CROSS later in the person's approach, and the less far it has to brake
+/// and turn, the later a dock stays possible. Only with CooperationJudgement::kForecast (CM
+/// has no degree of confidence to wait on).
+struct MakeTimeConfig {
+  /// false: round 2 as without it (the paper's profile).
+  bool enabled{false};
+  /// The forecast is decisive when p_contributing >= this or <= 1 - this (0.5..1). 0.85: round 2
+  /// then acts on a probability of being right of at least the agreement issue 46 asks of its
+  /// decisions, as the forecast (calibrated on the real pairs) states it. Not fitted to a run.
+  double confidence{0.85};
+  /// [s] Round 2 waits at most until t_CROSS <= this (0..round2_latest_t_cross_s). 2.0:
+  /// round2_latest_t_cross_s (3 s) is set for a robot at full speed (0.7 m/s), which needs 2.3 s
+  /// to stop at its 0.3 m/s^2; at the band source's slow speed (0.3 m/s) it needs 1 s, so the
+  /// same margin holds down to 3 - 1.3 ≈ 1.7 s; 2.0 keeps 0.3 s more.
+  double latest_t_cross_s{2.0};
+};
+
 /// Decision tuning. Defaults in this one place.
 struct DecisionConfig {
   double round1_t_cross_s{7.0};  ///< [s] round 1 when t_CROSS first falls to <= this (§II-D)
@@ -165,6 +193,8 @@ struct DecisionConfig {
   /// (RobotAction::kGoFirst, said). false: nothing is done then (the round's reason says why).
   bool go_first_when_not_docked{true};
   StandOffConfig stand_off;
+  /// Slow down and decide round 2 later when the forecast cannot yet tell (MakeTimeConfig).
+  MakeTimeConfig make_time;
 };
 
 /// Situation assessor output for this human at one time (coopnav_situation_t).
@@ -240,6 +270,9 @@ struct RoundOutcome {
   /// Acted on a fallback, not on the flowchart (the precautionary dock): branch says "degraded:",
   /// reason says what was unknown.
   bool degraded{false};
+  /// Round 2 was due and waits for evidence (MakeTimeConfig): no flowchart branch was taken; the
+  /// round fires later (its own outcome then).
+  bool deferred{false};
 };
 
 struct DecisionOutput {
@@ -275,6 +308,8 @@ class HumanDecision {
 
   bool roundFired(int round) const;
   bool docked() const { return docked_; }
+  /// The robot was slowed for this human (RobotAction::kSlow) and no later action ended it.
+  bool slowed() const { return slowed_; }
   const StandOffWatch& standOffWatch() const { return watch_; }
   bool ended() const { return ended_; }
 
@@ -282,6 +317,8 @@ class HumanDecision {
   void round1(const DecisionInput& in, DecisionOutput& out);
   void round2(const DecisionInput& in, DecisionOutput& out);
   void round3(const DecisionInput& in, DecisionOutput& out);
+  /// Round 2 is due: true when it waits for evidence (MakeTimeConfig), the robot slowed (once).
+  bool deferRound2(const DecisionInput& in, DecisionOutput& out);
   /// Round 2's fallback when an input is unknown; true when it docked (r filled in).
   bool precautionaryDock(const DecisionInput& in, Tristate still, RoundOutcome& r,
                          DecisionOutput& out);
@@ -308,6 +345,8 @@ class HumanDecision {
   bool docked_ever_{false};              ///< a dock was requested in this interaction
   bool went_first_{false};               ///< a stand-off ended in GO_FIRST in this interaction
   bool dock_resolves_stand_off_{false};  ///< the current dock was requested by resolveStandOff
+  bool round2_deferred_{false};          ///< round 2 waits for evidence (MakeTimeConfig)
+  bool slowed_{false};                   ///< kSlow requested, no later action yet
   StandOffWatch watch_;
 };
 

@@ -17,6 +17,7 @@
 
 #include "config/band_config_yaml.hpp"
 #include "config/config.hpp"
+#include "config/same_way_yaml.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/band/band_cycle.hpp"
 #include "coopnav/distance/grid_distance_field.hpp"
@@ -97,10 +98,7 @@ struct GoFirstYaml : GoFirstOptions {
 struct OvertakeYaml : OvertakeOptions {
   template <class V>
   void visit(V& v) {
-    v("ahead_range_m", same_way.ahead_range_m, Range{0.5, 50.0});
-    v("min_speed_along_m_s", same_way.min_speed_along_m_s, Range{-1.0, 1.0});
-    v("standing_speed_m_s", same_way.standing_speed_m_s, Range{0.0, 2.0});
-    v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
+    visitSameWayKeys(v, same_way);
     v("follow_gap_m", follow_gap_m, Range{0.3, 10.0});
     v("follow_time_s", follow_time_s, Range{0.2, 30.0});
     v("pass_clearance_m", pass_clearance_m, Range{0.0, 2.0});

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "config/config.hpp"
+#include "config/same_way_yaml.hpp"
 #include "coopnav/agent_states_t.hpp"
 #include "coopnav/dialogue/crowd.hpp"
 #include "coopnav/dialogue/decision.hpp"
@@ -105,10 +106,7 @@ struct OvertakeWordsYaml : dialogue::OvertakeWordsConfig {
   template <class V>
   void visit(V& v) {
     v("enabled", enabled);
-    v("ahead_range_m", same_way.ahead_range_m, Range{0.5, 50.0});
-    v("min_speed_along_m_s", same_way.min_speed_along_m_s, Range{-1.0, 1.0});
-    v("standing_speed_m_s", same_way.standing_speed_m_s, Range{0.0, 2.0});
-    v("lane_margin_m", same_way.lane_margin_m, Range{0.0, 5.0});
+    visitSameWayKeys(v, same_way);
     v("pass_clearance_m", pass_clearance_m, Range{0.0, 2.0});
     v("announce_gap_m", announce_gap_m, Range{0.0, 50.0});
     v("retry_s", retry_s, Range{0.0, 600.0});

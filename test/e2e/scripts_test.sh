@@ -45,7 +45,7 @@ for opt in --url --map --log-dir; do
   expect_usage "launch.sh $opt without a value" "$opt needs a value" \
     bash "$src/scripts/launch.sh" "$opt"
 done
-expect_usage "population.sh --profile bogus" "profile must be paper, calibrated or forecast, not 'bogus'" \
+expect_usage "population.sh --profile bogus" "profile must be paper, calibrated, forecast or make_time, not 'bogus'" \
   bash "$src/scripts/population.sh" --no-build --profile bogus --out "$tmp/pop"
 expect_usage "population.sh --n x" "--n needs a count" \
   bash "$src/scripts/population.sh" --no-build --n x --out "$tmp/pop"

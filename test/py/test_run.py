@@ -51,7 +51,7 @@ def test_daemon_args_from_the_environment():
 
 def test_bad_arguments_exit_2_before_any_run(tmp_path, capsys):
     assert cli.main(["run", "--no-build", "--profile", "bogus", "--out", str(tmp_path / "o")]) == 2
-    assert "--profile must be paper, calibrated or forecast, not 'bogus'" in capsys.readouterr().err
+    assert "--profile must be paper, calibrated, forecast or make_time, not 'bogus'" in capsys.readouterr().err
     assert cli.main(["run", "--no-build", str(tmp_path / "none.yaml")]) == 2
     assert "no scenario file" in capsys.readouterr().err
     with pytest.raises(SystemExit) as ex:

@@ -120,7 +120,7 @@ struct RunLog {
   std::vector<goal_estimates_t> goal_estimates;  ///< inferred goals (summary: at round 1)
   /// Per lockstep participant (step acks): the highest step it acknowledged. A participant that
   /// stopped answering (killed, cut off) shows as one behind the others; at most
-  /// kMaxAckParticipants names (a log with more is no run of ours: the rest are not kept).
+  /// kMaxAckParticipants names (more than any coopnav run has: the rest are not kept).
   std::map<std::string, std::int64_t> last_acked_step;
   static constexpr std::size_t kMaxAckParticipants = 64;
   std::vector<Ref> order;

@@ -107,7 +107,7 @@ std::string renderText(const TextTemplates& templates, SpeechAct act, Side dir);
 enum class CooperationJudgement : std::int8_t {
   /// Paper §II-C: IsContributing = CM > τ over the window since the last reset (the path
   /// assessor's is_contributing). It measures a side step once made: real walkers start theirs
-  /// 0.8–2.4 s before the closest approach, after round 2 (issue 46).
+  /// 0.8–2.4 s before the closest approach, after round 2.
   kCm = 0,
   /// The path assessor's forecast p_contributing (assessment/forecast.hpp: the probability that
   /// the person will have stepped >= 0.3 m aside by the crossing) against
@@ -118,7 +118,7 @@ const char* toString(CooperationJudgement j);
 /// "cm" or "forecast"; false when neither.
 bool parseCooperationJudgement(const std::string& s, CooperationJudgement& out);
 
-/// Making time for round 2 (issue 46; not in the paper). Real walkers start to step aside
+/// Making time for round 2 (not in the paper). Real walkers start to step aside
 /// 0.8–2.4 s before the closest approach, so at round 2 (t_CROSS ≈ 4 s) no judgement of the
 /// person knows more than chance. When round 2 is due on the branch that reads the judgement
 /// (StillNeedsToContribute and RobotIsConstrained both true) and the forecast is not decisive
@@ -134,7 +134,7 @@ struct MakeTimeConfig {
   /// false: round 2 as without it (the paper's profile).
   bool enabled{false};
   /// The forecast is decisive when p_contributing >= this or <= 1 - this (0.5..1). 0.85: round 2
-  /// then acts on a probability of being right of at least the agreement issue 46 asks of its
+  /// then acts on a probability of being right of at least 0.85, the agreement asked of round-2
   /// decisions, as the forecast (calibrated on the real pairs) states it. Not fitted to a run.
   double confidence{0.85};
   /// [s] Round 2 waits at most until t_CROSS <= this (0..round2_latest_t_cross_s). 2.0:
